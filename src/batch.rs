@@ -1,0 +1,362 @@
+//! A batch of tables, and the CPU (Rayon) drivers that answer every pair of every table.
+//!
+//! # Layout
+//! A [`Batch`] is flat arrays: balls of all tables back to back, table `k` owning balls
+//! `ball_start[k]..ball_start[k + 1]`, sorted by ball id, and pairs `pair_start[k]..` in
+//! the pair order below. Nothing is allocated per table or per pair when answering.
+//!
+//! # Pair order
+//! Tables in the order they were pushed (the CSV reader pushes them by ascending table
+//! id); within a table, pairs `(i, j)` of ball positions `i < j` in lexicographic order —
+//! `(0,1), (0,2), …, (0,n−1), (1,2), …` — which is ascending ball-id order. The pair
+//! `(i, j)` of an `n`-ball table has local index `i·n − i(i+1)/2 + j − i − 1`
+//! ([`pair_index`]).
+//!
+//! # Next collision and its tie rule
+//! A table's next collision is the pair in contact (hit or overlap) with the smallest time;
+//! among pairs with the very same time, the first in pair order (smallest first ball id,
+//! then smallest second ball id).
+//!
+//! # Determinism
+//! Every pair is answered independently and every per-table reduction runs in pair order
+//! on one thread, so results are bit-identical whatever the number of threads.
+
+use std::collections::HashSet;
+
+use rayon::prelude::*;
+
+use crate::error::{Error, InputError};
+use crate::physics::{Ball, BallPath, Params, ball_path};
+use crate::solver::{Contact, Status, pair_contact};
+
+/// Tables are handed to threads in groups of at least this many pairs.
+const PAIRS_PER_TASK: usize = 4096;
+
+/// Many tables of balls, laid out as flat arrays (see the module docs).
+#[derive(Clone, Debug)]
+pub struct Batch {
+    table_ids: Vec<i64>,
+    ball_start: Vec<usize>,
+    pair_start: Vec<usize>,
+    ball_ids: Vec<i64>,
+    balls: Vec<Ball>,
+    seen: HashSet<i64>,
+}
+
+/// Pairs of an `n`-ball table.
+pub fn pairs_in_table(n: usize) -> usize {
+    n * n.saturating_sub(1) / 2
+}
+
+/// The local index of pair `(i, j)`, `i < j < n`, in pair order.
+pub fn pair_index(n: usize, i: usize, j: usize) -> usize {
+    i * n - i * (i + 1) / 2 + j - i - 1
+}
+
+impl Default for Batch {
+    fn default() -> Batch {
+        Batch::new()
+    }
+}
+
+impl Batch {
+    /// An empty batch.
+    pub fn new() -> Batch {
+        Batch {
+            table_ids: Vec::new(),
+            ball_start: vec![0],
+            pair_start: vec![0],
+            ball_ids: Vec::new(),
+            balls: Vec::new(),
+            seen: HashSet::new(),
+        }
+    }
+
+    /// Appends a table of `(ball id, ball)`; balls are stored sorted by id.
+    ///
+    /// Errors (nothing is appended then): a table id already in the batch, fewer than two
+    /// balls, two balls with the same id, a number that is NaN or infinite. The error
+    /// names the table and ball.
+    pub fn push_table(
+        &mut self,
+        table: i64,
+        balls: impl IntoIterator<Item = (i64, Ball)>,
+    ) -> Result<(), Error> {
+        if self.seen.contains(&table) {
+            return Err(InputError::new("table id appears twice in the batch")
+                .at_table(table)
+                .into());
+        }
+        let mut table_balls: Vec<(i64, Ball)> = balls.into_iter().collect();
+        table_balls.sort_by_key(|(id, _)| *id);
+        if table_balls.len() < 2 {
+            return Err(InputError::new(format!(
+                "a table needs at least 2 balls, this one has {}",
+                table_balls.len()
+            ))
+            .at_table(table)
+            .into());
+        }
+        for w in table_balls.windows(2) {
+            if w[0].0 == w[1].0 {
+                return Err(InputError::new("duplicate ball id")
+                    .at_table(table)
+                    .at_ball(w[0].0)
+                    .into());
+            }
+        }
+        for (id, ball) in &table_balls {
+            if let Some(k) = ball.numbers().iter().position(|v| !v.is_finite()) {
+                return Err(InputError::new(format!(
+                    "{} is {}, numbers must be finite",
+                    crate::io::BALL_NUMBER_COLUMNS[k],
+                    ball.numbers()[k]
+                ))
+                .at_table(table)
+                .at_ball(*id)
+                .into());
+            }
+        }
+        let n = table_balls.len();
+        self.seen.insert(table);
+        self.table_ids.push(table);
+        for (id, ball) in table_balls {
+            self.ball_ids.push(id);
+            self.balls.push(ball);
+        }
+        self.ball_start.push(self.balls.len());
+        let pairs = self.pair_start[self.pair_start.len() - 1] + pairs_in_table(n);
+        self.pair_start.push(pairs);
+        Ok(())
+    }
+
+    /// Number of tables.
+    pub fn num_tables(&self) -> usize {
+        self.table_ids.len()
+    }
+
+    /// Number of balls over all tables.
+    pub fn num_balls(&self) -> usize {
+        self.balls.len()
+    }
+
+    /// Number of pairs over all tables.
+    pub fn num_pairs(&self) -> usize {
+        self.pair_start[self.pair_start.len() - 1]
+    }
+
+    /// The id of table `k` (by position in the batch).
+    pub fn table_id(&self, k: usize) -> i64 {
+        self.table_ids[k]
+    }
+
+    /// The ball ids of table `k`, ascending.
+    pub fn ball_ids(&self, k: usize) -> &[i64] {
+        &self.ball_ids[self.ball_start[k]..self.ball_start[k + 1]]
+    }
+
+    /// The balls of table `k`, in ball-id order.
+    pub fn balls(&self, k: usize) -> &[Ball] {
+        &self.balls[self.ball_start[k]..self.ball_start[k + 1]]
+    }
+
+    /// The range of table `k`'s pairs in [`pair_times`]'s output.
+    pub fn pair_range(&self, k: usize) -> std::ops::Range<usize> {
+        self.pair_start[k]..self.pair_start[k + 1]
+    }
+
+    /// Consecutive groups of tables of at least [`PAIRS_PER_TASK`] pairs each (the last
+    /// may be smaller), as table ranges.
+    fn table_groups(&self) -> Vec<std::ops::Range<usize>> {
+        let mut groups = Vec::new();
+        let mut first = 0;
+        while first < self.num_tables() {
+            let mut end = first;
+            while end < self.num_tables()
+                && self.pair_start[end] - self.pair_start[first] < PAIRS_PER_TASK
+            {
+                end += 1;
+            }
+            groups.push(first..end);
+            first = end;
+        }
+        groups
+    }
+}
+
+/// The next collision of one table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NextCollision {
+    /// The table's id.
+    pub table: i64,
+    /// Time of the next collision in seconds; `∞` when none of the table's pairs collides.
+    pub t: f64,
+    /// The colliding pair's ball ids `(i, j)`, `i < j`; `None` when there is no collision.
+    pub pair: Option<(i64, i64)>,
+    /// [`Status::Hit`], [`Status::Overlap`], or [`Status::None`].
+    pub status: Status,
+}
+
+/// Fills `paths` with the paths of `balls`.
+fn table_paths(balls: &[Ball], params: &Params, paths: &mut Vec<BallPath>) {
+    paths.clear();
+    paths.extend(balls.iter().map(|b| ball_path(b, params)));
+}
+
+/// The answer for every pair of every table, in pair order (see the module docs).
+///
+/// Runs on the Rayon thread pool; the result does not depend on the number of threads.
+pub fn pair_times(batch: &Batch, params: &Params) -> Result<Vec<Contact>, Error> {
+    params.validate()?;
+    let mut out = vec![Contact::none(f64::INFINITY); batch.num_pairs()];
+    // hand each group of tables its own slice of the output
+    let mut tasks = Vec::new();
+    let mut rest: &mut [Contact] = &mut out;
+    for group in batch.table_groups() {
+        let len = batch.pair_start[group.end] - batch.pair_start[group.start];
+        let (head, tail) = rest.split_at_mut(len);
+        tasks.push((group, head));
+        rest = tail;
+    }
+    tasks.into_par_iter().for_each(|(group, slice)| {
+        let mut paths = Vec::new();
+        let mut at = 0;
+        for k in group {
+            table_paths(batch.balls(k), params, &mut paths);
+            let n = paths.len();
+            for i in 0..n {
+                for j in i + 1..n {
+                    slice[at] = pair_contact(&paths[i], &paths[j], params.radius);
+                    at += 1;
+                }
+            }
+        }
+    });
+    Ok(out)
+}
+
+/// The next collision of table `k` from its ball paths (the tie rule in the module docs).
+fn table_next(batch: &Batch, k: usize, paths: &[BallPath], radius: f64) -> NextCollision {
+    let ids = batch.ball_ids(k);
+    let mut best = NextCollision {
+        table: batch.table_id(k),
+        t: f64::INFINITY,
+        pair: None,
+        status: Status::None,
+    };
+    let n = paths.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            let c = pair_contact(&paths[i], &paths[j], radius);
+            if c.status.is_contact() && (best.pair.is_none() || c.t < best.t) {
+                best.t = c.t;
+                best.pair = Some((ids[i], ids[j]));
+                best.status = c.status;
+            }
+        }
+    }
+    best
+}
+
+/// The next collision of every table, in table order.
+///
+/// Runs on the Rayon thread pool; the result does not depend on the number of threads.
+pub fn next_collisions(batch: &Batch, params: &Params) -> Result<Vec<NextCollision>, Error> {
+    params.validate()?;
+    let groups = batch.table_groups();
+    let per_group: Vec<Vec<NextCollision>> = groups
+        .into_par_iter()
+        .map(|group| {
+            let mut paths = Vec::new();
+            group
+                .map(|k| {
+                    table_paths(batch.balls(k), params, &mut paths);
+                    table_next(batch, k, &paths, params.radius)
+                })
+                .collect()
+        })
+        .collect();
+    Ok(per_group.into_iter().flatten().collect())
+}
+
+/// Reduces per-pair answers (as [`pair_times`] returns them) to each table's next
+/// collision with the same tie rule as [`next_collisions`].
+pub fn next_from_pairs(batch: &Batch, pairs: &[Contact]) -> Vec<NextCollision> {
+    (0..batch.num_tables())
+        .map(|k| {
+            let ids = batch.ball_ids(k);
+            let n = ids.len();
+            let local = &pairs[batch.pair_range(k)];
+            let mut best = NextCollision {
+                table: batch.table_id(k),
+                t: f64::INFINITY,
+                pair: None,
+                status: Status::None,
+            };
+            for i in 0..n {
+                for j in i + 1..n {
+                    let c = local[pair_index(n, i, j)];
+                    if c.status.is_contact() && (best.pair.is_none() || c.t < best.t) {
+                        best.t = c.t;
+                        best.pair = Some((ids[i], ids[j]));
+                        best.status = c.status;
+                    }
+                }
+            }
+            best
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::MotionState;
+
+    #[test]
+    fn pair_index_enumerates_in_order() {
+        for n in 2..10 {
+            let mut k = 0;
+            for i in 0..n {
+                for j in i + 1..n {
+                    assert_eq!(pair_index(n, i, j), k);
+                    k += 1;
+                }
+            }
+            assert_eq!(k, pairs_in_table(n));
+        }
+    }
+
+    #[test]
+    fn push_table_rejects_bad_tables_and_appends_nothing() {
+        let mut b = Batch::new();
+        let ball = Ball::at_rest(0.0, 0.0);
+        let err = b.push_table(7, [(1, ball)]).unwrap_err().to_string();
+        assert!(err.contains("table 7") && err.contains("at least 2"), "{err}");
+        let err = b
+            .push_table(7, [(3, ball), (3, Ball::at_rest(1.0, 0.0))])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("ball 3") && err.contains("duplicate"), "{err}");
+        let nan = Ball {
+            vy: f64::NAN,
+            state: MotionState::Rolling,
+            ..ball
+        };
+        let err = b
+            .push_table(7, [(1, ball), (2, nan)])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("ball 2") && err.contains("vy"), "{err}");
+        assert_eq!(b.num_tables(), 0);
+        assert_eq!(b.num_pairs(), 0);
+        b.push_table(7, [(2, ball), (1, Ball::at_rest(1.0, 0.0))])
+            .unwrap();
+        assert_eq!(b.ball_ids(0), &[1, 2]);
+        let err = b
+            .push_table(7, [(1, ball), (2, ball)])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("twice"), "{err}");
+    }
+}

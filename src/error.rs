@@ -1,0 +1,111 @@
+//! Errors. Bad user data is an [`Error::Input`] or [`Error::Param`] (the CLI exits with
+//! code 2); failing to read or write a file is an [`Error::Io`] (exit code 1). The library
+//! never panics on user data.
+
+use std::fmt;
+
+/// Everything that can go wrong in this crate.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Bad input data: the message names the file, line, table and ball where known.
+    #[error("{0}")]
+    Input(#[from] InputError),
+    /// A physical parameter that is not finite and positive.
+    #[error("invalid parameter {name} = {value}: it must be finite and greater than 0")]
+    Param {
+        /// The parameter's name (`radius`, `mu_s`, `mu_r`, `mu_sp`, `g`).
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// Reading or writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// What the operating system said.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl Error {
+    /// Whether the error is the user's data (input or parameters) rather than the system.
+    pub fn is_bad_input(&self) -> bool {
+        matches!(self, Error::Input(_) | Error::Param { .. })
+    }
+}
+
+/// Bad input data, located as precisely as is known.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct InputError {
+    /// The file, when the data came from one.
+    pub file: Option<String>,
+    /// The 1-based line in that file.
+    pub line: Option<u64>,
+    /// The table id.
+    pub table: Option<i64>,
+    /// The ball id.
+    pub ball: Option<i64>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl InputError {
+    /// An error with only a message; add the location with the `at_*` builders.
+    pub fn new(message: impl Into<String>) -> InputError {
+        InputError {
+            message: message.into(),
+            ..InputError::default()
+        }
+    }
+
+    /// Sets the file.
+    pub fn in_file(mut self, file: impl Into<String>) -> InputError {
+        self.file = Some(file.into());
+        self
+    }
+
+    /// Sets the line.
+    pub fn at_line(mut self, line: u64) -> InputError {
+        self.line = Some(line);
+        self
+    }
+
+    /// Sets the table.
+    pub fn at_table(mut self, table: i64) -> InputError {
+        self.table = Some(table);
+        self
+    }
+
+    /// Sets the ball.
+    pub fn at_ball(mut self, ball: i64) -> InputError {
+        self.ball = Some(ball);
+        self
+    }
+}
+
+impl fmt::Display for InputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut parts = Vec::new();
+        if let Some(file) = &self.file {
+            parts.push(file.clone());
+        }
+        if let Some(line) = self.line {
+            parts.push(format!("line {line}"));
+        }
+        if let Some(table) = self.table {
+            parts.push(format!("table {table}"));
+        }
+        if let Some(ball) = self.ball {
+            parts.push(format!("ball {ball}"));
+        }
+        if parts.is_empty() {
+            f.write_str(&self.message)
+        } else {
+            write!(f, "{}: {}", parts.join(", "), self.message)
+        }
+    }
+}
+
+impl std::error::Error for InputError {}

@@ -1,0 +1,494 @@
+//! The solver: the answer for one ball pair — when do the two balls first come into
+//! contact while approaching, within the time their current motions last?
+//!
+//! # Contract (rules 1–4; the ground-truth corpus follows them)
+//! With `C(t) = C + B t + A t²` the centre difference (see [`crate::physics`]),
+//! `f(t) = |C(t)|² − 4R²` and `H` the pair's horizon:
+//! 1. either ball pocketed, or neither ball translates: no collision ([`Status::None`]);
+//! 2. `d0 = |C| − 2R < −CONTACT_TOL`: the balls overlap, time 0 ([`Status::Overlap`]);
+//! 3. `|d0| ≤ CONTACT_TOL`, the balls touch: time 0 if they approach (the first clearly
+//!    non-zero derivative of `f` at 0 is negative; when `f(0) > 0` the exact first root,
+//!    a fraction of a nanometre of travel away); if they separate (they have just
+//!    collided) the contact at 0 is ignored and the answer is the next entry into
+//!    contact within `H`, if any;
+//! 4. otherwise the first `t ∈ (0, H]` where `f` goes from `> 0` to `≤ 0`; a root past
+//!    `H` is not a collision of these paths.
+//!
+//! # Method
+//! Bracket, don't enumerate (see `shared/notes/numerics.md`). The real roots of `f''`
+//! (a quadratic, solved with the stable formula) split `[0, H]` into pieces on which `f'`
+//! is monotone; a sign change of `f'` on a piece brackets a critical point of `f`, found
+//! by [`refine_root`]. Critical points and inflection points together split `[0, H]` into
+//! pieces on which `f` is monotone, and the first piece with `f(lo) > 0 ≥ f(hi)` holds
+//! the answer, again found by [`refine_root`]: a safeguarded Newton iteration (a step is
+//! taken only inside the bracket, else the bracket is bisected) started from a
+//! second-order Taylor step at the end of the bracket where `|f|` is smaller, which keeps
+//! near-double roots (grazes, a ball that stops right beside another) quadratically
+//! convergent. A zero or tiny leading coefficient (parallel rolling, identical motion)
+//! needs no special case: the quadratics simply have fewer roots in `(0, H)`.
+//!
+//! `f` and its derivatives are always evaluated from the vectors (`C(t) = C + t(B + tA)`),
+//! never from the expanded quartic, whose constant term `|C|² − 4R²` cancels badly.
+//! The method only finds the *first* root; it never computes all four.
+//!
+//! # Twin
+//! `shaders/solver.wgsl` is this file in WGSL, function for function and in the same
+//! order. Both avoid NaN and ∞ inside the algorithm (WGSL may assume neither exists):
+//! a missing root is `−1`, a time that never comes is `−1`, loops are bounded by
+//! [`MAX_ITER`], and only `sqrt` and arithmetic are used.
+
+use crate::physics::{BallPath, PATH_MOVES, PATH_POCKETED, RelPath, dot, length, pair_horizon};
+
+/// Two centres closer than `2R` by at most this many metres (either way) touch.
+pub const CONTACT_TOL: f64 = 1e-12;
+/// The most iterations of one root refinement. Safeguarded Newton from a Taylor start
+/// needs at most ~15 here; bisection alone would need ~60 in f64.
+pub const MAX_ITER: u32 = 64;
+/// Relative step size at which a refinement has converged: a few ulps.
+const ROOT_RTOL: f64 = 4.0 * f64::EPSILON;
+/// Smallest absolute step size that still counts as progress.
+const ROOT_ATOL: f64 = 1e-300;
+/// A derivative of `f` at a touching contact counts as zero when it is within this
+/// fraction of the magnitudes that formed it (rounding of the dot products).
+const APPROACH_BAND: f64 = 64.0 * f64::EPSILON;
+/// The relative slack of the prune bound, far above its rounding error.
+const PRUNE_SLACK: f64 = 1e-9;
+/// What a missing root or time is reported as inside the algorithm.
+const NO_ROOT: f64 = -1.0;
+
+/// How a pair's answer came out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum Status {
+    /// No collision within the horizon (time `∞`).
+    None = 0,
+    /// The balls come into contact at the time given.
+    Hit = 1,
+    /// The balls already overlap by more than [`CONTACT_TOL`] (time 0).
+    Overlap = 2,
+}
+
+impl Status {
+    /// The name used in output files: `none`, `hit`, `overlap`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::None => "none",
+            Status::Hit => "hit",
+            Status::Overlap => "overlap",
+        }
+    }
+
+    /// Whether the pair is in contact at [`Contact::t`] (a hit or an overlap).
+    pub fn is_contact(self) -> bool {
+        self != Status::None
+    }
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The answer for one pair: the time of first contact in seconds (`∞` for none), how it
+/// came out, and the horizon it was sought within.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// Time of first contact in seconds from now; `f64::INFINITY` when there is none.
+    pub t: f64,
+    /// Hit, none or overlap.
+    pub status: Status,
+    /// The pair's horizon `H` (see [`pair_horizon`]); `∞` when neither ball moves.
+    pub horizon: f64,
+}
+
+impl Contact {
+    /// No collision within horizon `h`.
+    pub fn none(horizon: f64) -> Contact {
+        Contact {
+            t: f64::INFINITY,
+            status: Status::None,
+            horizon,
+        }
+    }
+
+    /// A collision at `t` within horizon `h`.
+    pub fn hit(t: f64, horizon: f64) -> Contact {
+        Contact {
+            t,
+            status: Status::Hit,
+            horizon,
+        }
+    }
+
+    /// Overlapping balls (time 0) within horizon `h`.
+    pub fn overlap(horizon: f64) -> Contact {
+        Contact {
+            t: 0.0,
+            status: Status::Overlap,
+            horizon,
+        }
+    }
+}
+
+/// Real roots of `a x² + b x + c`, ascending: `(count, r0, r1)`, missing roots `−1`.
+///
+/// The stable formula (`q = −½(b + sign(b)√disc)`, roots `q/a` and `c/q`) keeps both
+/// roots accurate when `b² ≫ |ac|`, and `a = 0` falls back to the linear root, so a
+/// vanishing leading coefficient needs no special case in the callers. A double root is
+/// reported twice. `0 x² + 0 x + c` has no roots (also for `c = 0`).
+pub fn quadratic_roots(a: f64, b: f64, c: f64) -> (u32, f64, f64) {
+    if a == 0.0 {
+        if b == 0.0 {
+            return (0, NO_ROOT, NO_ROOT);
+        }
+        return (1, -c / b, NO_ROOT);
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return (0, NO_ROOT, NO_ROOT);
+    }
+    let sign_b = if b < 0.0 { -1.0 } else { 1.0 };
+    let q = -0.5 * (b + sign_b * disc.sqrt());
+    if q == 0.0 {
+        // b = 0 and disc = 0, so c = 0: a double root at 0
+        return (2, 0.0, 0.0);
+    }
+    let r0 = q / a;
+    let r1 = c / q;
+    if r0 <= r1 { (2, r0, r1) } else { (2, r1, r0) }
+}
+
+/// The smallest strictly positive root of `a x² + b x + c`, or `−1` if it has none.
+pub fn smallest_positive_root(a: f64, b: f64, c: f64) -> f64 {
+    let (n, r0, r1) = quadratic_roots(a, b, c);
+    if n >= 1 && r0 > 0.0 {
+        return r0;
+    }
+    if n == 2 && r1 > 0.0 {
+        return r1;
+    }
+    NO_ROOT
+}
+
+/// `f^(k)(t)`, `f^(k+1)(t)` and `f^(k+2)(t)` for `k = 0` or `k = 1`, where
+/// `f(t) = |C(t)|² − 4R²`, evaluated from the vectors:
+/// `f = Ct·Ct − 4R²`, `f' = 2 Ct·Vt`, `f'' = 2(Vt·Vt + 2 A·Ct)`, `f''' = 12 A·Vt`
+/// with `Ct = C + t(B + tA)` and `Vt = B + 2tA`.
+pub fn contact_fn(rel: &RelPath, four_r2: f64, t: f64, k: u32) -> (f64, f64, f64) {
+    let ct = rel.at(t);
+    let vt = rel.velocity_at(t);
+    let f1 = 2.0 * dot(ct, vt);
+    let f2 = 2.0 * (dot(vt, vt) + 2.0 * dot(rel.a, ct));
+    if k == 0 {
+        let f0 = dot(ct, ct) - four_r2;
+        return (f0, f1, f2);
+    }
+    let f3 = 12.0 * dot(rel.a, vt);
+    (f1, f2, f3)
+}
+
+/// The root of `g = f^(k)` in the bracket `[lo, hi]`, where `g` is monotone and
+/// `g(lo) = g_lo`, `g(hi) = g_hi` have opposite signs or `g_hi = 0`.
+///
+/// Safeguarded Newton: the bracket shrinks with every evaluation, a Newton step is taken
+/// only when it lands strictly inside it, otherwise the bracket is bisected. The start is
+/// a second-order Taylor step from the end with the smaller `|g|` (a near-double root at
+/// a bracket end then converges quadratically instead of linearly). Stops when a step is
+/// below a few ulps of `t`, or after [`MAX_ITER`] steps. Returns a `t` in `[lo, hi]`.
+pub fn refine_root(
+    rel: &RelPath,
+    four_r2: f64,
+    k: u32,
+    lo_in: f64,
+    hi_in: f64,
+    g_lo: f64,
+    g_hi: f64,
+) -> f64 {
+    if g_hi == 0.0 {
+        return hi_in;
+    }
+    if g_lo == 0.0 {
+        return lo_in;
+    }
+    let mut lo = lo_in;
+    let mut hi = hi_in;
+    let lo_positive = g_lo > 0.0;
+    // start: a second-order Taylor step from the end where |g| is smaller
+    let from_lo = g_lo.abs() <= g_hi.abs();
+    let end = if from_lo { lo } else { hi };
+    let dir = if from_lo { 1.0 } else { -1.0 };
+    let (e0, e1, e2) = contact_fn(rel, four_r2, end, k);
+    let mut step = smallest_positive_root(0.5 * e2, dir * e1, e0);
+    if step < 0.0 && e1 != 0.0 {
+        step = -dir * e0 / e1;
+    }
+    let mut t = end + dir * step;
+    if !(t > lo && t < hi) {
+        t = 0.5 * (lo + hi);
+    }
+    for _ in 0..MAX_ITER {
+        let (g, g1, _) = contact_fn(rel, four_r2, t, k);
+        if g == 0.0 {
+            return t;
+        }
+        // shrink the bracket
+        if (g > 0.0) == lo_positive {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        // Newton step if it stays inside the bracket, else bisection
+        let mut next = 0.5 * (lo + hi);
+        if g1 != 0.0 {
+            let newton = t - g / g1;
+            if newton > lo && newton < hi {
+                next = newton;
+            }
+        }
+        if (next - t).abs() <= ROOT_RTOL * next.abs() + ROOT_ATOL {
+            return next;
+        }
+        t = next;
+    }
+    t
+}
+
+/// The first time in `(0, h]` at which `f` goes from `> 0` to `≤ 0`, or `−1` if none
+/// (rule 4). With `start_inside`, `f(0)` counts as `≤ 0` whatever its rounding: the pair
+/// touches at 0 and separates, so only a later entry into contact counts (rule 3).
+pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f64 {
+    // inflection points of f: roots of f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C in (0, h)
+    let (a, b, c) = (rel.a, rel.b, rel.c);
+    let (n, s0, s1) = quadratic_roots(
+        6.0 * dot(a, a),
+        6.0 * dot(a, b),
+        dot(b, b) + 2.0 * dot(a, c),
+    );
+    let mut knots = [h, h, h];
+    let mut n_knots = 0;
+    if n >= 1 && s0 > 0.0 && s0 < h {
+        knots[n_knots] = s0;
+        n_knots += 1;
+    }
+    if n == 2 && s1 > 0.0 && s1 < h && s1 > s0 {
+        knots[n_knots] = s1;
+        n_knots += 1;
+    }
+    // walk the pieces [lo, hi] on which f' is monotone, in time order
+    let mut lo = 0.0;
+    let (mut f_lo, mut f1_lo, _) = contact_fn(rel, four_r2, lo, 0);
+    if start_inside {
+        f_lo = 0.0;
+    }
+    for piece in 0..=n_knots {
+        let hi = knots[piece];
+        let (f_hi, f1_hi, _) = contact_fn(rel, four_r2, hi, 0);
+        // a critical point of f inside the piece splits it into two monotone halves
+        if (f1_lo < 0.0 && f1_hi > 0.0) || (f1_lo > 0.0 && f1_hi < 0.0) {
+            let tc = refine_root(rel, four_r2, 1, lo, hi, f1_lo, f1_hi);
+            let (f_c, _, _) = contact_fn(rel, four_r2, tc, 0);
+            if f_lo > 0.0 && f_c <= 0.0 {
+                return refine_root(rel, four_r2, 0, lo, tc, f_lo, f_c);
+            }
+            lo = tc;
+            f_lo = f_c;
+        }
+        if f_lo > 0.0 && f_hi <= 0.0 {
+            return refine_root(rel, four_r2, 0, lo, hi, f_lo, f_hi);
+        }
+        lo = hi;
+        f_lo = f_hi;
+        f1_lo = f1_hi;
+    }
+    NO_ROOT
+}
+
+/// The sign of the first clearly non-zero derivative of `f` at `t = 0`: negative when a
+/// touching pair approaches, positive when it separates, zero when nothing moves
+/// relative to anything.
+///
+/// `f'(0) = 2 B·C`, `f''(0) = 2(|B|² + 2 A·C)`, `f'''(0) = 12 A·B`, `f''''(0) = 24 |A|²`;
+/// each counts as zero within [`APPROACH_BAND`] of the magnitudes that formed it.
+pub fn approach_sign(rel: &RelPath) -> f64 {
+    let (a, b, c) = (rel.a, rel.b, rel.c);
+    let d1 = dot(b, c);
+    if d1.abs() > APPROACH_BAND * length(b) * length(c) {
+        return d1;
+    }
+    let d2 = dot(b, b) + 2.0 * dot(a, c);
+    if d2.abs() > APPROACH_BAND * (dot(b, b) + 2.0 * length(a) * length(c)) {
+        return d2;
+    }
+    let d3 = dot(a, b);
+    if d3.abs() > APPROACH_BAND * length(a) * length(b) {
+        return d3;
+    }
+    dot(a, a)
+}
+
+/// The answer for a relative path that moves, within horizon `h` (rules 2–4).
+///
+/// `h` must be finite and `≥ 0`. A cheap bound runs first: when even the fastest
+/// possible closing, `|B| h + |A| h²`, cannot cover the gap, no root finding is done;
+/// the bound follows from the triangle inequality, so it never changes an answer.
+pub fn first_contact(rel: &RelPath, radius: f64, h: f64) -> Contact {
+    let four_r2 = 4.0 * radius * radius;
+    let d0 = length(rel.c) - 2.0 * radius;
+    // rule 2: overlap
+    if d0 < -CONTACT_TOL {
+        return Contact::overlap(h);
+    }
+    // rule 3: touching
+    if d0 <= CONTACT_TOL {
+        if approach_sign(rel) < 0.0 {
+            let (f0, _, _) = contact_fn(rel, four_r2, 0.0, 0);
+            if f0 > 0.0 {
+                let t = first_entry(rel, four_r2, h, false);
+                if t > 0.0 {
+                    return Contact::hit(t, h);
+                }
+            }
+            return Contact::hit(0.0, h);
+        }
+        let t = first_entry(rel, four_r2, h, true);
+        return if t >= 0.0 {
+            Contact::hit(t, h)
+        } else {
+            Contact::none(h)
+        };
+    }
+    // prune: the gap cannot close within h
+    let reach = length(rel.b) * h + length(rel.a) * h * h;
+    if d0 > reach * (1.0 + PRUNE_SLACK) {
+        return Contact::none(h);
+    }
+    // rule 4: the first entry into contact
+    let t = first_entry(rel, four_r2, h, false);
+    if t >= 0.0 {
+        Contact::hit(t, h)
+    } else {
+        Contact::none(h)
+    }
+}
+
+/// The answer for a pair of balls on their paths (rules 1–4).
+pub fn pair_contact(p1: &BallPath, p2: &BallPath, radius: f64) -> Contact {
+    let h = pair_horizon(p1, p2);
+    // rule 1: a pocketed ball, or nothing moves
+    if (p1.flags | p2.flags) & PATH_POCKETED != 0 || (p1.flags | p2.flags) & PATH_MOVES == 0 {
+        return Contact::none(h);
+    }
+    first_contact(&RelPath::between(p1, p2), radius, h)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::Vec2;
+
+    const R: f64 = 0.028575;
+
+    fn rel(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> RelPath {
+        RelPath {
+            a: Vec2::new(a.0, a.1),
+            b: Vec2::new(b.0, b.1),
+            c: Vec2::new(c.0, c.1),
+        }
+    }
+
+    #[test]
+    fn quadratic_roots_edge_cases() {
+        assert_eq!(quadratic_roots(1.0, -3.0, 2.0), (2, 1.0, 2.0));
+        assert_eq!(quadratic_roots(0.0, 2.0, -4.0), (1, 2.0, NO_ROOT));
+        assert_eq!(quadratic_roots(0.0, 0.0, 1.0).0, 0);
+        assert_eq!(quadratic_roots(0.0, 0.0, 0.0).0, 0);
+        assert_eq!(quadratic_roots(1.0, 0.0, 1.0).0, 0);
+        assert_eq!(quadratic_roots(1.0, 0.0, 0.0), (2, 0.0, 0.0));
+        // b² ≫ 4ac: the small root keeps full relative accuracy
+        let (n, r0, r1) = quadratic_roots(1.0, -1e8, 1.0);
+        assert_eq!(n, 2);
+        assert!((r0 - 1e-8).abs() < 1e-22, "{r0}");
+        assert!((r1 - 1e8).abs() < 1e-6);
+        // a tiny leading coefficient: one root near −c/b, the other far away
+        let (n, r0, r1) = quadratic_roots(1e-300, 2.0, -4.0);
+        assert_eq!(n, 2);
+        assert!(r0 < -1e299 && (r1 - 2.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn smallest_positive_root_skips_negative_and_missing() {
+        assert_eq!(smallest_positive_root(1.0, -3.0, 2.0), 1.0);
+        assert_eq!(smallest_positive_root(1.0, 1.0, -2.0), 1.0);
+        assert_eq!(smallest_positive_root(1.0, 3.0, 2.0), NO_ROOT);
+        assert_eq!(smallest_positive_root(1.0, 0.0, 1.0), NO_ROOT);
+    }
+
+    #[test]
+    fn head_on_straight_line_hits_at_gap_over_speed() {
+        // ball 2 approaches ball 1 at 1 m/s from 1 m away, no acceleration
+        let r = rel((0.0, 0.0), (-1.0, 0.0), (1.0, 0.0));
+        let c = first_contact(&r, R, 10.0);
+        assert_eq!(c.status, Status::Hit);
+        assert!((c.t - (1.0 - 2.0 * R)).abs() < 1e-15, "{}", c.t);
+    }
+
+    #[test]
+    fn a_root_past_the_horizon_is_no_collision() {
+        let r = rel((0.0, 0.0), (-1.0, 0.0), (1.0, 0.0));
+        assert_eq!(first_contact(&r, R, 0.9).status, Status::None);
+        // exactly at the horizon counts
+        let h = 1.0 - 2.0 * R;
+        assert_eq!(first_contact(&r, R, h).status, Status::Hit);
+    }
+
+    #[test]
+    fn overlap_and_touching_rules() {
+        let overlap = rel((0.0, 0.0), (1.0, 0.0), (2.0 * R - 1e-9, 0.0));
+        assert_eq!(first_contact(&overlap, R, 1.0).status, Status::Overlap);
+        // touching and approaching: 0
+        let approach = rel((0.0, 0.0), (-1.0, 0.0), (2.0 * R, 0.0));
+        assert_eq!(first_contact(&approach, R, 1.0), Contact::hit(0.0, 1.0));
+        // touching and separating: no collision at 0
+        let separate = rel((0.0, 0.0), (1.0, 0.0), (2.0 * R, 0.0));
+        assert_eq!(first_contact(&separate, R, 1.0), Contact::none(1.0));
+        // separating but decelerating back into contact (a draw-back): the re-entry counts
+        let recollide = rel((-1.0, 0.0), (1.0, 0.0), (2.0 * R, 0.0));
+        let c = first_contact(&recollide, R, 2.0);
+        assert_eq!(c.status, Status::Hit);
+        assert!((c.t - 1.0).abs() < 1e-12, "{}", c.t);
+        // tangential touch, straight relative motion: separates
+        let tangent = rel((0.0, 0.0), (0.0, 1.0), (2.0 * R, 0.0));
+        assert_eq!(first_contact(&tangent, R, 1.0), Contact::none(1.0));
+    }
+
+    #[test]
+    fn refine_root_handles_a_near_double_root_at_the_bracket_end() {
+        // f has a minimum of −ε at t = 1: a graze 1e-12 m deep
+        let depth = 1e-12;
+        let r = rel((0.0, 0.0), (1.0, 0.0), (-1.0, 2.0 * R - depth));
+        let four_r2 = 4.0 * R * R;
+        let (f_lo, _, _) = contact_fn(&r, four_r2, 0.0, 0);
+        let (f_hi, _, _) = contact_fn(&r, four_r2, 1.0, 0);
+        assert!(f_lo > 0.0 && f_hi < 0.0);
+        let t = refine_root(&r, four_r2, 0, 0.0, 1.0, f_lo, f_hi);
+        // exact root: 1 − sqrt((2R)² − (2R − depth)²)
+        let y = 2.0 * R - depth;
+        let exact = 1.0 - (4.0 * R * R - y * y).sqrt();
+        assert!((t - exact).abs() < 1e-12, "{t} vs {exact}");
+    }
+
+    #[test]
+    fn first_contact_is_invariant_under_translation() {
+        let base = rel((0.3, -0.1), (-2.0, 0.4), (0.5, 0.05));
+        let c = first_contact(&base, R, 1.0);
+        assert_eq!(c.status, Status::Hit);
+        // the relative path is the same wherever the table is; the solver sees only it
+        let moved = RelPath {
+            c: Vec2::new((1000.0 + 0.5) - 1000.0, (-1000.0 + 0.05) + 1000.0),
+            ..base
+        };
+        let m = first_contact(&moved, R, 1.0);
+        assert!((m.t - c.t).abs() < 1e-12);
+    }
+}

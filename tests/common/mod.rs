@@ -1,0 +1,170 @@
+//! Shared test helpers: the ground-truth corpus and its tolerance tiers
+//! (`tests/data/README.md`).
+#![allow(dead_code)]
+
+use kisstime::physics::{RelPath, dot, length};
+use kisstime::{Ball, MotionState, Params, Status, ball_path};
+
+/// One corpus case.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub id: String,
+    pub category: String,
+    pub params: Params,
+    pub b1: Ball,
+    pub b2: Ball,
+    pub expected_t: f64,
+    pub horizon: f64,
+    pub margin: f64,
+    pub label: String,
+}
+
+fn num(s: &str) -> f64 {
+    s.parse().unwrap_or_else(|_| panic!("bad number {s:?} in the corpus"))
+}
+
+/// Reads `tests/data/dev.csv`.
+pub fn corpus() -> Vec<Case> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/dev.csv");
+    let mut rdr = csv::Reader::from_path(path).expect("tests/data/dev.csv is readable");
+    let headers = rdr.headers().unwrap().clone();
+    let col = |name: &str| headers.iter().position(|h| h == name).unwrap();
+    let ball = |rec: &csv::StringRecord, p: &str| Ball {
+        state: rec[col(&format!("{p}_state"))].parse::<MotionState>().unwrap(),
+        x: num(&rec[col(&format!("{p}_x"))]),
+        y: num(&rec[col(&format!("{p}_y"))]),
+        vx: num(&rec[col(&format!("{p}_vx"))]),
+        vy: num(&rec[col(&format!("{p}_vy"))]),
+        wx: num(&rec[col(&format!("{p}_wx"))]),
+        wy: num(&rec[col(&format!("{p}_wy"))]),
+        wz: num(&rec[col(&format!("{p}_wz"))]),
+    };
+    rdr.records()
+        .map(|r| {
+            let rec = r.unwrap();
+            let radius = num(&rec[col("R")]);
+            let note = &rec[col("note")];
+            Case {
+                id: rec[col("case_id")].to_owned(),
+                category: rec[col("category")].to_owned(),
+                params: Params {
+                    radius,
+                    g: num(&rec[col("g")]),
+                    mu_s: num(&rec[col("mu_s")]),
+                    mu_r: num(&rec[col("mu_r")]),
+                    mu_sp: 0.444 * radius,
+                },
+                b1: ball(&rec, "b1"),
+                b2: ball(&rec, "b2"),
+                expected_t: num(&rec[col("expected_t")]),
+                horizon: num(&rec[col("horizon_H")]),
+                margin: num(&rec[col("min_distance_margin")]),
+                label: note
+                    .split(';')
+                    .next()
+                    .unwrap()
+                    .trim_start_matches("label=")
+                    .to_owned(),
+            }
+        })
+        .collect()
+}
+
+/// Which tolerance tier of the corpus README to apply.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tier {
+    F64,
+    F32,
+}
+
+impl Case {
+    /// The case's relative path from its CSV doubles, in f64.
+    pub fn rel(&self) -> RelPath {
+        RelPath::between(
+            &ball_path(&self.b1, &self.params),
+            &ball_path(&self.b2, &self.params),
+        )
+    }
+
+    /// The normal (centre-to-centre) approach speed at the true contact time.
+    pub fn normal_speed(&self) -> f64 {
+        let rel = self.rel();
+        let t = self.expected_t;
+        let ct = rel.at(t);
+        let vt = rel.velocity_at(t);
+        (dot(ct, vt) / length(ct)).abs()
+    }
+
+    /// Length scale of the relative path at the true time: `|C0| + |B| t + |A| t²`.
+    pub fn path_scale(&self) -> f64 {
+        let rel = self.rel();
+        let t = self.expected_t;
+        length(rel.c) + length(rel.b) * t + length(rel.a) * t * t
+    }
+
+    /// Checks an answer against the truth under `tier`; `Err` says why it fails.
+    pub fn check(&self, t: f64, status: Status, tier: Tier) -> Result<(), String> {
+        let expect_hit = self.expected_t.is_finite();
+        let got_hit = status != Status::None;
+        let excused = match tier {
+            Tier::F64 => self.margin.abs() < 1e-7,
+            Tier::F32 => self.margin.abs() < 1e-5,
+        };
+        if expect_hit != got_hit {
+            if excused {
+                return Ok(());
+            }
+            return Err(format!(
+                "classification: expected t={} got {status} t={t}",
+                self.expected_t
+            ));
+        }
+        if self.label == "overlap" && status != Status::Overlap && !excused {
+            return Err(format!("expected overlap, got {status}"));
+        }
+        if !expect_hit {
+            return Ok(());
+        }
+        if status == Status::Overlap && self.label != "overlap" && !excused {
+            return Err(format!("unexpected overlap (expected t={})", self.expected_t));
+        }
+        let te = self.expected_t;
+        let dt = (t - te).abs();
+        let vn = self.normal_speed();
+        let ok = match tier {
+            Tier::F64 => {
+                let strict = self.margin.abs() >= 1e-4;
+                let time_ok = if strict {
+                    dt <= 1e-12 + 1e-9 * te
+                } else {
+                    dt <= 1e-9 + 1e-6 * te
+                };
+                time_ok || dt * vn <= 1e-9
+            }
+            Tier::F32 => {
+                excused
+                    || dt <= 1e-6 + 1e-6 * te
+                    || dt * vn <= 1e-5 + 5e-7 * self.path_scale()
+            }
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err(format!(
+                "time: expected {te} got {t} (|dt| = {dt:e}, dt·vn = {:e}, margin {:e})",
+                dt * vn,
+                self.margin
+            ))
+        }
+    }
+
+    /// The same case with both balls moved by `(dx, dy)`.
+    pub fn translated(&self, dx: f64, dy: f64) -> Case {
+        let mut c = self.clone();
+        c.b1.x += dx;
+        c.b1.y += dy;
+        c.b2.x += dx;
+        c.b2.y += dy;
+        c
+    }
+}
