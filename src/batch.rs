@@ -332,7 +332,10 @@ mod tests {
         let mut b = Batch::new();
         let ball = Ball::at_rest(0.0, 0.0);
         let err = b.push_table(7, [(1, ball)]).unwrap_err().to_string();
-        assert!(err.contains("table 7") && err.contains("at least 2"), "{err}");
+        assert!(
+            err.contains("table 7") && err.contains("at least 2"),
+            "{err}"
+        );
         let err = b
             .push_table(7, [(3, ball), (3, Ball::at_rest(1.0, 0.0))])
             .unwrap_err()

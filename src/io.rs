@@ -82,17 +82,16 @@ pub fn read_batch_csv<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
             )
             .into());
         }
-        let table: i64 = rec[0].parse().map_err(|_| {
-            err(
-                line,
-                format!("table id {:?} is not an integer", &rec[0]),
-            )
-        })?;
+        let table: i64 = rec[0]
+            .parse()
+            .map_err(|_| err(line, format!("table id {:?} is not an integer", &rec[0])))?;
         let ball: i64 = rec[1].parse().map_err(|_| {
             err(line, format!("ball id {:?} is not an integer", &rec[1])).at_table(table)
         })?;
         let at = |msg: String| err(line, msg).at_table(table).at_ball(ball);
-        let state: MotionState = rec[2].parse().map_err(|e: crate::physics::UnknownState| at(e.to_string()))?;
+        let state: MotionState = rec[2]
+            .parse()
+            .map_err(|e: crate::physics::UnknownState| at(e.to_string()))?;
         let mut v = [0.0f64; 7];
         for (k, name) in BALL_NUMBER_COLUMNS.iter().enumerate() {
             let text = &rec[3 + k];
@@ -117,7 +116,10 @@ pub fn read_batch_csv<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
             wy: v[5],
             wz: v[6],
         };
-        tables.entry(table).or_default().push(Row { line, ball, data });
+        tables
+            .entry(table)
+            .or_default()
+            .push(Row { line, ball, data });
     }
 
     let mut batch = Batch::new();
@@ -189,7 +191,7 @@ pub fn format_time(t: f64, buf: &mut ryu::Buffer) -> &str {
 }
 
 /// Writes per-pair answers (as [`crate::pair_times`] returns them) as CSV (module docs).
-pub fn write_pairs_csv<W: Write>(
+pub fn write_pairs_csv<W: Write + ?Sized>(
     out: &mut W,
     batch: &Batch,
     contacts: &[Contact],

@@ -1,1 +1,158 @@
-fn main(){}
+//! The `kisstime` command line: a thin layer over the library.
+//!
+//! Exit codes: 0 success, 2 bad input or usage (the message names the file, line, table and
+//! ball), 1 a file that cannot be read or written.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use kisstime::physics::{
+    DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS,
+};
+use kisstime::{Error, Params};
+
+#[derive(Parser)]
+#[command(
+    name = "kisstime",
+    version,
+    about = "When do two billiard balls collide? Exact first-contact times for every ball pair \
+             of many tables at once.",
+    long_about = None
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Answer every ball pair of every table: when do they first touch while approaching?
+    ///
+    /// INPUT is CSV with the header `table,ball,state,x,y,vx,vy,wx,wy,wz` (SI units; state is
+    /// stationary, spinning, sliding, rolling or pocketed; rows of one table need not be
+    /// adjacent). The output is CSV `table,i,j,t,status,horizon`, one row per pair with
+    /// i < j the ball ids, in ascending table then ball id order; `t` is the first contact
+    /// time in seconds (`inf` for none), `status` is hit, none or overlap, and `horizon` is
+    /// the time until the first of the two balls changes its motion state.
+    Pairs(PairsArgs),
+}
+
+#[derive(Args)]
+struct PairsArgs {
+    /// Input CSV file.
+    input: PathBuf,
+    /// Write the output here instead of standard output (atomically: nothing is left under
+    /// this name if the run fails).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Where to compute. Only `cpu` exists so far.
+    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+    backend: Backend,
+    /// Floating-point precision of the computation. Only `f64` exists so far.
+    #[arg(long, value_enum, default_value_t = Precision::F64)]
+    precision: Precision,
+    /// Worker threads for the CPU backend (default: one per core). Results do not depend
+    /// on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    #[command(flatten)]
+    physics: PhysicsArgs,
+}
+
+/// The compute backend.
+#[derive(Clone, Copy, ValueEnum)]
+enum Backend {
+    /// Rayon on all cores, f64: the reference.
+    Cpu,
+}
+
+/// The floating-point precision.
+#[derive(Clone, Copy, ValueEnum)]
+enum Precision {
+    /// IEEE double precision.
+    F64,
+}
+
+#[derive(Args)]
+struct PhysicsArgs {
+    /// Ball radius R in metres.
+    #[arg(long, default_value_t = DEFAULT_RADIUS)]
+    radius: f64,
+    /// Sliding friction coefficient.
+    #[arg(long, default_value_t = DEFAULT_MU_S)]
+    mu_s: f64,
+    /// Rolling friction coefficient.
+    #[arg(long, default_value_t = DEFAULT_MU_R)]
+    mu_r: f64,
+    /// Spinning friction coefficient in metres [default: 0.444 × radius]. Spin about the
+    /// vertical axis never moves a ball, so it does not change collision times.
+    #[arg(long)]
+    mu_sp: Option<f64>,
+    /// Gravitational acceleration in m/s².
+    #[arg(long, default_value_t = DEFAULT_G)]
+    g: f64,
+}
+
+impl PhysicsArgs {
+    fn params(&self) -> Params {
+        Params {
+            radius: self.radius,
+            mu_s: self.mu_s,
+            mu_r: self.mu_r,
+            mu_sp: self.mu_sp.unwrap_or(DEFAULT_MU_SP_PER_RADIUS * self.radius),
+            g: self.g,
+        }
+    }
+}
+
+fn run_pairs(args: &PairsArgs) -> Result<(), Error> {
+    let (Backend::Cpu, Precision::F64) = (args.backend, args.precision);
+    let params = args.physics.params();
+    params.validate()?;
+    let batch = kisstime::io::read_batch_csv_path(&args.input)?;
+    let contacts = kisstime::pair_times(&batch, &params)?;
+    let write = |w: &mut dyn Write| kisstime::io::write_pairs_csv(w, &batch, &contacts);
+    match &args.output {
+        Some(path) => kisstime::io::write_atomically(path, write),
+        None => {
+            let stdout = std::io::stdout();
+            let mut w = std::io::BufWriter::new(stdout.lock());
+            write(&mut w)
+                .and_then(|()| w.flush())
+                .map_err(|source| Error::Io {
+                    path: "standard output".into(),
+                    source,
+                })
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Pairs(args) => {
+            if let Some(n) = args.threads
+                && let Err(e) = rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build_global()
+            {
+                eprintln!("kisstime: cannot start {n} threads: {e}");
+                return ExitCode::from(1);
+            }
+            run_pairs(args)
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        // a closed pipe (`kisstime pairs … | head`) is not an error of ours
+        Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::BrokenPipe => {
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("kisstime: error: {e}");
+            ExitCode::from(if e.is_bad_input() { 2 } else { 1 })
+        }
+    }
+}

@@ -309,7 +309,11 @@ pub struct BallPath {
 /// The unit vector of `v`, or zero for the zero vector.
 fn unit_or_zero(v: Vec2) -> Vec2 {
     let len = length(v);
-    if len > 0.0 { (1.0 / len) * v } else { Vec2::ZERO }
+    if len > 0.0 {
+        (1.0 / len) * v
+    } else {
+        Vec2::ZERO
+    }
 }
 
 /// A ball's path coefficients and motion time (the table at the top of this module).
@@ -330,12 +334,24 @@ pub fn ball_path(ball: &Ball, params: &Params) -> BallPath {
             );
             let a = (-0.5 * params.mu_s * params.g) * unit_or_zero(u);
             let tmax = 2.0 * length(u) / (7.0 * params.mu_s * params.g);
-            BallPath { a, b: v, c, tmax, flags: PATH_MOVES }
+            BallPath {
+                a,
+                b: v,
+                c,
+                tmax,
+                flags: PATH_MOVES,
+            }
         }
         MotionState::Rolling => {
             let a = (-0.5 * params.mu_r * params.g) * unit_or_zero(v);
             let tmax = length(v) / (params.mu_r * params.g);
-            BallPath { a, b: v, c, tmax, flags: PATH_MOVES }
+            BallPath {
+                a,
+                b: v,
+                c,
+                tmax,
+                flags: PATH_MOVES,
+            }
         }
         MotionState::Stationary | MotionState::Spinning => BallPath {
             a: Vec2::ZERO,
@@ -490,7 +506,10 @@ mod tests {
             let poly = (((q[0] * t + q[1]) * t + q[2]) * t + q[3]) * t + q[4];
             let ct = rel.at(t);
             let direct = dot(ct, ct) - 4.0 * r * r;
-            assert!((poly - direct).abs() < 1e-12 * (1.0 + direct.abs()), "t={t}");
+            assert!(
+                (poly - direct).abs() < 1e-12 * (1.0 + direct.abs()),
+                "t={t}"
+            );
         }
     }
 

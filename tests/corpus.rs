@@ -18,7 +18,10 @@ fn check_all(cases: &[Case], what: &str) {
     for case in cases {
         let got = run_case(case);
         if let Err(why) = case.check(got.t, got.status, Tier::F64) {
-            failures.push(format!("{} [{}, {}]: {why}", case.id, case.category, case.label));
+            failures.push(format!(
+                "{} [{}, {}]: {why}",
+                case.id, case.category, case.label
+            ));
         }
     }
     println!(
@@ -44,7 +47,12 @@ fn corpus_passes_the_f64_tier() {
 #[test]
 fn corpus_passes_the_f64_tier_far_from_the_origin() {
     let cases = corpus();
-    for (dx, dy) in [(1000.0, 1000.0), (-1000.0, 1000.0), (1000.0, -1000.0), (-1000.0, -1000.0)] {
+    for (dx, dy) in [
+        (1000.0, 1000.0),
+        (-1000.0, 1000.0),
+        (1000.0, -1000.0),
+        (-1000.0, -1000.0),
+    ] {
         let moved: Vec<Case> = cases.iter().map(|c| c.translated(dx, dy)).collect();
         check_all(&moved, &format!("moved by ({dx}, {dy}) m"));
     }
@@ -70,7 +78,9 @@ fn corpus_through_the_batch_driver_gives_the_same_answers() {
     let mut batch = Batch::new();
     for (k, case) in cases.iter().enumerate() {
         assert_eq!(case.params, params, "one parameter set in the corpus");
-        batch.push_table(k as i64, [(1, case.b1), (2, case.b2)]).unwrap();
+        batch
+            .push_table(k as i64, [(1, case.b1), (2, case.b2)])
+            .unwrap();
     }
     let pairs = pair_times(&batch, &params).unwrap();
     for (case, got) in cases.iter().zip(&pairs) {

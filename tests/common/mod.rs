@@ -20,7 +20,8 @@ pub struct Case {
 }
 
 fn num(s: &str) -> f64 {
-    s.parse().unwrap_or_else(|_| panic!("bad number {s:?} in the corpus"))
+    s.parse()
+        .unwrap_or_else(|_| panic!("bad number {s:?} in the corpus"))
 }
 
 /// Reads `tests/data/dev.csv`.
@@ -30,7 +31,9 @@ pub fn corpus() -> Vec<Case> {
     let headers = rdr.headers().unwrap().clone();
     let col = |name: &str| headers.iter().position(|h| h == name).unwrap();
     let ball = |rec: &csv::StringRecord, p: &str| Ball {
-        state: rec[col(&format!("{p}_state"))].parse::<MotionState>().unwrap(),
+        state: rec[col(&format!("{p}_state"))]
+            .parse::<MotionState>()
+            .unwrap(),
         x: num(&rec[col(&format!("{p}_x"))]),
         y: num(&rec[col(&format!("{p}_y"))]),
         vx: num(&rec[col(&format!("{p}_vx"))]),
@@ -126,7 +129,10 @@ impl Case {
             return Ok(());
         }
         if status == Status::Overlap && self.label != "overlap" && !excused {
-            return Err(format!("unexpected overlap (expected t={})", self.expected_t));
+            return Err(format!(
+                "unexpected overlap (expected t={})",
+                self.expected_t
+            ));
         }
         let te = self.expected_t;
         let dt = (t - te).abs();
@@ -142,9 +148,7 @@ impl Case {
                 time_ok || dt * vn <= 1e-9
             }
             Tier::F32 => {
-                excused
-                    || dt <= 1e-6 + 1e-6 * te
-                    || dt * vn <= 1e-5 + 5e-7 * self.path_scale()
+                excused || dt <= 1e-6 + 1e-6 * te || dt * vn <= 1e-5 + 5e-7 * self.path_scale()
             }
         };
         if ok {
