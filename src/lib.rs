@@ -40,6 +40,7 @@ pub mod error;
 pub mod io;
 pub mod physics;
 pub mod solver;
+pub mod workload;
 
 pub use batch::{Batch, NextCollision, next_collisions, next_from_pairs, pair_times};
 pub use error::{Error, InputError};

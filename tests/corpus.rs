@@ -87,3 +87,28 @@ fn corpus_through_the_batch_driver_gives_the_same_answers() {
         assert_eq!(*got, run_case(case), "{}", case.id);
     }
 }
+
+#[test]
+fn the_prune_never_discards_a_corpus_collision() {
+    let mut pruned = 0;
+    for case in corpus() {
+        let p1 = kisstime::ball_path(&case.b1, &case.params);
+        let p2 = kisstime::ball_path(&case.b2, &case.params);
+        let h = kisstime::physics::pair_horizon(&p1, &p2);
+        if !h.is_finite() {
+            continue;
+        }
+        let rel = kisstime::RelPath::between(&p1, &p2);
+        if kisstime::solver::cannot_meet(&rel, case.params.radius, h) {
+            pruned += 1;
+            assert!(
+                !case.expected_t.is_finite(),
+                "{}: pruned, but the truth is a collision at {}",
+                case.id,
+                case.expected_t
+            );
+        }
+    }
+    println!("the prune rules out {pruned} of 1600 corpus pairs");
+    assert!(pruned > 100, "the prune should rule out many pairs, it ruled out {pruned}");
+}
