@@ -197,8 +197,29 @@ pub struct NextCollision {
     pub status: Status,
 }
 
-/// Fills `paths` with the paths of `balls`.
-fn table_paths(balls: &[Ball], params: &Params, paths: &mut Vec<BallPath>) {
+/// The pair `(i, j)`, `i < j < n`, at local index `p` in pair order: the inverse of
+/// [`pair_index`]. Row `i` starts at `s(i) = i (2n − i − 1) / 2`; an f32 estimate of `i`
+/// (the shader's arithmetic) is corrected exactly. WGSL twin: `pair_of_index` in
+/// `shaders/kernels.wgsl`.
+pub fn pair_of_index(n: usize, p: usize) -> (usize, usize) {
+    let m = (2 * n - 1) as f32;
+    let mut i = (0.5 * (m - (m * m - 8.0 * p as f32).max(0.0).sqrt()))
+        .floor()
+        .max(0.0) as usize;
+    i = i.min(n - 2);
+    // correct the estimate: s(i) ≤ p < s(i + 1)
+    while i > 0 && i * (2 * n - i - 1) / 2 > p {
+        i -= 1;
+    }
+    while i + 1 < n - 1 && (i + 1) * (2 * n - i - 2) / 2 <= p {
+        i += 1;
+    }
+    let j = p - i * (2 * n - i - 1) / 2 + i + 1;
+    (i, j)
+}
+
+/// Fills `paths` with the paths of `balls` (WGSL twin: `cache_paths`).
+pub(crate) fn table_paths(balls: &[Ball], params: &Params, paths: &mut Vec<BallPath>) {
     paths.clear();
     paths.extend(balls.iter().map(|b| ball_path(b, params)));
 }
@@ -324,6 +345,17 @@ mod tests {
                 }
             }
             assert_eq!(k, pairs_in_table(n));
+        }
+    }
+
+    #[test]
+    fn pair_of_index_inverts_pair_index() {
+        for n in [2, 3, 4, 5, 16, 64, 65, 300, 2000] {
+            for i in 0..n {
+                for j in i + 1..n {
+                    assert_eq!(pair_of_index(n, pair_index(n, i, j)), (i, j), "n={n}");
+                }
+            }
         }
     }
 

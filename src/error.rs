@@ -18,6 +18,17 @@ pub enum Error {
         /// The value given.
         value: f64,
     },
+    /// No usable GPU: no adapter, or not the precision asked for. The `auto` backend falls
+    /// back to the CPU on this error; the `gpu` backend reports it.
+    #[error("{0}")]
+    GpuUnavailable(String),
+    /// A GPU operation failed (device lost, dispatch or readback error). The `auto` backend
+    /// redoes the batch on the CPU; the `gpu` backend reports it.
+    #[error("GPU error: {0}")]
+    Gpu(String),
+    /// A combination the crate does not offer (e.g. the CPU backend in f32).
+    #[error("{0}")]
+    Unsupported(String),
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {
@@ -32,7 +43,10 @@ pub enum Error {
 impl Error {
     /// Whether the error is the user's data (input or parameters) rather than the system.
     pub fn is_bad_input(&self) -> bool {
-        matches!(self, Error::Input(_) | Error::Param { .. })
+        matches!(
+            self,
+            Error::Input(_) | Error::Param { .. } | Error::Unsupported(_)
+        )
     }
 }
 

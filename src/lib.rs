@@ -14,6 +14,8 @@
 //! - [`solver`]: the answer for one pair (rules 1–4) and the root finder;
 //! - [`batch`]: the flat batch layout and the Rayon drivers [`pair_times`] and
 //!   [`next_collisions`];
+//! - [`gpu`]: the GPU backend (wgpu host code; the WGSL twins are in `shaders/`);
+//! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback;
 //! - [`io`]: CSV input and output;
 //! - the `kisstime` binary is a thin command-line layer over these.
 //!
@@ -36,13 +38,17 @@
 #![warn(missing_docs)]
 
 pub mod batch;
+pub mod engine;
 pub mod error;
+pub mod gpu;
 pub mod io;
 pub mod physics;
 pub mod solver;
 pub mod workload;
 
 pub use batch::{Batch, NextCollision, next_collisions, next_from_pairs, pair_times};
+pub use engine::{Backend, Engine};
 pub use error::{Error, InputError};
+pub use gpu::{GpuEngine, Precision};
 pub use physics::{Ball, BallPath, MotionState, Params, RelPath, ball_path};
 pub use solver::{CONTACT_TOL, Contact, Status, pair_contact};

@@ -252,8 +252,8 @@ pub fn dot(a: Vec2, b: Vec2) -> f64 {
     a.x * b.x + a.y * b.y
 }
 
-/// Euclidean length (WGSL `length`), as `sqrt(dot(a, a))`.
-pub fn length(a: Vec2) -> f64 {
+/// Euclidean length, `sqrt(dot(a, a))` (WGSL: the same function, not the `length` builtin).
+pub fn norm(a: Vec2) -> f64 {
     dot(a, a).sqrt()
 }
 
@@ -308,7 +308,7 @@ pub struct BallPath {
 
 /// The unit vector of `v`, or zero for the zero vector.
 fn unit_or_zero(v: Vec2) -> Vec2 {
-    let len = length(v);
+    let len = norm(v);
     if len > 0.0 {
         (1.0 / len) * v
     } else {
@@ -333,7 +333,7 @@ pub fn ball_path(ball: &Ball, params: &Params) -> BallPath {
                 ball.vy + params.radius * ball.wx,
             );
             let a = (-0.5 * params.mu_s * params.g) * unit_or_zero(u);
-            let tmax = 2.0 * length(u) / (7.0 * params.mu_s * params.g);
+            let tmax = 2.0 * norm(u) / (7.0 * params.mu_s * params.g);
             BallPath {
                 a,
                 b: v,
@@ -344,7 +344,7 @@ pub fn ball_path(ball: &Ball, params: &Params) -> BallPath {
         }
         MotionState::Rolling => {
             let a = (-0.5 * params.mu_r * params.g) * unit_or_zero(v);
-            let tmax = length(v) / (params.mu_r * params.g);
+            let tmax = norm(v) / (params.mu_r * params.g);
             BallPath {
                 a,
                 b: v,
@@ -446,7 +446,7 @@ mod tests {
         assert!((path.tmax - 5.0 / (p.mu_r * p.g)).abs() < 1e-12);
         // velocity b + 2 a t vanishes at tmax
         let v_end = path.b + (2.0 * path.tmax) * path.a;
-        assert!(length(v_end) < 1e-12, "{v_end:?}");
+        assert!(norm(v_end) < 1e-12, "{v_end:?}");
     }
 
     #[test]

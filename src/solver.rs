@@ -37,9 +37,7 @@
 //! a missing root is `−1`, a time that never comes is `−1`, loops are bounded by
 //! [`MAX_ITER`], and only `sqrt` and arithmetic are used.
 
-use crate::physics::{
-    BallPath, PATH_MOVES, PATH_POCKETED, RelPath, Vec2, dot, length, pair_horizon,
-};
+use crate::physics::{BallPath, PATH_MOVES, PATH_POCKETED, RelPath, Vec2, dot, norm, pair_horizon};
 
 /// Two centres closer than `2R` by at most this many metres (either way) touch.
 pub const CONTACT_TOL: f64 = 1e-12;
@@ -316,15 +314,15 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
 pub fn approach_sign(rel: &RelPath) -> f64 {
     let (a, b, c) = (rel.a, rel.b, rel.c);
     let d1 = dot(b, c);
-    if d1.abs() > APPROACH_BAND * length(b) * length(c) {
+    if d1.abs() > APPROACH_BAND * norm(b) * norm(c) {
         return d1;
     }
     let d2 = dot(b, b) + 2.0 * dot(a, c);
-    if d2.abs() > APPROACH_BAND * (dot(b, b) + 2.0 * length(a) * length(c)) {
+    if d2.abs() > APPROACH_BAND * (dot(b, b) + 2.0 * norm(a) * norm(c)) {
         return d2;
     }
     let d3 = dot(a, b);
-    if d3.abs() > APPROACH_BAND * length(a) * length(b) {
+    if d3.abs() > APPROACH_BAND * norm(a) * norm(b) {
         return d3;
     }
     dot(a, a)
@@ -345,10 +343,10 @@ pub fn cannot_meet(rel: &RelPath, radius: f64, h: f64) -> bool {
     let p0 = rel.c;
     let p1 = rel.c + (0.5 * h) * rel.b;
     let p2 = rel.c + h * rel.b + (h * h) * rel.a;
-    let scale = length(rel.c) + length(rel.b) * h + length(rel.a) * h * h;
+    let scale = norm(rel.c) + norm(rel.b) * h + norm(rel.a) * h * h;
     let reach = 2.0 * radius + PRUNE_SLACK * scale;
     // axis 1: the initial centre line
-    let len_c = length(rel.c);
+    let len_c = norm(rel.c);
     if len_c > 0.0 {
         let u = (1.0 / len_c) * rel.c;
         if dot(u, p1) > reach && dot(u, p2) > reach && len_c > reach {
@@ -356,7 +354,7 @@ pub fn cannot_meet(rel: &RelPath, radius: f64, h: f64) -> bool {
         }
     }
     // axis 2: the normal of the relative velocity
-    let len_b = length(rel.b);
+    let len_b = norm(rel.b);
     if len_b > 0.0 {
         let u = (1.0 / len_b) * Vec2::new(-rel.b.y, rel.b.x);
         let (s0, s1, s2) = (dot(u, p0), dot(u, p1), dot(u, p2));
@@ -372,7 +370,7 @@ pub fn cannot_meet(rel: &RelPath, radius: f64, h: f64) -> bool {
 /// `h` must be finite and `≥ 0`. [`cannot_meet`] runs before any root finding.
 pub fn first_contact(rel: &RelPath, radius: f64, h: f64) -> Contact {
     let four_r2 = 4.0 * radius * radius;
-    let d0 = length(rel.c) - 2.0 * radius;
+    let d0 = norm(rel.c) - 2.0 * radius;
     // rule 2: overlap
     if d0 < -CONTACT_TOL {
         return Contact::overlap(h);

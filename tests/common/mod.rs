@@ -2,7 +2,7 @@
 //! (`tests/data/README.md`).
 #![allow(dead_code)]
 
-use kisstime::physics::{RelPath, dot, length};
+use kisstime::physics::{RelPath, dot, norm};
 use kisstime::{Ball, MotionState, Params, Status, ball_path};
 
 /// One corpus case.
@@ -95,14 +95,14 @@ impl Case {
         let t = self.expected_t;
         let ct = rel.at(t);
         let vt = rel.velocity_at(t);
-        (dot(ct, vt) / length(ct)).abs()
+        (dot(ct, vt) / norm(ct)).abs()
     }
 
     /// Length scale of the relative path at the true time: `|C0| + |B| t + |A| t²`.
     pub fn path_scale(&self) -> f64 {
         let rel = self.rel();
         let t = self.expected_t;
-        length(rel.c) + length(rel.b) * t + length(rel.a) * t * t
+        norm(rel.c) + norm(rel.b) * t + norm(rel.a) * t * t
     }
 
     /// Checks an answer against the truth under `tier`; `Err` says why it fails.
@@ -171,4 +171,41 @@ impl Case {
         c.b2.y += dy;
         c
     }
+}
+
+/// A GPU engine for `precision`, or `None` (after printing why) when this machine has no
+/// usable adapter. With `KISSTIME_REQUIRE_GPU=1` (CI sets it) a missing adapter fails the
+/// test instead. f64 without `SHADER_F64` on the adapter is a skip too, with its reason.
+pub fn gpu_or_skip(precision: kisstime::Precision, test: &str) -> Option<kisstime::GpuEngine> {
+    match kisstime::GpuEngine::new(precision) {
+        Ok(engine) => {
+            eprintln!("{test}: on {}", engine.adapter());
+            Some(engine)
+        }
+        Err(kisstime::Error::GpuUnavailable(why)) => {
+            let required = std::env::var("KISSTIME_REQUIRE_GPU").is_ok_and(|v| v == "1");
+            let no_f64 = why.contains("SHADER_F64");
+            if required && !no_f64 {
+                panic!("{test}: KISSTIME_REQUIRE_GPU=1 but no usable GPU: {why}");
+            }
+            eprintln!("{test}: SKIPPED, no usable GPU: {why}");
+            None
+        }
+        // a GPU that is there but fails (e.g. the shader does not build) is a failure
+        Err(e) => panic!("{test}: {e}"),
+    }
+}
+
+/// Every corpus case as a 2-ball table `k` (balls 1 and 2), all with the corpus's one
+/// parameter set.
+pub fn corpus_batch(cases: &[Case]) -> (kisstime::Batch, Params) {
+    let params = cases[0].params;
+    let mut batch = kisstime::Batch::new();
+    for (k, case) in cases.iter().enumerate() {
+        assert_eq!(case.params, params);
+        batch
+            .push_table(k as i64, [(1, case.b1), (2, case.b2)])
+            .unwrap();
+    }
+    (batch, params)
 }

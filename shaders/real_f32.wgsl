@@ -1,0 +1,22 @@
+// Precision prelude: f32. Prepended to physics.wgsl, solver.wgsl and kernels.wgsl by the
+// host (src/gpu.rs). The f64 prelude, real_f64.wgsl, defines the same names.
+alias real = f32;
+alias real2 = vec2<f32>;
+
+// Rust twin: f64::EPSILON
+const EPS: real = 1.1920929e-7;
+// Rust twin: solver::ROOT_RTOL (4 EPS), the relative step size at which a refinement
+// has converged.
+const ROOT_RTOL: real = 4.76837158e-7;
+// Rust twin: solver::APPROACH_BAND (64 EPS): a derivative of f at a touching contact
+// counts as zero within this fraction of the magnitudes that formed it.
+const APPROACH_BAND: real = 7.62939453e-6;
+// Rust twin: solver::CONTACT_TOL (1e-12 m there). An f32 coordinate of a table-local
+// position is rounded to 6e-8 m, so touching is decided to a micrometre here.
+const CONTACT_TOL: real = 1e-6;
+// Rust twin: solver::PRUNE_SLACK (1e-9 there), far above f32 rounding of the projections.
+const PRUNE_SLACK: real = 1e-5;
+// Rust twin: solver::ROOT_ATOL
+const ROOT_ATOL: real = 1e-30;
+// WGSL has no infinity: a ball that never stops has this motion time (Rust: f64::INFINITY).
+const NEVER: real = 3.0e38;

@@ -1,0 +1,317 @@
+// The solver: the answer for one ball pair — when do the two balls first come into contact
+// while approaching, within the time their current motions last? WGSL twin of
+// src/solver.rs: the same functions in the same order with the same comments; the contract
+// and the method are documented there. Differences, all forced by WGSL: no NaN or ∞
+// (a missing root or time is NO_ROOT = −1, "no collision" has t = NEVER), structs instead
+// of tuples, and the precision constants come from the real_f32/real_f64 prelude.
+
+// The most iterations of one root refinement.
+const MAX_ITER: u32 = 64u;
+// ROOT_RTOL (4 EPS) and APPROACH_BAND (64 EPS) are in the precision prelude: naga does not
+// constant-evaluate arithmetic on f64 constants.
+// What a missing root or time is reported as inside the algorithm.
+const NO_ROOT: real = -1.0;
+
+// How a pair's answer came out (Rust: Status).
+const STATUS_NONE: u32 = 0u;
+const STATUS_HIT: u32 = 1u;
+const STATUS_OVERLAP: u32 = 2u;
+
+// The answer for one pair: time of first contact (NEVER for none), status, horizon.
+struct Contact {
+    t: real,
+    status: u32,
+    horizon: real,
+}
+
+fn contact_none(horizon: real) -> Contact {
+    return Contact(NEVER, STATUS_NONE, horizon);
+}
+
+fn contact_hit(t: real, horizon: real) -> Contact {
+    return Contact(t, STATUS_HIT, horizon);
+}
+
+fn contact_overlap(horizon: real) -> Contact {
+    return Contact(0.0, STATUS_OVERLAP, horizon);
+}
+
+// Real roots of a x² + b x + c, ascending: (count, r0, r1), missing roots −1.
+struct Roots2 {
+    n: u32,
+    r0: real,
+    r1: real,
+}
+
+// Stable formula; a = 0 falls back to the linear root; a double root is reported twice;
+// 0 x² + 0 x + c has no roots.
+fn quadratic_roots(a: real, b: real, c: real) -> Roots2 {
+    if a == 0.0 {
+        if b == 0.0 {
+            return Roots2(0u, NO_ROOT, NO_ROOT);
+        }
+        return Roots2(1u, -c / b, NO_ROOT);
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return Roots2(0u, NO_ROOT, NO_ROOT);
+    }
+    var sign_b: real = 1.0;
+    if b < 0.0 {
+        sign_b = -1.0;
+    }
+    let q = -0.5 * (b + sign_b * sqrt(disc));
+    if q == 0.0 {
+        // b = 0 and disc = 0, so c = 0: a double root at 0
+        return Roots2(2u, 0.0, 0.0);
+    }
+    let r0 = q / a;
+    let r1 = c / q;
+    if r0 <= r1 {
+        return Roots2(2u, r0, r1);
+    }
+    return Roots2(2u, r1, r0);
+}
+
+// The smallest strictly positive root of a x² + b x + c, or −1 if it has none.
+fn smallest_positive_root(a: real, b: real, c: real) -> real {
+    let r = quadratic_roots(a, b, c);
+    if r.n >= 1u && r.r0 > 0.0 {
+        return r.r0;
+    }
+    if r.n == 2u && r.r1 > 0.0 {
+        return r.r1;
+    }
+    return NO_ROOT;
+}
+
+// f^(k)(t), f^(k+1)(t), f^(k+2)(t) for k = 0 or 1, where f(t) = |C(t)|² − 4R², evaluated
+// from the vectors: f = Ct·Ct − 4R², f' = 2 Ct·Vt, f'' = 2(Vt·Vt + 2 A·Ct), f''' = 12 A·Vt.
+fn contact_fn(rel: RelPath, four_r2: real, t: real, k: u32) -> vec3<real> {
+    let ct = rel_at(rel, t);
+    let vt = rel_velocity_at(rel, t);
+    let f1 = 2.0 * dot(ct, vt);
+    let f2 = 2.0 * (dot(vt, vt) + 2.0 * dot(rel.a, ct));
+    if k == 0u {
+        let f0 = dot(ct, ct) - four_r2;
+        return vec3<real>(f0, f1, f2);
+    }
+    let f3 = 12.0 * dot(rel.a, vt);
+    return vec3<real>(f1, f2, f3);
+}
+
+// The root of g = f^(k) in the bracket [lo, hi], where g is monotone and g(lo) = g_lo,
+// g(hi) = g_hi have opposite signs or g_hi = 0. Safeguarded Newton from a second-order
+// Taylor step at the end with the smaller |g|.
+fn refine_root(
+    rel: RelPath,
+    four_r2: real,
+    k: u32,
+    lo_in: real,
+    hi_in: real,
+    g_lo: real,
+    g_hi: real,
+) -> real {
+    if g_hi == 0.0 {
+        return hi_in;
+    }
+    if g_lo == 0.0 {
+        return lo_in;
+    }
+    var lo = lo_in;
+    var hi = hi_in;
+    let lo_positive = g_lo > 0.0;
+    // start: a second-order Taylor step from the end where |g| is smaller
+    let from_lo = abs(g_lo) <= abs(g_hi);
+    var end = hi;
+    var dir: real = -1.0;
+    if from_lo {
+        end = lo;
+        dir = 1.0;
+    }
+    let e = contact_fn(rel, four_r2, end, k);
+    var step = smallest_positive_root(0.5 * e.z, dir * e.y, e.x);
+    if step < 0.0 && e.y != 0.0 {
+        step = -dir * e.x / e.y;
+    }
+    var t = end + dir * step;
+    if !(t > lo && t < hi) {
+        t = 0.5 * (lo + hi);
+    }
+    for (var iter = 0u; iter < MAX_ITER; iter++) {
+        let g = contact_fn(rel, four_r2, t, k);
+        if g.x == 0.0 {
+            return t;
+        }
+        // shrink the bracket
+        if (g.x > 0.0) == lo_positive {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        // Newton step if it stays inside the bracket, else bisection
+        var next = 0.5 * (lo + hi);
+        if g.y != 0.0 {
+            let newton = t - g.x / g.y;
+            if newton > lo && newton < hi {
+                next = newton;
+            }
+        }
+        if abs(next - t) <= ROOT_RTOL * abs(next) + ROOT_ATOL {
+            return next;
+        }
+        t = next;
+    }
+    return t;
+}
+
+// The first time in (0, h] at which f goes from > 0 to ≤ 0, or −1 if none (rule 4). With
+// start_inside, f(0) counts as ≤ 0 whatever its rounding (rule 3, separating).
+fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real {
+    // inflection points of f: roots of f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C in (0, h)
+    let a = rel.a;
+    let b = rel.b;
+    let c = rel.c;
+    let s = quadratic_roots(6.0 * dot(a, a), 6.0 * dot(a, b), dot(b, b) + 2.0 * dot(a, c));
+    var knots = array<real, 3>(h, h, h);
+    var n_knots = 0u;
+    if s.n >= 1u && s.r0 > 0.0 && s.r0 < h {
+        knots[n_knots] = s.r0;
+        n_knots += 1u;
+    }
+    if s.n == 2u && s.r1 > 0.0 && s.r1 < h && s.r1 > s.r0 {
+        knots[n_knots] = s.r1;
+        n_knots += 1u;
+    }
+    // walk the pieces [lo, hi] on which f' is monotone, in time order
+    var lo: real = 0.0;
+    let e0 = contact_fn(rel, four_r2, lo, 0u);
+    var f_lo = e0.x;
+    var f1_lo = e0.y;
+    if start_inside {
+        f_lo = 0.0;
+    }
+    for (var piece = 0u; piece <= n_knots; piece++) {
+        let hi = knots[piece];
+        let e_hi = contact_fn(rel, four_r2, hi, 0u);
+        let f_hi = e_hi.x;
+        let f1_hi = e_hi.y;
+        // a critical point of f inside the piece splits it into two monotone halves
+        if (f1_lo < 0.0 && f1_hi > 0.0) || (f1_lo > 0.0 && f1_hi < 0.0) {
+            let tc = refine_root(rel, four_r2, 1u, lo, hi, f1_lo, f1_hi);
+            let f_c = contact_fn(rel, four_r2, tc, 0u).x;
+            if f_lo > 0.0 && f_c <= 0.0 {
+                return refine_root(rel, four_r2, 0u, lo, tc, f_lo, f_c);
+            }
+            lo = tc;
+            f_lo = f_c;
+        }
+        if f_lo > 0.0 && f_hi <= 0.0 {
+            return refine_root(rel, four_r2, 0u, lo, hi, f_lo, f_hi);
+        }
+        lo = hi;
+        f_lo = f_hi;
+        f1_lo = f1_hi;
+    }
+    return NO_ROOT;
+}
+
+// The sign of the first clearly non-zero derivative of f at t = 0: negative when a touching
+// pair approaches, positive when it separates, zero when nothing moves relative to anything.
+fn approach_sign(rel: RelPath) -> real {
+    let a = rel.a;
+    let b = rel.b;
+    let c = rel.c;
+    let d1 = dot(b, c);
+    if abs(d1) > APPROACH_BAND * norm(b) * norm(c) {
+        return d1;
+    }
+    let d2 = dot(b, b) + 2.0 * dot(a, c);
+    if abs(d2) > APPROACH_BAND * (dot(b, b) + 2.0 * norm(a) * norm(c)) {
+        return d2;
+    }
+    let d3 = dot(a, b);
+    if abs(d3) > APPROACH_BAND * norm(a) * norm(b) {
+        return d3;
+    }
+    return dot(a, a);
+}
+
+// Whether C(t) provably stays farther than 2R from the origin for t in [0, h], by a
+// separating-axis test on the convex hull of the Bézier control points
+// P0 = C, P1 = C + (h/2) B, P2 = C + h B + h² A. h must be finite.
+fn cannot_meet(rel: RelPath, radius: real, h: real) -> bool {
+    let p0 = rel.c;
+    let p1 = rel.c + (0.5 * h) * rel.b;
+    let p2 = rel.c + h * rel.b + (h * h) * rel.a;
+    let scale = norm(rel.c) + norm(rel.b) * h + norm(rel.a) * h * h;
+    let reach = 2.0 * radius + PRUNE_SLACK * scale;
+    // axis 1: the initial centre line
+    let len_c = norm(rel.c);
+    if len_c > 0.0 {
+        let u = (1.0 / len_c) * rel.c;
+        if dot(u, p1) > reach && dot(u, p2) > reach && len_c > reach {
+            return true;
+        }
+    }
+    // axis 2: the normal of the relative velocity
+    let len_b = norm(rel.b);
+    if len_b > 0.0 {
+        let u = (1.0 / len_b) * real2(-rel.b.y, rel.b.x);
+        let s0 = dot(u, p0);
+        let s1 = dot(u, p1);
+        let s2 = dot(u, p2);
+        if (s0 > reach && s1 > reach && s2 > reach) || (s0 < -reach && s1 < -reach && s2 < -reach) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// The answer for a relative path that moves, within horizon h (rules 2–4).
+fn first_contact(rel: RelPath, radius: real, h: real) -> Contact {
+    let four_r2 = 4.0 * radius * radius;
+    let d0 = norm(rel.c) - 2.0 * radius;
+    // rule 2: overlap
+    if d0 < -CONTACT_TOL {
+        return contact_overlap(h);
+    }
+    // rule 3: touching
+    if d0 <= CONTACT_TOL {
+        if approach_sign(rel) < 0.0 {
+            let f0 = contact_fn(rel, four_r2, 0.0, 0u).x;
+            if f0 > 0.0 {
+                let t = first_entry(rel, four_r2, h, false);
+                if t > 0.0 {
+                    return contact_hit(t, h);
+                }
+            }
+            return contact_hit(0.0, h);
+        }
+        let t = first_entry(rel, four_r2, h, true);
+        if t >= 0.0 {
+            return contact_hit(t, h);
+        }
+        return contact_none(h);
+    }
+    // prune: the path provably stays out of contact within h
+    if cannot_meet(rel, radius, h) {
+        return contact_none(h);
+    }
+    // rule 4: the first entry into contact
+    let t = first_entry(rel, four_r2, h, false);
+    if t >= 0.0 {
+        return contact_hit(t, h);
+    }
+    return contact_none(h);
+}
+
+// The answer for a pair of balls on their paths (rules 1–4).
+fn pair_contact(p1: BallPath, p2: BallPath, radius: real) -> Contact {
+    let h = pair_horizon(p1, p2);
+    // rule 1: a pocketed ball, or nothing moves
+    if ((p1.flags | p2.flags) & PATH_POCKETED) != 0u || ((p1.flags | p2.flags) & PATH_MOVES) == 0u {
+        return contact_none(h);
+    }
+    return first_contact(rel_between(p1, p2), radius, h);
+}

@@ -1,0 +1,148 @@
+//! Backend choice: one [`Engine`] answers batches on the CPU, on the GPU, or on the GPU
+//! with the CPU as fallback (`auto`).
+//!
+//! `auto` opens a GPU adapter when one works and otherwise uses the CPU, leaving a note
+//! that says why; a GPU failure during a batch (device lost, failed dispatch) redoes that
+//! batch on the CPU, again with a note. `gpu` reports such failures as errors. The CPU
+//! backend computes in f64 only; a fallback from GPU f32 therefore computes in f64.
+
+use crate::batch::{self, Batch, NextCollision};
+use crate::error::Error;
+use crate::gpu::{GpuEngine, Precision};
+use crate::physics::Params;
+use crate::solver::Contact;
+
+/// Where batches are computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Backend {
+    /// Rayon on all cores, f64: the reference.
+    Cpu,
+    /// A GPU through wgpu; an error when none is usable.
+    Gpu,
+    /// The GPU when one is usable, else the CPU; GPU failures are redone on the CPU.
+    Auto,
+}
+
+impl Backend {
+    /// `cpu`, `gpu` or `auto`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Cpu => "cpu",
+            Backend::Gpu => "gpu",
+            Backend::Auto => "auto",
+        }
+    }
+}
+
+/// A configured backend, reusable across many batches (GPU resources are kept).
+pub struct Engine {
+    backend: Backend,
+    gpu: Option<GpuEngine>,
+    notes: Vec<String>,
+}
+
+impl Engine {
+    /// Opens the backend.
+    ///
+    /// Errors: `cpu` with f32 ([`Error::Unsupported`]); `gpu` without a usable adapter or
+    /// without f64 support when f64 is asked for ([`Error::GpuUnavailable`]) or a device
+    /// that fails to start ([`Error::Gpu`]). `auto` never fails for want of a GPU.
+    pub fn new(backend: Backend, precision: Precision) -> Result<Engine, Error> {
+        let mut notes = Vec::new();
+        let gpu = match backend {
+            Backend::Cpu => {
+                if precision == Precision::F32 {
+                    return Err(Error::Unsupported(
+                        "the CPU backend computes in f64 only; use --precision f64, or \
+                         --backend gpu/auto for f32"
+                            .into(),
+                    ));
+                }
+                None
+            }
+            Backend::Gpu => Some(GpuEngine::new(precision)?),
+            Backend::Auto => match GpuEngine::new(precision) {
+                Ok(g) => Some(g),
+                Err(e) => {
+                    notes.push(format!("no usable GPU, computing on the CPU in f64: {e}"));
+                    None
+                }
+            },
+        };
+        Ok(Engine {
+            backend,
+            gpu,
+            notes,
+        })
+    }
+
+    /// The backend asked for.
+    pub fn backend(&self) -> Backend {
+        self.backend
+    }
+
+    /// The GPU engine in use, if any.
+    pub fn gpu(&mut self) -> Option<&mut GpuEngine> {
+        self.gpu.as_mut()
+    }
+
+    /// What computes the batches now, e.g. `"gpu f32: NVIDIA H100 (Vulkan, …)"` or
+    /// `"cpu f64 (2 threads)"`.
+    pub fn describe(&self) -> String {
+        match &self.gpu {
+            Some(g) => format!("gpu {}: {}", g.precision().name(), g.adapter()),
+            None => format!("cpu f64 ({} threads)", rayon::current_num_threads()),
+        }
+    }
+
+    /// Messages for the user about fallbacks since the last call (one line each).
+    pub fn take_notes(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.notes)
+    }
+
+    /// Runs `on_gpu` when there is a GPU, with the CPU as the `auto` fallback.
+    fn run<T>(
+        &mut self,
+        what: &str,
+        on_gpu: impl FnOnce(&mut GpuEngine) -> Result<T, Error>,
+        on_cpu: impl FnOnce() -> Result<T, Error>,
+    ) -> Result<T, Error> {
+        let Some(gpu) = self.gpu.as_mut() else {
+            return on_cpu();
+        };
+        match on_gpu(gpu) {
+            Err(e @ (Error::Gpu(_) | Error::GpuUnavailable(_)))
+                if self.backend == Backend::Auto =>
+            {
+                self.notes.push(format!(
+                    "{e}; {what} redone on the CPU in f64, and the CPU is used from now on"
+                ));
+                self.gpu = None;
+                on_cpu()
+            }
+            other => other,
+        }
+    }
+
+    /// The answer for every pair of every table, in pair order (see [`crate::batch`]).
+    pub fn pair_times(&mut self, batch: &Batch, params: &Params) -> Result<Vec<Contact>, Error> {
+        self.run(
+            "the batch was",
+            |g| g.pair_times(batch, params),
+            || batch::pair_times(batch, params),
+        )
+    }
+
+    /// The next collision of every table, in table order (see [`crate::batch`]).
+    pub fn next_collisions(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+    ) -> Result<Vec<NextCollision>, Error> {
+        self.run(
+            "the batch was",
+            |g| g.next_collisions(batch, params),
+            || batch::next_collisions(batch, params),
+        )
+    }
+}
