@@ -22,8 +22,8 @@
 //! table); each chunk is uploaded, dispatched and read back in turn.
 
 use std::ops::Range;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
 
 use crate::batch::{Batch, NextCollision, pair_of_index, table_paths};
 use crate::error::Error;
@@ -150,6 +150,17 @@ pub struct GpuTimings {
     pub readback: f64,
 }
 
+/// A fault to inject into the next GPU call, so that tests can exercise the failure and
+/// fallback paths with real wgpu errors rather than hoping for them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fault {
+    /// The next dispatch asks for more workgroups than the adapter allows: wgpu rejects it
+    /// with a validation error, as it would any failed dispatch.
+    FailedDispatch,
+    /// The device is destroyed now: every later call fails as after a device loss.
+    DeviceLost,
+}
+
 /// The GPU engine: device, pipelines and buffers, reused across calls.
 pub struct GpuEngine {
     device: wgpu::Device,
@@ -164,6 +175,8 @@ pub struct GpuEngine {
     limits: ChunkLimits,
     max_groups_per_dim: u32,
     lost: Arc<AtomicBool>,
+    uncaptured: Arc<Mutex<Option<String>>>,
+    fail_next_dispatch: bool,
     timings: GpuTimings,
 }
 
@@ -254,6 +267,16 @@ impl GpuEngine {
             let lost = lost.clone();
             device.set_device_lost_callback(move |_, _| lost.store(true, Ordering::SeqCst));
         }
+        // wgpu's default handler panics; keep the first error instead and report it
+        let uncaptured = Arc::new(Mutex::new(None));
+        {
+            let uncaptured = uncaptured.clone();
+            device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+                if let Ok(mut slot) = uncaptured.lock() {
+                    slot.get_or_insert_with(|| e.to_string());
+                }
+            }));
+        }
 
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -337,6 +360,8 @@ impl GpuEngine {
             limits,
             max_groups_per_dim: adapter_limits.max_compute_workgroups_per_dimension,
             lost,
+            uncaptured,
+            fail_next_dispatch: false,
             timings: GpuTimings::default(),
         })
     }
@@ -364,6 +389,25 @@ impl GpuEngine {
             balls: limits.balls.clamp(2, self.limits.balls),
             pairs: limits.pairs.clamp(1, self.limits.pairs),
         };
+    }
+
+    /// Injects `fault` into the next call (see [`Fault`]).
+    pub fn inject_fault(&mut self, fault: Fault) {
+        match fault {
+            Fault::FailedDispatch => self.fail_next_dispatch = true,
+            Fault::DeviceLost => self.device.destroy(),
+        }
+    }
+
+    /// A lost device, or an error the device recorded outside any error scope since the
+    /// last call (reported once).
+    fn device_fault(&self) -> Option<Error> {
+        if self.lost.load(Ordering::SeqCst) {
+            return Some(gpu_error("the GPU device was lost"));
+        }
+        let mut slot = self.uncaptured.lock().ok()?;
+        slot.take()
+            .map(|e| gpu_error(format!("the GPU device failed: {e}")))
     }
 
     /// Upload, kernel and readback times of the last call.
@@ -524,8 +568,8 @@ impl GpuEngine {
         kernel: Kernel,
         params: &Params,
     ) -> Result<(Vec<f64>, Vec<u32>), Error> {
-        if self.lost.load(Ordering::SeqCst) {
-            return Err(gpu_error("the GPU device was lost"));
+        if let Some(e) = self.device_fault() {
+            return Err(e);
         }
         let clock = std::time::Instant::now();
         let n_tables = tables.len();
@@ -537,8 +581,13 @@ impl GpuEngine {
             Kernel::NextCollisions => n_tables,
         };
         self.ensure_buffers(n_tables, n_balls, n_out);
-        let row_len = (n_tables as u32).min(self.max_groups_per_dim).max(1);
-        let rows = (n_tables as u32).div_ceil(row_len).max(1);
+        let mut row_len = (n_tables as u32).min(self.max_groups_per_dim).max(1);
+        if std::mem::take(&mut self.fail_next_dispatch) {
+            row_len = self.max_groups_per_dim.saturating_add(1);
+        }
+        let rows = (n_tables as u32)
+            .div_ceil(row_len.min(self.max_groups_per_dim))
+            .max(1);
         let mut uniform = Vec::with_capacity(64);
         for v in [params.radius, params.mu_s, params.mu_r, params.g] {
             match self.precision {
@@ -602,15 +651,35 @@ impl GpuEngine {
         let polled = self.device.poll(wgpu::PollType::wait_indefinitely());
         let oom = pollster::block_on(oom.pop());
         let invalid = pollster::block_on(scope.pop());
-        if let Some(e) = oom.or(invalid) {
-            return Err(gpu_error(format!("the GPU dispatch failed: {e}")));
+        // every map callback has run once the poll returned; leave no buffer mapped
+        let mut mapped = [false, false];
+        let mut map_error = None;
+        for (which, r) in rx.try_iter() {
+            match r {
+                Ok(()) => mapped[which] = true,
+                Err(e) => map_error = Some(e),
+            }
         }
-        polled.map_err(|e| gpu_error(format!("waiting for the GPU failed: {e}")))?;
-        for (_, r) in rx.iter() {
-            r.map_err(|e| gpu_error(format!("reading results back from the GPU failed: {e}")))?;
-        }
-        if self.lost.load(Ordering::SeqCst) {
-            return Err(gpu_error("the GPU device was lost"));
+        let failure = if let Some(e) = oom.or(invalid) {
+            Some(gpu_error(format!("the GPU dispatch failed: {e}")))
+        } else if let Err(e) = polled {
+            Some(gpu_error(format!("waiting for the GPU failed: {e}")))
+        } else if let Some(e) = map_error {
+            Some(gpu_error(format!(
+                "reading results back from the GPU failed: {e}"
+            )))
+        } else if !(mapped[0] && mapped[1]) {
+            Some(gpu_error("the GPU results never became readable"))
+        } else {
+            self.device_fault()
+        };
+        if let Some(e) = failure {
+            for (buf, was_mapped) in [(&bufs.read_t, mapped[0]), (&bufs.read_code, mapped[1])] {
+                if was_mapped {
+                    buf.unmap();
+                }
+            }
+            return Err(e);
         }
         self.timings.kernel += clock.elapsed().as_secs_f64();
 

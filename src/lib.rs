@@ -49,6 +49,6 @@ pub mod workload;
 pub use batch::{Batch, NextCollision, next_collisions, next_from_pairs, pair_times};
 pub use engine::{Backend, Engine};
 pub use error::{Error, InputError};
-pub use gpu::{GpuEngine, Precision};
+pub use gpu::{Fault, GpuEngine, Precision};
 pub use physics::{Ball, BallPath, MotionState, Params, RelPath, ball_path};
 pub use solver::{CONTACT_TOL, Contact, Status, pair_contact};

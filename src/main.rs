@@ -11,7 +11,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use kisstime::physics::{
     DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS,
 };
-use kisstime::{Error, Params};
+use kisstime::{Backend, Engine, Error, Params, Precision};
 
 #[derive(Parser)]
 #[command(
@@ -47,12 +47,17 @@ struct PairsArgs {
     /// this name if the run fails).
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Where to compute. Only `cpu` exists so far.
-    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
-    backend: Backend,
-    /// Floating-point precision of the computation. Only `f64` exists so far.
-    #[arg(long, value_enum, default_value_t = Precision::F64)]
-    precision: Precision,
+    /// Where to compute: `cpu` (Rayon, f64), `gpu` (wgpu; an error when no GPU is usable),
+    /// `auto` (the GPU when one works, else the CPU, saying why on stderr).
+    #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
+    backend: BackendArg,
+    /// Floating-point precision: `f64` (CPU, and GPUs that offer SHADER_F64) or `f32`
+    /// (GPU only). Default: f64 on the CPU, f32 on the GPU and auto.
+    #[arg(long, value_enum)]
+    precision: Option<PrecisionArg>,
+    /// Print the backend and adapter used on stderr.
+    #[arg(short, long)]
+    verbose: bool,
     /// Worker threads for the CPU backend (default: one per core). Results do not depend
     /// on it.
     #[arg(long)]
@@ -63,14 +68,20 @@ struct PairsArgs {
 
 /// The compute backend.
 #[derive(Clone, Copy, ValueEnum)]
-enum Backend {
+enum BackendArg {
     /// Rayon on all cores, f64: the reference.
     Cpu,
+    /// The GPU through wgpu.
+    Gpu,
+    /// The GPU when one works, else the CPU.
+    Auto,
 }
 
 /// The floating-point precision.
 #[derive(Clone, Copy, ValueEnum)]
-enum Precision {
+enum PrecisionArg {
+    /// IEEE single precision.
+    F32,
     /// IEEE double precision.
     F64,
 }
@@ -107,12 +118,44 @@ impl PhysicsArgs {
     }
 }
 
+/// Opens the engine the flags ask for, printing fallback notes (and with `--verbose` the
+/// backend) on stderr.
+fn open_engine(
+    backend: BackendArg,
+    precision: Option<PrecisionArg>,
+    verbose: bool,
+) -> Result<Engine, Error> {
+    let backend = match backend {
+        BackendArg::Cpu => Backend::Cpu,
+        BackendArg::Gpu => Backend::Gpu,
+        BackendArg::Auto => Backend::Auto,
+    };
+    let precision = match (precision, backend) {
+        (Some(PrecisionArg::F32), _) => Precision::F32,
+        (Some(PrecisionArg::F64), _) | (None, Backend::Cpu) => Precision::F64,
+        (None, _) => Precision::F32,
+    };
+    let mut engine = Engine::new(backend, precision)?;
+    print_notes(&mut engine);
+    if verbose {
+        eprintln!("kisstime: computing on {}", engine.describe());
+    }
+    Ok(engine)
+}
+
+fn print_notes(engine: &mut Engine) {
+    for note in engine.take_notes() {
+        eprintln!("kisstime: {note}");
+    }
+}
+
 fn run_pairs(args: &PairsArgs) -> Result<(), Error> {
-    let (Backend::Cpu, Precision::F64) = (args.backend, args.precision);
     let params = args.physics.params();
     params.validate()?;
     let batch = kisstime::io::read_batch_csv_path(&args.input)?;
-    let contacts = kisstime::pair_times(&batch, &params)?;
+    let mut engine = open_engine(args.backend, args.precision, args.verbose)?;
+    let contacts = engine.pair_times(&batch, &params)?;
+    print_notes(&mut engine);
     let write = |w: &mut dyn Write| kisstime::io::write_pairs_csv(w, &batch, &contacts);
     match &args.output {
         Some(path) => kisstime::io::write_atomically(path, write),
