@@ -110,5 +110,8 @@ fn the_prune_never_discards_a_corpus_collision() {
         }
     }
     println!("the prune rules out {pruned} of 1600 corpus pairs");
-    assert!(pruned > 100, "the prune should rule out many pairs, it ruled out {pruned}");
+    assert!(
+        pruned > 100,
+        "the prune should rule out many pairs, it ruled out {pruned}"
+    );
 }

@@ -188,7 +188,9 @@ pub fn gpu_or_skip(precision: kisstime::Precision, test: &str) -> Option<kisstim
             if required && !no_f64 {
                 panic!("{test}: KISSTIME_REQUIRE_GPU=1 but no usable GPU: {why}");
             }
-            eprintln!("{test}: SKIPPED, no usable GPU: {why}");
+            // straight to the stderr handle: libtest captures eprintln! in passing tests
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "{test}: SKIPPED, no usable GPU: {why}");
             None
         }
         // a GPU that is there but fails (e.g. the shader does not build) is a failure
