@@ -82,10 +82,12 @@ pub struct ChunkLimits {
     pub pairs: usize,
 }
 
-/// Which kernel a chunk runs.
+/// Which kernel a call runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Kernel {
+pub enum Kernel {
+    /// `pair_times`: every pair's answer.
     PairTimes,
+    /// `next_collisions`: each table's next collision.
     NextCollisions,
 }
 
@@ -718,6 +720,57 @@ impl GpuEngine {
         bufs.read_code.unmap();
         self.timings.readback += clock.elapsed().as_secs_f64();
         Ok((t, code))
+    }
+
+    /// Kernel-only timing for benchmarks: uploads `batch` (which must fit one chunk), runs
+    /// `kernel` once to warm up, then submits it `iters` times back to back with the data
+    /// resident and returns the wall time from the first submit until the last finished.
+    pub fn time_kernel(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+        kernel: Kernel,
+        iters: u64,
+    ) -> Result<std::time::Duration, Error> {
+        let chunks = self.plan_chunks(batch)?;
+        if chunks.len() != 1 {
+            return Err(gpu_error(format!(
+                "time_kernel needs a batch that fits one chunk, this one needs {}",
+                chunks.len()
+            )));
+        }
+        let n_tables = batch.num_tables() as u32;
+        self.run_chunk(batch, chunks[0].clone(), kernel, params)?;
+        let row_len = n_tables.min(self.max_groups_per_dim).max(1);
+        let rows = n_tables.div_ceil(row_len).max(1);
+        let bufs = self.bufs.as_ref().expect("run_chunk made the buffers");
+        let pipeline = match kernel {
+            Kernel::PairTimes => &self.pipe_pairs,
+            Kernel::NextCollisions => &self.pipe_next,
+        };
+        let start = std::time::Instant::now();
+        for _ in 0..iters {
+            let mut encoder = self
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: None,
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bufs.bind, &[]);
+                pass.dispatch_workgroups(row_len, rows, 1);
+            }
+            self.queue.submit([encoder.finish()]);
+        }
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| gpu_error(format!("waiting for the GPU failed: {e}")))?;
+        if let Some(e) = self.device_fault() {
+            return Err(e);
+        }
+        Ok(start.elapsed())
     }
 
     /// The answer for every pair of every table, in pair order, as
