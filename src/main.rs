@@ -89,20 +89,20 @@ enum PrecisionArg {
 #[derive(Args)]
 struct PhysicsArgs {
     /// Ball radius R in metres.
-    #[arg(long, default_value_t = DEFAULT_RADIUS)]
+    #[arg(long, default_value_t = DEFAULT_RADIUS, allow_negative_numbers = true)]
     radius: f64,
     /// Sliding friction coefficient.
-    #[arg(long, default_value_t = DEFAULT_MU_S)]
+    #[arg(long, default_value_t = DEFAULT_MU_S, allow_negative_numbers = true)]
     mu_s: f64,
     /// Rolling friction coefficient.
-    #[arg(long, default_value_t = DEFAULT_MU_R)]
+    #[arg(long, default_value_t = DEFAULT_MU_R, allow_negative_numbers = true)]
     mu_r: f64,
     /// Spinning friction coefficient in metres [default: 0.444 × radius]. Spin about the
     /// vertical axis never moves a ball, so it does not change collision times.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     mu_sp: Option<f64>,
     /// Gravitational acceleration in m/s².
-    #[arg(long, default_value_t = DEFAULT_G)]
+    #[arg(long, default_value_t = DEFAULT_G, allow_negative_numbers = true)]
     g: f64,
 }
 

@@ -282,6 +282,8 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
     if start_inside {
         f_lo = 0.0;
     }
+    // an index loop, as in the WGSL twin
+    #[allow(clippy::needless_range_loop)]
     for piece in 0..=n_knots {
         let hi = knots[piece];
         let (f_hi, f1_hi, _) = contact_fn(rel, four_r2, hi, 0);
