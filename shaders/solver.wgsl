@@ -102,7 +102,8 @@ fn contact_fn(rel: RelPath, four_r2: real, t: real, k: u32) -> vec3<real> {
 
 // The root of g = f^(k) in the bracket [lo, hi], where g is monotone and g(lo) = g_lo,
 // g(hi) = g_hi have opposite signs or g_hi = 0. Safeguarded Newton from a second-order
-// Taylor step at the end with the smaller |g|.
+// Taylor step at the end with the smaller |g|; a Newton target within a few ulps of a
+// bracket end means that end is the root.
 fn refine_root(
     rel: RelPath,
     four_r2: real,
@@ -155,6 +156,12 @@ fn refine_root(
             let newton = t - g.x / g.y;
             if newton > lo && newton < hi {
                 next = newton;
+            } else if abs(newton - lo) <= ROOT_RTOL * abs(lo) + ROOT_ATOL {
+                // the root is at a bracket end, to rounding: bisecting towards it would
+                // only crawl there linearly
+                return lo;
+            } else if abs(newton - hi) <= ROOT_RTOL * abs(hi) + ROOT_ATOL {
+                return hi;
             }
         }
         if abs(next - t) <= ROOT_RTOL * abs(next) + ROOT_ATOL {

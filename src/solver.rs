@@ -193,7 +193,8 @@ pub fn contact_fn(rel: &RelPath, four_r2: f64, t: f64, k: u32) -> (f64, f64, f64
 /// `g(lo) = g_lo`, `g(hi) = g_hi` have opposite signs or `g_hi = 0`.
 ///
 /// Safeguarded Newton: the bracket shrinks with every evaluation, a Newton step is taken
-/// only when it lands strictly inside it, otherwise the bracket is bisected. The start is
+/// only when it lands strictly inside it, otherwise the bracket is bisected — unless the
+/// Newton target lies within a few ulps of a bracket end, which is then the root. The start is
 /// a second-order Taylor step from the end with the smaller `|g|` (a near-double root at
 /// a bracket end then converges quadratically instead of linearly). Stops when a step is
 /// below a few ulps of `t`, or after [`MAX_ITER`] steps. Returns a `t` in `[lo, hi]`.
@@ -245,6 +246,12 @@ pub fn refine_root(
             let newton = t - g / g1;
             if newton > lo && newton < hi {
                 next = newton;
+            } else if (newton - lo).abs() <= ROOT_RTOL * lo.abs() + ROOT_ATOL {
+                // the root is at a bracket end, to rounding: bisecting towards it would
+                // only crawl there linearly
+                return lo;
+            } else if (newton - hi).abs() <= ROOT_RTOL * hi.abs() + ROOT_ATOL {
+                return hi;
             }
         }
         if (next - t).abs() <= ROOT_RTOL * next.abs() + ROOT_ATOL {

@@ -27,8 +27,8 @@ pub enum Scenario {
     Midshot,
     /// Every ball moving at random over the whole table.
     Spread,
-    /// Every ball moving and packed into a small square, so that no pair can be ruled out
-    /// by the cheap bound and every pair needs the full solve.
+    /// Every ball moving on a circle towards its centre, so that the cheap bound rules out
+    /// (almost) no pair and every pair needs the full solve.
     Worst,
 }
 
@@ -170,16 +170,38 @@ fn table(
                 .collect()
         }
         Scenario::Worst => {
-            // a square with room for the balls at about a third of the packing density
-            let side = (balls as f64 * 12.0).sqrt() * 2.0 * r;
-            let (x0, y0) = (
-                0.5 * TABLE_LENGTH - side / 2.0,
-                0.5 * TABLE_WIDTH - side / 2.0,
-            );
-            let pts = place(rng, balls, (x0, x0 + side), (y0, y0 + side), 2.0 * r + 1e-3);
-            pts.into_iter()
-                .enumerate()
-                .map(|(i, (x, y))| (i as i64, mover(rng, x, y, i % 2 == 0, params)))
+            // balls on a circle, every one aimed at its centre (± 0.05 rad) at similar
+            // speeds: every pair closes in, so no pair can be ruled out cheaply. Two balls
+            // slide with strong draw and side spin (curved paths); the rest roll.
+            let (cx, cy) = (0.5 * TABLE_LENGTH, 0.5 * TABLE_WIDTH);
+            let ring = (balls as f64 * 3.0 * r / std::f64::consts::PI).max(0.25);
+            (0..balls)
+                .map(|i| {
+                    let around = std::f64::consts::TAU * (i as f64 + rng.random_range(-0.2..0.2))
+                        / balls as f64;
+                    let (x, y) = (cx + ring * around.cos(), cy + ring * around.sin());
+                    let aim = (cy - y).atan2(cx - x) + rng.random_range(-0.05..0.05);
+                    let speed = rng.random_range(2.0..2.5);
+                    let (vx, vy) = (speed * aim.cos(), speed * aim.sin());
+                    let ball = if i < 2 {
+                        // draw k along v and side spin m across it
+                        let k = rng.random_range(-3.0..-1.0);
+                        let m = rng.random_range(-1.0..1.0);
+                        Ball {
+                            state: MotionState::Sliding,
+                            x,
+                            y,
+                            vx,
+                            vy,
+                            wx: (-k * vy + m * vx) / r,
+                            wy: (k * vx + m * vy) / r,
+                            wz: rng.random_range(-30.0..30.0),
+                        }
+                    } else {
+                        Ball::rolling(x, y, vx, vy, r)
+                    };
+                    (i as i64, ball)
+                })
                 .collect()
         }
     }
