@@ -367,3 +367,49 @@ fn the_engine_is_reused_across_many_calls_and_buffers_grow() {
     }
     let _: &GpuEngine = &gpu;
 }
+
+/// 1,000,000 tables of 16 balls (120 M pairs) through the GPU's next collision, several
+/// chunks deep, checked against the CPU on every 997th table. Long on a software driver:
+/// `cargo test --release --test gpu -- --ignored million`.
+#[test]
+#[ignore = "long: 120 M pairs; run with --ignored"]
+fn a_million_tables_of_16_balls() {
+    let Some(mut gpu) = gpu_or_skip(Precision::F32, "million") else {
+        return;
+    };
+    let params = Params::default();
+    let batch = generate(Scenario::Midshot, 1_000_000, 16, 99, &params);
+    assert_eq!(batch.num_pairs(), 120_000_000);
+    let clock = std::time::Instant::now();
+    let next = gpu.next_collisions(&batch, &params).unwrap();
+    let secs = clock.elapsed().as_secs_f64();
+    println!(
+        "million: {} tables, {:.1} s on the GPU ({:.2e} pairs/s), timings {:?}",
+        next.len(),
+        secs,
+        120e6 / secs,
+        gpu.timings()
+    );
+    assert_eq!(next.len(), 1_000_000);
+    let mut sample = Batch::new();
+    let mut picked = Vec::new();
+    for k in (0..batch.num_tables()).step_by(997) {
+        let balls = batch
+            .ball_ids(k)
+            .iter()
+            .copied()
+            .zip(batch.balls(k).iter().copied());
+        sample.push_table(batch.table_id(k), balls).unwrap();
+        picked.push(k);
+    }
+    let cpu = kisstime::next_collisions(&sample, &params).unwrap();
+    for (c, &k) in cpu.iter().zip(&picked) {
+        let g = next[k];
+        assert_eq!(c.table, g.table);
+        assert_eq!(c.pair, g.pair, "table {k}");
+        assert!(
+            (c.t - g.t).abs() <= 1e-5 + 1e-5 * c.t || c.pair.is_none(),
+            "table {k}: {c:?} vs {g:?}"
+        );
+    }
+}
