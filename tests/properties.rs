@@ -9,6 +9,8 @@
 //! just short of or just past a still one. `generator_gives_a_useful_mix` checks that the
 //! mix really contains hits, misses, overlaps and touching pairs.
 
+mod common;
+
 use kisstime::physics::{PATH_MOVES, PATH_POCKETED, RelPath, dot, norm};
 use kisstime::{
     Ball, Batch, Contact, MotionState, Params, Status, ball_path, next_collisions, next_from_pairs,
@@ -16,7 +18,7 @@ use kisstime::{
 };
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
-use proptest::test_runner::{RngSeed, TestRunner};
+use proptest::test_runner::TestRunner;
 
 const TABLE_W: f64 = 2.54;
 const TABLE_H: f64 = 1.27;
@@ -26,20 +28,6 @@ const MAX_SPIN: f64 = 200.0;
 const GAP_TOL: f64 = 1e-9;
 /// Time tolerance of the invariance checks, in seconds.
 const TIME_TOL: f64 = 1e-9;
-
-/// Proptest configuration: a fixed case count, no regression files, and a fixed seed unless
-/// `PROPTEST_RNG_SEED` asks for another.
-fn config(cases: u32) -> ProptestConfig {
-    let mut c = ProptestConfig {
-        cases,
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    };
-    if matches!(c.rng_seed, RngSeed::Random) {
-        c.rng_seed = RngSeed::Fixed(0x0b1e_55ed);
-    }
-    c
-}
 
 fn params() -> Params {
     Params::default()
@@ -588,7 +576,7 @@ fn check_swap(pair: &Pair) -> Result<(), TestCaseError> {
 // ---------------------------------------------------------------- pair properties
 
 proptest! {
-    #![proptest_config(config(40000))]
+    #![proptest_config(common::proptest_config(0x0b1e_55ed, 40000))]
 
     /// A hit is a contact within the horizon with no contact before it; a none has no
     /// contact within the horizon; overlap iff the balls start overlapping.
@@ -599,7 +587,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(config(10000))]
+    #![proptest_config(common::proptest_config(0x0b1e_55ed, 10000))]
 
     #[test]
     fn aimed_answers_agree_with_dense_sampling(pair in aimed_pair()) {
@@ -647,7 +635,7 @@ proptest! {
 /// (otherwise the properties above would be vacuous).
 #[test]
 fn generator_gives_a_useful_mix() {
-    let mut runner = TestRunner::new(config(1));
+    let mut runner = TestRunner::new(common::proptest_config(0x0b1e_55ed, 1));
     let strat = any_pair();
     let (mut hits, mut nones, mut overlaps, mut zero_hits, mut late_hits) = (0, 0, 0, 0, 0);
     let n = 4000;
@@ -796,7 +784,7 @@ fn check_thread_independence(tables: &[Vec<Ball>]) -> Result<(), TestCaseError> 
 }
 
 proptest! {
-    #![proptest_config(config(6))]
+    #![proptest_config(common::proptest_config(0x0b1e_55ed, 6))]
 
     #[test]
     fn pair_times_do_not_depend_on_the_thread_count(

@@ -8,27 +8,14 @@
 //! `A t² + B t + C` and the quartic has the linear term `d = 2(Bx Cx + By Cy)` (erratum 1);
 //! motion times `2|u|/(7 μs g)` sliding, `|v|/(μr g)` rolling (erratum 4).
 
+mod common;
+
 use kisstime::physics::{PATH_MOVES, PATH_POCKETED};
 use kisstime::{Ball, BallPath, MotionState, Params, RelPath, ball_path};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
 
 /// Relative tolerance of the comparisons (the trigonometric round trip costs a few ulps).
 const RTOL: f64 = 1e-12;
-
-/// Proptest configuration: a fixed case count, no regression files, and a fixed seed unless
-/// `PROPTEST_RNG_SEED` asks for another.
-fn config(cases: u32) -> ProptestConfig {
-    let mut c = ProptestConfig {
-        cases,
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    };
-    if matches!(c.rng_seed, RngSeed::Random) {
-        c.rng_seed = RngSeed::Fixed(0x5eed_f0e4);
-    }
-    c
-}
 
 /// The worksheet's six coefficients of one ball, plus its motion time.
 #[derive(Clone, Copy, Debug)]
@@ -320,7 +307,7 @@ fn any_ball() -> impl Strategy<Value = Ball> {
 // ---------------------------------------------------------------- tests
 
 proptest! {
-    #![proptest_config(config(3000))]
+    #![proptest_config(common::proptest_config(0x5eed_f0e4, 3000))]
 
     #[test]
     fn ball_coefficients_match_the_worksheet(ball in any_ball(), p in params()) {
@@ -338,7 +325,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(config(2000))]
+    #![proptest_config(common::proptest_config(0x5eed_f0e4, 2000))]
 
     /// Two moving balls (the case where every coefficient of the quartic is in play).
     #[test]

@@ -211,3 +211,18 @@ pub fn corpus_batch(cases: &[Case]) -> (kisstime::Batch, Params) {
     }
     (batch, params)
 }
+
+/// Proptest configuration: a fixed case count, no regression files, and the fixed `seed`
+/// unless `PROPTEST_RNG_SEED` asks for another.
+pub fn proptest_config(seed: u64, cases: u32) -> proptest::test_runner::Config {
+    use proptest::test_runner::{Config, RngSeed};
+    let mut c = Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    };
+    if matches!(c.rng_seed, RngSeed::Random) {
+        c.rng_seed = RngSeed::Fixed(seed);
+    }
+    c
+}
