@@ -165,15 +165,37 @@ impl Batch {
         self.pair_start[k]..self.pair_start[k + 1]
     }
 
-    /// Consecutive groups of tables of at least [`PAIRS_PER_TASK`] pairs each (the last
-    /// may be smaller), as table ranges.
-    fn table_groups(&self) -> Vec<std::ops::Range<usize>> {
-        let mut groups = Vec::new();
+    /// The range of the pairs of the tables `tables` in [`pair_times`]'s output.
+    pub fn pairs_of_tables(&self, tables: std::ops::Range<usize>) -> std::ops::Range<usize> {
+        self.pair_start[tables.start]..self.pair_start[tables.end]
+    }
+
+    /// Consecutive ranges of whole tables of about `pairs` pairs each (at least one table
+    /// each), covering the batch: the unit in which per-pair output is streamed.
+    pub fn table_chunks(&self, pairs: usize) -> Vec<std::ops::Range<usize>> {
+        let mut chunks = Vec::new();
         let mut first = 0;
         while first < self.num_tables() {
-            let mut end = first;
+            let mut end = first + 1;
             while end < self.num_tables()
-                && self.pair_start[end] - self.pair_start[first] < PAIRS_PER_TASK
+                && self.pair_start[end + 1] - self.pair_start[first] <= pairs
+            {
+                end += 1;
+            }
+            chunks.push(first..end);
+            first = end;
+        }
+        chunks
+    }
+
+    /// Consecutive groups of the tables `tables` of at least [`PAIRS_PER_TASK`] pairs each
+    /// (the last may be smaller), as table ranges.
+    fn table_groups(&self, tables: std::ops::Range<usize>) -> Vec<std::ops::Range<usize>> {
+        let mut groups = Vec::new();
+        let mut first = tables.start;
+        while first < tables.end {
+            let mut end = first;
+            while end < tables.end && self.pair_start[end] - self.pair_start[first] < PAIRS_PER_TASK
             {
                 end += 1;
             }
@@ -228,12 +250,22 @@ pub(crate) fn table_paths(balls: &[Ball], params: &Params, paths: &mut Vec<BallP
 ///
 /// Runs on the Rayon thread pool; the result does not depend on the number of threads.
 pub fn pair_times(batch: &Batch, params: &Params) -> Result<Vec<Contact>, Error> {
+    pair_times_of(batch, params, 0..batch.num_tables())
+}
+
+/// The answer for every pair of the tables `tables` (positions in the batch), in pair
+/// order: the slice `batch.pairs_of_tables(tables)` of [`pair_times`]'s output.
+pub fn pair_times_of(
+    batch: &Batch,
+    params: &Params,
+    tables: std::ops::Range<usize>,
+) -> Result<Vec<Contact>, Error> {
     params.validate()?;
-    let mut out = vec![Contact::none(f64::INFINITY); batch.num_pairs()];
+    let mut out = vec![Contact::none(f64::INFINITY); batch.pairs_of_tables(tables.clone()).len()];
     // hand each group of tables its own slice of the output
     let mut tasks = Vec::new();
     let mut rest: &mut [Contact] = &mut out;
-    for group in batch.table_groups() {
+    for group in batch.table_groups(tables) {
         let len = batch.pair_start[group.end] - batch.pair_start[group.start];
         let (head, tail) = rest.split_at_mut(len);
         tasks.push((group, head));
@@ -284,7 +316,7 @@ fn table_next(batch: &Batch, k: usize, paths: &[BallPath], radius: f64) -> NextC
 /// Runs on the Rayon thread pool; the result does not depend on the number of threads.
 pub fn next_collisions(batch: &Batch, params: &Params) -> Result<Vec<NextCollision>, Error> {
     params.validate()?;
-    let groups = batch.table_groups();
+    let groups = batch.table_groups(0..batch.num_tables());
     let per_group: Vec<Vec<NextCollision>> = groups
         .into_par_iter()
         .map(|group| {
@@ -356,6 +388,25 @@ mod tests {
                     assert_eq!(pair_of_index(n, pair_index(n, i, j)), (i, j), "n={n}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn streamed_chunks_reassemble_the_whole_answer() {
+        use crate::workload::{Scenario, generate};
+        let p = Params::default();
+        let batch = generate(Scenario::Spread, 300, 12, 5, &p);
+        let whole = pair_times(&batch, &p).unwrap();
+        for pairs in [1, 66, 1000, 5000, usize::MAX] {
+            let chunks = batch.table_chunks(pairs);
+            assert_eq!(chunks.first().unwrap().start, 0);
+            assert_eq!(chunks.last().unwrap().end, batch.num_tables());
+            let mut joined = Vec::new();
+            for c in &chunks {
+                assert!(c.len() == 1 || batch.pairs_of_tables(c.clone()).len() <= pairs);
+                joined.extend(pair_times_of(&batch, &p, c.clone()).unwrap());
+            }
+            assert_eq!(joined, whole, "chunks of {pairs} pairs");
         }
     }
 

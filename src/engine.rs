@@ -133,6 +133,23 @@ impl Engine {
         )
     }
 
+    /// The answers for the pairs of the tables `tables` only (positions in the batch): the
+    /// slice `batch.pairs_of_tables(tables)` of [`Engine::pair_times`]'s output. Callers
+    /// that stream per-pair output over `batch.table_chunks(..)` hold one chunk at a time.
+    pub fn pair_times_of(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+        tables: std::ops::Range<usize>,
+    ) -> Result<Vec<Contact>, Error> {
+        let cpu_tables = tables.clone();
+        self.run(
+            "the chunk was",
+            |g| g.pair_times_of(batch, params, tables),
+            || batch::pair_times_of(batch, params, cpu_tables),
+        )
+    }
+
     /// The next collision of every table, in table order (see [`crate::batch`]).
     pub fn next_collisions(
         &mut self,

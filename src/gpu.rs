@@ -417,13 +417,13 @@ impl GpuEngine {
         self.timings
     }
 
-    /// Cuts the batch into chunks of whole tables within the limits.
-    fn plan_chunks(&self, batch: &Batch) -> Result<Vec<Range<usize>>, Error> {
+    /// Cuts the tables `tables` of the batch into chunks of whole tables within the limits.
+    fn plan_chunks(&self, batch: &Batch, tables: Range<usize>) -> Result<Vec<Range<usize>>, Error> {
         let mut chunks = Vec::new();
-        let mut first = 0;
-        while first < batch.num_tables() {
+        let mut first = tables.start;
+        while first < tables.end {
             let (mut balls, mut pairs, mut end) = (0, 0, first);
-            while end < batch.num_tables() && end - first < self.limits.tables {
+            while end < tables.end && end - first < self.limits.tables {
                 let nb = batch.balls(end).len();
                 let np = batch.pair_range(end).len();
                 if balls + nb > self.limits.balls || pairs + np > self.limits.pairs {
@@ -732,7 +732,7 @@ impl GpuEngine {
         kernel: Kernel,
         iters: u64,
     ) -> Result<std::time::Duration, Error> {
-        let chunks = self.plan_chunks(batch)?;
+        let chunks = self.plan_chunks(batch, 0..batch.num_tables())?;
         if chunks.len() != 1 {
             return Err(gpu_error(format!(
                 "time_kernel needs a batch that fits one chunk, this one needs {}",
@@ -776,11 +776,22 @@ impl GpuEngine {
     /// The answer for every pair of every table, in pair order, as
     /// [`crate::pair_times`] gives it (times in the shader's precision; horizons in f64).
     pub fn pair_times(&mut self, batch: &Batch, params: &Params) -> Result<Vec<Contact>, Error> {
+        self.pair_times_of(batch, params, 0..batch.num_tables())
+    }
+
+    /// The answers for the pairs of the tables `tables` only, as
+    /// [`crate::batch::pair_times_of`] gives them.
+    pub fn pair_times_of(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+        tables: Range<usize>,
+    ) -> Result<Vec<Contact>, Error> {
         params.validate()?;
         self.timings = GpuTimings::default();
-        let mut out = Vec::with_capacity(batch.num_pairs());
+        let mut out = Vec::with_capacity(batch.pairs_of_tables(tables.clone()).len());
         let mut paths = Vec::new();
-        for chunk in self.plan_chunks(batch)? {
+        for chunk in self.plan_chunks(batch, tables)? {
             let (t, code) = self.run_chunk(batch, chunk.clone(), Kernel::PairTimes, params)?;
             let mut at = 0;
             for k in chunk {
@@ -807,7 +818,7 @@ impl GpuEngine {
         params.validate()?;
         self.timings = GpuTimings::default();
         let mut out = Vec::with_capacity(batch.num_tables());
-        for chunk in self.plan_chunks(batch)? {
+        for chunk in self.plan_chunks(batch, 0..batch.num_tables())? {
             let (t, code) = self.run_chunk(batch, chunk.clone(), Kernel::NextCollisions, params)?;
             for (local, k) in chunk.enumerate() {
                 let status = decode_status(code[local] & 3);

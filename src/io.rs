@@ -11,7 +11,8 @@
 //! [`write_pairs_csv`]: header `table,i,j,t,status,horizon`, one row a pair with `i < j`
 //! the ball ids, `t` and `horizon` in seconds printed as the shortest decimal that reads
 //! back as the same f64 (`inf` when there is no collision or no horizon), `status` one of
-//! `hit`, `none`, `overlap`.
+//! `hit`, `none`, `overlap`. [`write_next_csv`]: header `table,t,i,j,status`, one row a
+//! table, `inf` and empty ids when the table has no collision.
 
 use std::collections::BTreeMap;
 use std::collections::HashMap;
@@ -197,12 +198,24 @@ pub fn write_pairs_csv<W: Write + ?Sized>(
     contacts: &[Contact],
 ) -> std::io::Result<()> {
     writeln!(out, "{PAIR_COLUMNS}")?;
+    write_pairs_rows(out, batch, 0..batch.num_tables(), contacts)
+}
+
+/// Writes the per-pair rows (no header) of the tables `tables`, whose answers are
+/// `contacts` (as [`crate::batch::pair_times_of`] returns them).
+pub fn write_pairs_rows<W: Write + ?Sized>(
+    out: &mut W,
+    batch: &Batch,
+    tables: std::ops::Range<usize>,
+    contacts: &[Contact],
+) -> std::io::Result<()> {
     let mut tb = ryu::Buffer::new();
     let mut hb = ryu::Buffer::new();
-    for k in 0..batch.num_tables() {
+    let base = batch.pairs_of_tables(tables.clone()).start;
+    for k in tables {
         let ids = batch.ball_ids(k);
         let table = batch.table_id(k);
-        let mut at = batch.pair_range(k).start;
+        let mut at = batch.pair_range(k).start - base;
         for i in 0..ids.len() {
             for j in i + 1..ids.len() {
                 let c = &contacts[at];
@@ -222,17 +235,63 @@ pub fn write_pairs_csv<W: Write + ?Sized>(
     Ok(())
 }
 
-/// Writes to `path` atomically: the content goes to a temporary file in the same folder,
-/// which is renamed over `path` only when `write` succeeded and the data reached the disk.
-/// On any error nothing is left under `path` (an earlier file there is kept as it was).
-pub fn write_atomically(
-    path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+/// The per-table output columns of `kisstime next`.
+pub const NEXT_COLUMNS: &str = "table,t,i,j,status";
+
+/// Writes each table's next collision as CSV `table,t,i,j,status`: `t` the shortest decimal
+/// that reads back as the same f64, `inf` and empty ids when the table has none.
+pub fn write_next_csv<W: Write + ?Sized>(
+    out: &mut W,
+    next: &[crate::NextCollision],
+) -> std::io::Result<()> {
+    writeln!(out, "{NEXT_COLUMNS}")?;
+    let mut tb = ryu::Buffer::new();
+    for n in next {
+        let t = format_time(n.t, &mut tb);
+        match n.pair {
+            Some((i, j)) => writeln!(out, "{},{t},{i},{j},{}", n.table, n.status)?,
+            None => writeln!(out, "{},{t},,,{}", n.table, n.status)?,
+        }
+    }
+    Ok(())
+}
+
+/// An I/O error while writing the output of [`write_output`], which names the output.
+pub fn output_error(source: std::io::Error) -> Error {
+    Error::Io {
+        path: String::new(),
+        source,
+    }
+}
+
+/// Writes the output of a command: to `path` atomically when given, else to standard
+/// output. `body` writes through the writer it is handed and reports write failures with
+/// [`output_error`]; they come back naming the output.
+///
+/// To a file, the content goes to a temporary file in the same folder, renamed over `path`
+/// only when `body` succeeded and the data reached the disk. On any error nothing is left
+/// under `path` (an earlier file there is kept as it was) and the temporary file is removed.
+pub fn write_output(
+    path: Option<&Path>,
+    body: impl FnOnce(&mut dyn Write) -> Result<(), Error>,
 ) -> Result<(), Error> {
-    let name = path.display().to_string();
+    let name = path.map_or_else(|| "standard output".to_owned(), |p| p.display().to_string());
+    let named = |e: Error| match e {
+        Error::Io { path, source } if path.is_empty() => Error::Io {
+            path: name.clone(),
+            source,
+        },
+        other => other,
+    };
     let io = |source| Error::Io {
         path: name.clone(),
         source,
+    };
+    let Some(path) = path else {
+        let stdout = std::io::stdout();
+        let mut w = std::io::BufWriter::new(stdout.lock());
+        body(&mut w).map_err(named)?;
+        return w.flush().map_err(io);
     };
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
@@ -243,9 +302,27 @@ pub fn write_atomically(
         .tempfile_in(dir)
         .map_err(io)?;
     let mut w = std::io::BufWriter::new(tmp);
-    write(&mut w).map_err(io)?;
+    body(&mut w).map_err(named)?;
     let tmp = w.into_inner().map_err(|e| io(e.into_error()))?;
     tmp.as_file().sync_all().map_err(io)?;
     tmp.persist(path).map_err(|e| io(e.error))?;
+    Ok(())
+}
+
+/// Writes a batch as input CSV (module docs), numbers as the shortest decimals that read
+/// back as the same f64: `read_batch_csv` of the result gives the same batch.
+pub fn write_batch_csv<W: Write + ?Sized>(out: &mut W, batch: &Batch) -> std::io::Result<()> {
+    writeln!(out, "{}", BALL_COLUMNS.join(","))?;
+    let mut buf = ryu::Buffer::new();
+    for k in 0..batch.num_tables() {
+        let table = batch.table_id(k);
+        for (id, ball) in batch.ball_ids(k).iter().zip(batch.balls(k)) {
+            write!(out, "{table},{id},{}", ball.state)?;
+            for v in ball.numbers() {
+                write!(out, ",{}", buf.format(v))?;
+            }
+            writeln!(out)?;
+        }
+    }
     Ok(())
 }

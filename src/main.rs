@@ -3,7 +3,6 @@
 //! Exit codes: 0 success, 2 bad input or usage (the message names the file, line, table and
 //! ball), 1 a file that cannot be read or written.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -11,6 +10,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use kisstime::physics::{
     DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS,
 };
+use kisstime::workload::{Scenario, generate};
 use kisstime::{Backend, Engine, Error, Params, Precision};
 
 #[derive(Parser)]
@@ -35,12 +35,24 @@ enum Command {
     /// adjacent). The output is CSV `table,i,j,t,status,horizon`, one row per pair with
     /// i < j the ball ids, in ascending table then ball id order; `t` is the first contact
     /// time in seconds (`inf` for none), `status` is hit, none or overlap, and `horizon` is
-    /// the time until the first of the two balls changes its motion state.
-    Pairs(PairsArgs),
+    /// the time until the first of the two balls changes its motion state. The output is
+    /// streamed: a few million pairs are held at a time, whatever the batch size.
+    Pairs(RunArgs),
+    /// Each table's next collision: the earliest pair in contact, as an event loop asks
+    /// after every event.
+    ///
+    /// INPUT as for `pairs`. The output is CSV `table,t,i,j,status`, one row per table in
+    /// ascending id order: `t` the time in seconds, (i, j) the ball ids, status hit or
+    /// overlap; `inf`, empty ids and `none` when no pair of the table collides. Ties: the
+    /// smallest time, then the smallest (i, j).
+    Next(RunArgs),
+    /// Write a built-in workload as an input file, so that the CLI, other tools and other
+    /// simulators can be timed on identical data.
+    Gen(GenArgs),
 }
 
 #[derive(Args)]
-struct PairsArgs {
+struct RunArgs {
     /// Input CSV file.
     input: PathBuf,
     /// Write the output here instead of standard output (atomically: nothing is left under
@@ -64,6 +76,51 @@ struct PairsArgs {
     threads: Option<usize>,
     #[command(flatten)]
     physics: PhysicsArgs,
+}
+
+#[derive(Args)]
+struct GenArgs {
+    /// The workload: `rack` (the break: a 15-ball rack and the cue ball), `midshot` (one
+    /// sliding and two rolling balls, the rest still), `spread` (every ball moving at
+    /// random), `worst` (every ball moving towards every other: every pair fully solved).
+    #[arg(long, value_enum, default_value_t = ScenarioArg::Midshot)]
+    scenario: ScenarioArg,
+    /// Number of tables.
+    #[arg(long, default_value_t = 10_000)]
+    tables: usize,
+    /// Balls per table, 2 to 64 (the rack always has 16).
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u16).range(2..=64))]
+    balls: u16,
+    /// Random seed: the same seed gives the same file on every machine.
+    #[arg(long, default_value_t = 42)]
+    seed: u64,
+    /// The file to write (CSV).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+/// A built-in workload.
+#[derive(Clone, Copy, ValueEnum)]
+enum ScenarioArg {
+    /// The break.
+    Rack,
+    /// A few balls moving, the rest still.
+    Midshot,
+    /// Every ball moving at random.
+    Spread,
+    /// Every ball moving towards every other.
+    Worst,
+}
+
+impl ScenarioArg {
+    fn scenario(self) -> Scenario {
+        match self {
+            ScenarioArg::Rack => Scenario::Rack,
+            ScenarioArg::Midshot => Scenario::Midshot,
+            ScenarioArg::Spread => Scenario::Spread,
+            ScenarioArg::Worst => Scenario::Worst,
+        }
+    }
 }
 
 /// The compute backend.
@@ -149,43 +206,81 @@ fn print_notes(engine: &mut Engine) {
     }
 }
 
-fn run_pairs(args: &PairsArgs) -> Result<(), Error> {
+/// Pairs per chunk of streamed per-pair output.
+const STREAM_PAIRS: usize = 1 << 22;
+
+/// Reads the input and opens the engine.
+fn prepare(args: &RunArgs) -> Result<(kisstime::Batch, Params, Engine), Error> {
     let params = args.physics.params();
     params.validate()?;
     let batch = kisstime::io::read_batch_csv_path(&args.input)?;
-    let mut engine = open_engine(args.backend, args.precision, args.verbose)?;
-    let contacts = engine.pair_times(&batch, &params)?;
-    print_notes(&mut engine);
-    let write = |w: &mut dyn Write| kisstime::io::write_pairs_csv(w, &batch, &contacts);
-    match &args.output {
-        Some(path) => kisstime::io::write_atomically(path, write),
-        None => {
-            let stdout = std::io::stdout();
-            let mut w = std::io::BufWriter::new(stdout.lock());
-            write(&mut w)
-                .and_then(|()| w.flush())
-                .map_err(|source| Error::Io {
-                    path: "standard output".into(),
-                    source,
-                })
+    let engine = open_engine(args.backend, args.precision, args.verbose)?;
+    Ok((batch, params, engine))
+}
+
+fn run_pairs(args: &RunArgs) -> Result<(), Error> {
+    let (batch, params, mut engine) = prepare(args)?;
+    let result = kisstime::io::write_output(args.output.as_deref(), |w| {
+        writeln!(w, "{}", kisstime::io::PAIR_COLUMNS).map_err(kisstime::io::output_error)?;
+        for tables in batch.table_chunks(STREAM_PAIRS) {
+            let contacts = engine.pair_times_of(&batch, &params, tables.clone())?;
+            kisstime::io::write_pairs_rows(w, &batch, tables, &contacts)
+                .map_err(kisstime::io::output_error)?;
         }
+        Ok(())
+    });
+    print_notes(&mut engine);
+    result
+}
+
+fn run_next(args: &RunArgs) -> Result<(), Error> {
+    let (batch, params, mut engine) = prepare(args)?;
+    let next = engine.next_collisions(&batch, &params);
+    print_notes(&mut engine);
+    let next = next?;
+    kisstime::io::write_output(args.output.as_deref(), |w| {
+        kisstime::io::write_next_csv(w, &next).map_err(kisstime::io::output_error)
+    })
+}
+
+fn run_gen(args: &GenArgs) -> Result<(), Error> {
+    let params = Params::default();
+    let batch = generate(
+        args.scenario.scenario(),
+        args.tables,
+        args.balls as usize,
+        args.seed,
+        &params,
+    );
+    kisstime::io::write_output(Some(&args.output), |w| {
+        kisstime::io::write_batch_csv(w, &batch).map_err(kisstime::io::output_error)
+    })
+}
+
+fn set_threads(threads: Option<usize>) -> Result<(), String> {
+    if let Some(n) = threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| format!("cannot start {n} threads: {e}"))?;
     }
+    Ok(())
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let threads = match &cli.command {
+        Command::Pairs(a) | Command::Next(a) => a.threads,
+        Command::Gen(_) => None,
+    };
+    if let Err(e) = set_threads(threads) {
+        eprintln!("kisstime: {e}");
+        return ExitCode::from(1);
+    }
     let result = match &cli.command {
-        Command::Pairs(args) => {
-            if let Some(n) = args.threads
-                && let Err(e) = rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build_global()
-            {
-                eprintln!("kisstime: cannot start {n} threads: {e}");
-                return ExitCode::from(1);
-            }
-            run_pairs(args)
-        }
+        Command::Pairs(args) => run_pairs(args),
+        Command::Next(args) => run_next(args),
+        Command::Gen(args) => run_gen(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
