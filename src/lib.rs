@@ -16,6 +16,7 @@
 //!   [`next_collisions`];
 //! - [`gpu`]: the GPU backend (wgpu host code; the WGSL twins are in `shaders/`);
 //! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback;
+//! - [`compare`]: two backends' answers against each other under the corpus's tiers;
 //! - [`io`]: CSV input and output;
 //! - the `kisstime` binary is a thin command-line layer over these.
 //!
@@ -38,6 +39,7 @@
 #![warn(missing_docs)]
 
 pub mod batch;
+pub mod compare;
 pub mod engine;
 pub mod error;
 pub mod gpu;

@@ -63,11 +63,11 @@ fn corpus_gpu_f64_passes_the_f64_tier() {
     corpus_on_gpu(Precision::F64, Tier::F64, (1000.0, 1000.0));
 }
 
-use kisstime::physics::{dot, norm};
+use kisstime::compare::{compare_pairs, next_disagreements, time_agrees};
 use kisstime::workload::{Scenario, generate};
 use kisstime::{
-    Backend, Batch, Contact, Engine, Error, Fault, GpuEngine, Params, RelPath, Status, ball_path,
-    next_from_pairs, pair_contact,
+    Backend, Batch, Engine, Error, Fault, GpuEngine, Params, RelPath, Status, ball_path,
+    next_from_pairs,
 };
 
 /// The large random batches: ~120k pairs of realistic and hard tables.
@@ -92,89 +92,6 @@ fn random_batches(params: &Params) -> Vec<(Scenario, Batch)> {
     ]
 }
 
-/// The tier's grazing margin: pairs closer than this to a graze are excused.
-fn excuse_margin(precision: Precision) -> f64 {
-    match precision {
-        Precision::F32 => 1e-5,
-        Precision::F64 => 1e-7,
-    }
-}
-
-/// Whether the CPU f64 answer for the pair flips when the contact distance moves by
-/// `delta`: then the pair grazes within `delta` and the tier excuses its classification.
-fn grazes(batch: &Batch, k: usize, i: usize, j: usize, params: &Params, delta: f64) -> bool {
-    let answer = |radius: f64| {
-        let p = Params { radius, ..*params };
-        let b = batch.balls(k);
-        pair_contact(&ball_path(&b[i], &p), &ball_path(&b[j], &p), radius).status
-    };
-    answer(params.radius - 0.5 * delta) != answer(params.radius + 0.5 * delta)
-}
-
-/// Whether a GPU time agrees with the CPU f64 time of a hit under the tier.
-fn time_agrees(rel: &RelPath, t_cpu: f64, t_gpu: f64, precision: Precision) -> bool {
-    let dt = (t_gpu - t_cpu).abs();
-    let ct = rel.at(t_cpu);
-    let vn = (dot(ct, rel.velocity_at(t_cpu)) / norm(ct)).abs();
-    let scale = norm(rel.c) + norm(rel.b) * t_cpu + norm(rel.a) * t_cpu * t_cpu;
-    match precision {
-        Precision::F32 => dt <= 1e-6 + 1e-6 * t_cpu || dt * vn <= 1e-5 + 5e-7 * scale,
-        Precision::F64 => dt <= 1e-9 + 1e-6 * t_cpu || dt * vn <= 1e-9,
-    }
-}
-
-fn compare_pairs(
-    batch: &Batch,
-    params: &Params,
-    cpu: &[Contact],
-    gpu: &[Contact],
-    precision: Precision,
-) -> (usize, Vec<String>) {
-    let mut excused = 0;
-    let mut bad = Vec::new();
-    let mut at = 0;
-    for k in 0..batch.num_tables() {
-        let balls = batch.balls(k);
-        for i in 0..balls.len() {
-            for j in i + 1..balls.len() {
-                let (c, g) = (cpu[at], gpu[at]);
-                at += 1;
-                assert_eq!(
-                    c.horizon, g.horizon,
-                    "horizons are computed on the host in f64"
-                );
-                let rel =
-                    RelPath::between(&ball_path(&balls[i], params), &ball_path(&balls[j], params));
-                let agree = match (c.status, g.status) {
-                    (Status::None, Status::None) => true,
-                    (Status::Overlap, Status::Overlap) => true,
-                    (Status::Hit, Status::Hit) => time_agrees(&rel, c.t, g.t, precision),
-                    // touching at 0 within the precision's contact tolerance
-                    (Status::Overlap, Status::Hit) | (Status::Hit, Status::Overlap) => {
-                        c.t == 0.0 && g.t == 0.0
-                    }
-                    _ => false,
-                };
-                if !agree {
-                    if grazes(batch, k, i, j, params, excuse_margin(precision)) {
-                        excused += 1;
-                    } else {
-                        bad.push(format!(
-                            "table {} pair ({i},{j}): cpu {:?} {} vs gpu {:?} {}",
-                            batch.table_id(k),
-                            c.status,
-                            c.t,
-                            g.status,
-                            g.t
-                        ));
-                    }
-                }
-            }
-        }
-    }
-    (excused, bad)
-}
-
 fn gpu_matches_cpu_on_random_batches(precision: Precision) {
     let name = format!("gpu_vs_cpu_{}", precision.name());
     let Some(mut gpu) = gpu_or_skip(precision, &name) else {
@@ -185,14 +102,22 @@ fn gpu_matches_cpu_on_random_batches(precision: Precision) {
         let cpu = kisstime::pair_times(&batch, &params).unwrap();
         let got = gpu.pair_times(&batch, &params).unwrap();
         assert_eq!(got.len(), cpu.len());
-        let (excused, bad) = compare_pairs(&batch, &params, &cpu, &got, precision);
+        let mut bad = Vec::new();
+        let agreement = compare_pairs(&batch, &params, &cpu, &got, precision, |k, i, j, c, g| {
+            bad.push(format!(
+                "table {} pair ({i},{j}): cpu {c:?} vs gpu {g:?}",
+                batch.table_id(k)
+            ))
+        });
         let hits = cpu.iter().filter(|c| c.status == Status::Hit).count();
         println!(
-            "{name} {}: {} pairs ({hits} hits), {} disagree, {excused} excused as grazes",
+            "{name} {}: {} pairs ({hits} hits), {} outside the tier, {} excused as grazes",
             scenario.name(),
-            cpu.len(),
-            bad.len()
+            agreement.pairs,
+            agreement.outside_tier,
+            agreement.excused
         );
+        assert_eq!(agreement.pairs, cpu.len());
         assert!(bad.is_empty(), "{}:\n{}", scenario.name(), bad.join("\n"));
 
         // next collision: the GPU reduction equals the GPU pairs' minimum exactly, and
@@ -205,45 +130,28 @@ fn gpu_matches_cpu_on_random_batches(precision: Precision) {
             scenario.name()
         );
         let next_cpu = kisstime::next_collisions(&batch, &params).unwrap();
-        let mut other_pair = 0;
-        for (k, (c, g)) in next_cpu.iter().zip(&next_gpu).enumerate() {
-            if c.pair == g.pair {
-                if c.status == Status::Hit && g.status == Status::Hit {
-                    let ids = batch.ball_ids(k);
-                    let (i, j) = c.pair.unwrap();
-                    let i = ids.iter().position(|&b| b == i).unwrap();
-                    let j = ids.iter().position(|&b| b == j).unwrap();
-                    let b = batch.balls(k);
-                    let rel =
-                        RelPath::between(&ball_path(&b[i], &params), &ball_path(&b[j], &params));
-                    assert!(
-                        time_agrees(&rel, c.t, g.t, precision),
-                        "table {k}: {c:?} vs {g:?}"
-                    );
-                }
-                continue;
-            }
-            // a different pair: only a near-tie or a graze may explain it
-            other_pair += 1;
-            let cpu_t_of_gpu_pair = g.pair.map(|(i, j)| {
-                let ids = batch.ball_ids(k);
-                let i = ids.iter().position(|&b| b == i).unwrap();
-                let j = ids.iter().position(|&b| b == j).unwrap();
-                cpu[batch.pair_range(k).start + kisstime::batch::pair_index(ids.len(), i, j)]
-            });
-            let near_tie = match cpu_t_of_gpu_pair {
-                Some(cg) if cg.status.is_contact() => (cg.t - c.t).abs() <= 1e-5 + 1e-5 * c.t,
-                _ => false,
-            };
-            assert!(
-                near_tie || g.pair.is_none() || c.pair.is_none(),
-                "table {k}: cpu next {c:?}, gpu next {g:?}"
-            );
-        }
-        println!(
-            "{name} {}: next collision in another (tied or grazing) pair for {other_pair} tables",
+        let unexplained =
+            next_disagreements(&batch, &params, precision, &cpu, &next_cpu, &next_gpu);
+        assert_eq!(
+            unexplained,
+            0,
+            "{}: next collisions differ",
             scenario.name()
         );
+        for (k, (c, g)) in next_cpu.iter().zip(&next_gpu).enumerate() {
+            if c.pair == g.pair && c.status == Status::Hit && g.status == Status::Hit {
+                let ids = batch.ball_ids(k);
+                let (i, j) = c.pair.unwrap();
+                let i = ids.iter().position(|&b| b == i).unwrap();
+                let j = ids.iter().position(|&b| b == j).unwrap();
+                let b = batch.balls(k);
+                let rel = RelPath::between(&ball_path(&b[i], &params), &ball_path(&b[j], &params));
+                assert!(
+                    time_agrees(&rel, c.t, g.t, precision),
+                    "table {k}: {c:?} vs {g:?}"
+                );
+            }
+        }
     }
 }
 
