@@ -39,6 +39,7 @@
 #![warn(missing_docs)]
 
 pub mod batch;
+pub mod bench;
 pub mod compare;
 pub mod engine;
 pub mod error;

@@ -46,6 +46,10 @@ enum Command {
     /// overlap; `inf`, empty ids and `none` when no pair of the table collides. Ties: the
     /// smallest time, then the smallest (i, j).
     Next(RunArgs),
+    /// Measure each backend on a built-in workload generated in memory: pairs/s per pair
+    /// and for the next collision, the GPU's upload / kernel / readback split, and whether
+    /// the backends agree (pairs outside the precision's tier against the CPU f64).
+    Bench(BenchArgs),
     /// Write a built-in workload as an input file, so that the CLI, other tools and other
     /// simulators can be timed on identical data.
     Gen(GenArgs),
@@ -97,6 +101,48 @@ struct GenArgs {
     /// The file to write (CSV).
     #[arg(short, long)]
     output: PathBuf,
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    /// Number of tables.
+    #[arg(long, default_value_t = 10_000)]
+    tables: usize,
+    /// Balls per table, 2 to 64 (the rack always has 16).
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u16).range(2..=64))]
+    balls: u16,
+    /// The workload (see `kisstime gen --help`).
+    #[arg(long, value_enum, default_value_t = ScenarioArg::Midshot)]
+    scenario: ScenarioArg,
+    /// Which backends to measure; `all` is the CPU and, when one is usable, the GPU.
+    #[arg(long, value_enum, default_value_t = BenchBackend::All)]
+    backend: BenchBackend,
+    /// The GPU's precision (the CPU computes in f64).
+    #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
+    precision: PrecisionArg,
+    /// Random seed of the workload.
+    #[arg(long, default_value_t = 42)]
+    seed: u64,
+    /// Measured runs per operation, after one warm-up; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    reps: usize,
+    /// Print the report as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Worker threads for the CPU backend (default: one per core).
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// Backends to benchmark.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum BenchBackend {
+    /// The CPU only.
+    Cpu,
+    /// The GPU only (the CPU still computes the reference answers, untimed).
+    Gpu,
+    /// Both.
+    All,
 }
 
 /// A built-in workload.
@@ -257,6 +303,34 @@ fn run_gen(args: &GenArgs) -> Result<(), Error> {
     })
 }
 
+fn run_bench(args: &BenchArgs) -> Result<(), Error> {
+    let config = kisstime::bench::BenchConfig {
+        scenario: args.scenario.scenario(),
+        tables: args.tables,
+        balls: args.balls as usize,
+        seed: args.seed,
+        cpu: args.backend != BenchBackend::Gpu,
+        gpu: (args.backend != BenchBackend::Cpu).then_some(match args.precision {
+            PrecisionArg::F32 => Precision::F32,
+            PrecisionArg::F64 => Precision::F64,
+        }),
+        reps: args.reps,
+    };
+    let report = kisstime::bench::run_bench(&config)?;
+    if args.backend == BenchBackend::Gpu && report.backends.is_empty() {
+        return Err(Error::GpuUnavailable(report.skipped.join("; ")));
+    }
+    let text = if args.json {
+        serde_json::to_string_pretty(&report).expect("the report serialises") + "\n"
+    } else {
+        report.to_text()
+    };
+    kisstime::io::write_output(None, |w| {
+        w.write_all(text.as_bytes())
+            .map_err(kisstime::io::output_error)
+    })
+}
+
 fn set_threads(threads: Option<usize>) -> Result<(), String> {
     if let Some(n) = threads {
         rayon::ThreadPoolBuilder::new()
@@ -271,6 +345,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let threads = match &cli.command {
         Command::Pairs(a) | Command::Next(a) => a.threads,
+        Command::Bench(a) => a.threads,
         Command::Gen(_) => None,
     };
     if let Err(e) = set_threads(threads) {
@@ -280,6 +355,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Pairs(args) => run_pairs(args),
         Command::Next(args) => run_next(args),
+        Command::Bench(args) => run_bench(args),
         Command::Gen(args) => run_gen(args),
     };
     match result {

@@ -1,0 +1,281 @@
+//! `kisstime bench`: throughput of each backend on a built-in workload generated in
+//! memory, and whether the backends agree.
+//!
+//! For each backend the batch is answered per pair (`pair_times`) and per table
+//! (`next_collisions`), once to warm up and then `reps` times; the median wall time gives
+//! pairs/s. For the GPU the upload / kernel / readback split of the median run is kept.
+//! Every non-reference backend is compared with the CPU f64 answers under the corpus's
+//! tiers ([`crate::compare`]).
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::batch::{self, Batch};
+use crate::compare::{compare_pairs, next_disagreements};
+use crate::engine::{Backend, Engine};
+use crate::error::Error;
+use crate::gpu::{GpuTimings, Precision};
+use crate::physics::Params;
+use crate::workload::{Scenario, generate};
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct BenchConfig {
+    /// The workload.
+    pub scenario: Scenario,
+    /// Tables in the batch.
+    pub tables: usize,
+    /// Balls per table.
+    pub balls: usize,
+    /// Workload seed.
+    pub seed: u64,
+    /// Measure the CPU backend.
+    pub cpu: bool,
+    /// Measure the GPU backend in this precision, if any.
+    pub gpu: Option<Precision>,
+    /// Measured repetitions per operation (after one warm-up).
+    pub reps: usize,
+}
+
+/// The upload / kernel / readback split of a GPU call, in seconds.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct GpuSplit {
+    /// Host layout and upload.
+    pub upload_s: f64,
+    /// Dispatch until the results are ready.
+    pub kernel_s: f64,
+    /// Mapping and conversion of the results.
+    pub readback_s: f64,
+}
+
+impl From<GpuTimings> for GpuSplit {
+    fn from(t: GpuTimings) -> GpuSplit {
+        GpuSplit {
+            upload_s: t.upload,
+            kernel_s: t.kernel,
+            readback_s: t.readback,
+        }
+    }
+}
+
+/// How a backend's answers compare with the CPU f64 reference.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct BenchAgreement {
+    /// Pairs whose answers differ beyond the precision's tier (should be 0).
+    pub pairs_outside_tier: usize,
+    /// Pairs that differ but graze within the tier's margin (excused).
+    pub pairs_excused: usize,
+    /// Tables whose next collision differs unexplained by a near-tie or a graze.
+    pub tables_next_differ: usize,
+}
+
+/// One backend's figures.
+#[derive(Clone, Debug, Serialize)]
+pub struct BackendFigures {
+    /// `cpu` or `gpu`.
+    pub backend: String,
+    /// `f64` or `f32`.
+    pub precision: String,
+    /// The device: CPU threads or the GPU adapter.
+    pub device: String,
+    /// Median seconds for all pairs' answers.
+    pub pair_times_s: f64,
+    /// Pairs per second for all pairs' answers.
+    pub pair_times_pairs_per_s: f64,
+    /// Median seconds for every table's next collision.
+    pub next_collisions_s: f64,
+    /// Pairs per second for every table's next collision.
+    pub next_collisions_pairs_per_s: f64,
+    /// GPU split of the per-pair run.
+    pub pair_times_gpu_split: Option<GpuSplit>,
+    /// GPU split of the next-collision run.
+    pub next_collisions_gpu_split: Option<GpuSplit>,
+    /// Agreement with the CPU f64 reference (`None` for the reference itself).
+    pub agreement: Option<BenchAgreement>,
+}
+
+/// The whole report.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    /// Workload name.
+    pub scenario: String,
+    /// Tables.
+    pub tables: usize,
+    /// Balls per table.
+    pub balls: usize,
+    /// Pairs in the batch.
+    pub pairs: usize,
+    /// Workload seed.
+    pub seed: u64,
+    /// Measured repetitions per operation.
+    pub reps: usize,
+    /// One entry per backend measured.
+    pub backends: Vec<BackendFigures>,
+    /// Backends that could not be measured, and why.
+    pub skipped: Vec<String>,
+}
+
+/// The median of `reps` timed runs of `run` after one warm-up, with the value of the
+/// median run.
+fn timed<T>(reps: usize, mut run: impl FnMut() -> Result<T, Error>) -> Result<(f64, T), Error> {
+    run()?;
+    let mut runs = Vec::with_capacity(reps.max(1));
+    for _ in 0..reps.max(1) {
+        let clock = Instant::now();
+        let value = run()?;
+        runs.push((clock.elapsed().as_secs_f64(), value));
+    }
+    runs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mid = runs.len() / 2;
+    Ok(runs.swap_remove(mid))
+}
+
+/// Runs the benchmark.
+pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, Error> {
+    let params = Params::default();
+    let batch: Batch = generate(
+        config.scenario,
+        config.tables,
+        config.balls,
+        config.seed,
+        &params,
+    );
+    let pairs = batch.num_pairs() as f64;
+    let mut report = BenchReport {
+        scenario: config.scenario.name().to_owned(),
+        tables: batch.num_tables(),
+        balls: config.balls,
+        pairs: batch.num_pairs(),
+        seed: config.seed,
+        reps: config.reps,
+        backends: Vec::new(),
+        skipped: Vec::new(),
+    };
+    // the reference: CPU f64 answers (timed when the CPU is measured)
+    let reference = batch::pair_times(&batch, &params)?;
+    let reference_next = batch::next_collisions(&batch, &params)?;
+    if config.cpu {
+        let (pt, _) = timed(config.reps, || batch::pair_times(&batch, &params))?;
+        let (nt, _) = timed(config.reps, || batch::next_collisions(&batch, &params))?;
+        report.backends.push(BackendFigures {
+            backend: "cpu".into(),
+            precision: "f64".into(),
+            device: format!("{} threads", rayon::current_num_threads()),
+            pair_times_s: pt,
+            pair_times_pairs_per_s: pairs / pt,
+            next_collisions_s: nt,
+            next_collisions_pairs_per_s: pairs / nt,
+            pair_times_gpu_split: None,
+            next_collisions_gpu_split: None,
+            agreement: None,
+        });
+    }
+    if let Some(precision) = config.gpu {
+        match Engine::new(Backend::Gpu, precision) {
+            Err(e) => report
+                .skipped
+                .push(format!("gpu {}: {e}", precision.name())),
+            Ok(mut engine) => {
+                let gpu = engine.gpu().expect("a GPU engine");
+                let device = gpu.adapter().to_string();
+                let (pt, got) = timed(config.reps, || gpu.pair_times(&batch, &params))?;
+                let pair_split = GpuSplit::from(gpu.timings());
+                let (nt, next) = timed(config.reps, || gpu.next_collisions(&batch, &params))?;
+                let next_split = GpuSplit::from(gpu.timings());
+                let agreement = compare_pairs(
+                    &batch,
+                    &params,
+                    &reference,
+                    &got,
+                    precision,
+                    |_, _, _, _, _| {},
+                );
+                let tables_next_differ = next_disagreements(
+                    &batch,
+                    &params,
+                    precision,
+                    &reference,
+                    &reference_next,
+                    &next,
+                );
+                report.backends.push(BackendFigures {
+                    backend: "gpu".into(),
+                    precision: precision.name().into(),
+                    device,
+                    pair_times_s: pt,
+                    pair_times_pairs_per_s: pairs / pt,
+                    next_collisions_s: nt,
+                    next_collisions_pairs_per_s: pairs / nt,
+                    pair_times_gpu_split: Some(pair_split),
+                    next_collisions_gpu_split: Some(next_split),
+                    agreement: Some(BenchAgreement {
+                        pairs_outside_tier: agreement.outside_tier,
+                        pairs_excused: agreement.excused,
+                        tables_next_differ,
+                    }),
+                });
+            }
+        }
+    }
+    Ok(report)
+}
+
+/// Pairs per second in a readable unit.
+fn rate(pairs_per_s: f64) -> String {
+    if pairs_per_s >= 1e9 {
+        format!("{:.2} G pairs/s", pairs_per_s / 1e9)
+    } else {
+        format!("{:.1} M pairs/s", pairs_per_s / 1e6)
+    }
+}
+
+impl BenchReport {
+    /// The report as a readable table.
+    pub fn to_text(&self) -> String {
+        let mut out = format!(
+            "kisstime bench: {}, {} tables x {} balls = {} pairs, seed {}, median of {} runs\n\n",
+            self.scenario, self.tables, self.balls, self.pairs, self.seed, self.reps
+        );
+        out += &format!(
+            "{:<9} {:>18} {:>18}  {}\n",
+            "backend", "per-pair", "next collision", "agreement with cpu f64"
+        );
+        for b in &self.backends {
+            let agreement = match &b.agreement {
+                None => "reference".to_owned(),
+                Some(a) => format!(
+                    "{} pairs outside the {} tier ({} grazes excused), {} tables' next collision differ",
+                    a.pairs_outside_tier, b.precision, a.pairs_excused, a.tables_next_differ
+                ),
+            };
+            out += &format!(
+                "{:<9} {:>18} {:>18}  {}\n",
+                format!("{} {}", b.backend, b.precision),
+                rate(b.pair_times_pairs_per_s),
+                rate(b.next_collisions_pairs_per_s),
+                agreement
+            );
+        }
+        for b in &self.backends {
+            out += &format!("\n{} {} device: {}\n", b.backend, b.precision, b.device);
+            for (what, split) in [
+                ("per-pair", &b.pair_times_gpu_split),
+                ("next collision", &b.next_collisions_gpu_split),
+            ] {
+                if let Some(s) = split {
+                    out += &format!(
+                        "  {what}: upload {:.1} ms, kernel {:.1} ms, readback {:.1} ms\n",
+                        1e3 * s.upload_s,
+                        1e3 * s.kernel_s,
+                        1e3 * s.readback_s
+                    );
+                }
+            }
+        }
+        for s in &self.skipped {
+            out += &format!("\nskipped: {s}\n");
+        }
+        out
+    }
+}
