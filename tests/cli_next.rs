@@ -25,10 +25,13 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
+/// A table's next collision as read from output: time, pair, status.
+type Next = (f64, Option<(i64, i64)>, String);
+
 /// Each table's minimum over `pairs` output: earliest hit or overlap, ties to the first
 /// row (rows come in pair order).
-fn min_of_pairs(csv: &str) -> BTreeMap<i64, (f64, Option<(i64, i64)>, String)> {
-    let mut best: BTreeMap<i64, (f64, Option<(i64, i64)>, String)> = BTreeMap::new();
+fn min_of_pairs(csv: &str) -> BTreeMap<i64, Next> {
+    let mut best: BTreeMap<i64, Next> = BTreeMap::new();
     for line in csv.lines().skip(1) {
         let f: Vec<&str> = line.split(',').collect();
         let table: i64 = f[0].parse().unwrap();
