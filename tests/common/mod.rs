@@ -226,3 +226,13 @@ pub fn proptest_config(seed: u64, cases: u32) -> proptest::test_runner::Config {
     }
     c
 }
+
+/// Runs the `kisstime` binary with `args` and extra environment variables `env`.
+pub fn run_kisstime(args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"));
+    cmd.args(args);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("the kisstime binary runs")
+}
