@@ -240,6 +240,28 @@ pub fn pair_of_index(n: usize, p: usize) -> (usize, usize) {
     (i, j)
 }
 
+impl NextCollision {
+    /// No collision yet for `table`.
+    pub(crate) fn none(table: i64) -> NextCollision {
+        NextCollision {
+            table,
+            t: f64::INFINITY,
+            pair: None,
+            status: Status::None,
+        }
+    }
+
+    /// Takes `c`, the answer for balls `i`, `j`, if it comes first under the tie rule;
+    /// pairs must be considered in pair order.
+    fn consider(&mut self, c: Contact, i: i64, j: i64) {
+        if c.status.is_contact() && (self.pair.is_none() || c.t < self.t) {
+            self.t = c.t;
+            self.pair = Some((i, j));
+            self.status = c.status;
+        }
+    }
+}
+
 /// Fills `paths` with the paths of `balls` (WGSL twin: `cache_paths`).
 pub(crate) fn table_paths(balls: &[Ball], params: &Params, paths: &mut Vec<BallPath>) {
     paths.clear();
@@ -291,21 +313,11 @@ pub fn pair_times_of(
 /// The next collision of table `k` from its ball paths (the tie rule in the module docs).
 fn table_next(batch: &Batch, k: usize, paths: &[BallPath], radius: f64) -> NextCollision {
     let ids = batch.ball_ids(k);
-    let mut best = NextCollision {
-        table: batch.table_id(k),
-        t: f64::INFINITY,
-        pair: None,
-        status: Status::None,
-    };
+    let mut best = NextCollision::none(batch.table_id(k));
     let n = paths.len();
     for i in 0..n {
         for j in i + 1..n {
-            let c = pair_contact(&paths[i], &paths[j], radius);
-            if c.status.is_contact() && (best.pair.is_none() || c.t < best.t) {
-                best.t = c.t;
-                best.pair = Some((ids[i], ids[j]));
-                best.status = c.status;
-            }
+            best.consider(pair_contact(&paths[i], &paths[j], radius), ids[i], ids[j]);
         }
     }
     best
@@ -340,20 +352,10 @@ pub fn next_from_pairs(batch: &Batch, pairs: &[Contact]) -> Vec<NextCollision> {
             let ids = batch.ball_ids(k);
             let n = ids.len();
             let local = &pairs[batch.pair_range(k)];
-            let mut best = NextCollision {
-                table: batch.table_id(k),
-                t: f64::INFINITY,
-                pair: None,
-                status: Status::None,
-            };
+            let mut best = NextCollision::none(batch.table_id(k));
             for i in 0..n {
                 for j in i + 1..n {
-                    let c = local[pair_index(n, i, j)];
-                    if c.status.is_contact() && (best.pair.is_none() || c.t < best.t) {
-                        best.t = c.t;
-                        best.pair = Some((ids[i], ids[j]));
-                        best.status = c.status;
-                    }
+                    best.consider(local[pair_index(n, i, j)], ids[i], ids[j]);
                 }
             }
             best

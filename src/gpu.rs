@@ -823,16 +823,12 @@ impl GpuEngine {
             for (local, k) in chunk.enumerate() {
                 let status = decode_status(code[local] & 3);
                 let ids = batch.ball_ids(k);
-                let mut next = NextCollision {
-                    table: batch.table_id(k),
-                    t: f64::INFINITY,
-                    pair: None,
-                    status,
-                };
+                let mut next = NextCollision::none(batch.table_id(k));
                 if status != Status::None {
                     let (i, j) = pair_of_index(ids.len(), (code[local] >> 2) as usize);
                     next.t = t[local];
                     next.pair = Some((ids[i], ids[j]));
+                    next.status = status;
                 }
                 out.push(next);
             }
