@@ -130,6 +130,81 @@ impl Batch {
         Ok(())
     }
 
+    /// A batch from balls given as columns already sorted by (table id, ball id), taking
+    /// the columns over without copying them: what the file readers build for large inputs.
+    ///
+    /// Errors, as `(row, error)` with the row the error is about: a table with fewer than two
+    /// balls, a ball id twice in a table (the row is the second), a number that is NaN or
+    /// infinite. Rows out of order are a bug of the caller, reported as an error too.
+    pub(crate) fn from_sorted_columns(
+        tables: &[i64],
+        ball_ids: Vec<i64>,
+        balls: Vec<Ball>,
+    ) -> Result<Batch, (usize, InputError)> {
+        debug_assert!(tables.len() == ball_ids.len() && tables.len() == balls.len());
+        let mut batch = Batch {
+            ball_ids,
+            balls,
+            ..Batch::new()
+        };
+        let mut first = 0;
+        while first < tables.len() {
+            let table = tables[first];
+            let mut end = first + 1;
+            while end < tables.len() && tables[end] == table {
+                let (prev, id) = (batch.ball_ids[end - 1], batch.ball_ids[end]);
+                if id <= prev {
+                    let what = if id == prev {
+                        "duplicate ball id"
+                    } else {
+                        "rows out of order (a bug in the reader)"
+                    };
+                    return Err((end, InputError::new(what).at_table(table).at_ball(id)));
+                }
+                end += 1;
+            }
+            if end < tables.len() && tables[end] < table {
+                return Err((
+                    end,
+                    InputError::new("rows out of order (a bug in the reader)")
+                        .at_table(tables[end]),
+                ));
+            }
+            if end - first < 2 {
+                return Err((
+                    first,
+                    InputError::new(format!(
+                        "a table needs at least 2 balls, table {table} has 1"
+                    ))
+                    .at_table(table)
+                    .at_ball(batch.ball_ids[first]),
+                ));
+            }
+            for row in first..end {
+                let ball = &batch.balls[row];
+                if let Some(k) = ball.numbers().iter().position(|v| !v.is_finite()) {
+                    return Err((
+                        row,
+                        InputError::new(format!(
+                            "{} is {}, numbers must be finite",
+                            crate::io::BALL_NUMBER_COLUMNS[k],
+                            ball.numbers()[k]
+                        ))
+                        .at_table(table)
+                        .at_ball(batch.ball_ids[row]),
+                    ));
+                }
+            }
+            batch.seen.insert(table);
+            batch.table_ids.push(table);
+            batch.ball_start.push(end);
+            let pairs = batch.pair_start[batch.pair_start.len() - 1] + pairs_in_table(end - first);
+            batch.pair_start.push(pairs);
+            first = end;
+        }
+        Ok(batch)
+    }
+
     /// Number of tables.
     pub fn num_tables(&self) -> usize {
         self.table_ids.len()

@@ -7,7 +7,7 @@ use std::fmt;
 /// Everything that can go wrong in this crate.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// Bad input data: the message names the file, line, table and ball where known.
+    /// Bad input data: the message names the file, line (or row), table and ball where known.
     #[error("{0}")]
     Input(#[from] InputError),
     /// A physical parameter that is not finite and positive.
@@ -55,8 +55,10 @@ impl Error {
 pub struct InputError {
     /// The file, when the data came from one.
     pub file: Option<String>,
-    /// The 1-based line in that file.
+    /// The 1-based line in that file (text files).
     pub line: Option<u64>,
+    /// The 0-based row index in that file (array files, `.npy`: the row `a[row]`).
+    pub row: Option<u64>,
     /// The table id.
     pub table: Option<i64>,
     /// The ball id.
@@ -86,6 +88,12 @@ impl InputError {
         self
     }
 
+    /// Sets the row index (array files).
+    pub fn at_row(mut self, row: u64) -> InputError {
+        self.row = Some(row);
+        self
+    }
+
     /// Sets the table.
     pub fn at_table(mut self, table: i64) -> InputError {
         self.table = Some(table);
@@ -107,6 +115,9 @@ impl fmt::Display for InputError {
         }
         if let Some(line) = self.line {
             parts.push(format!("line {line}"));
+        }
+        if let Some(row) = self.row {
+            parts.push(format!("row {row}"));
         }
         if let Some(table) = self.table {
             parts.push(format!("table {table}"));

@@ -1,4 +1,5 @@
-//! Reading and writing batches as CSV.
+//! Reading and writing batches and answers: CSV here, NumPy `.npy` in [`crate::npy`],
+//! chosen by the file name ([`Format`]).
 //!
 //! # Input
 //! Header `table,ball,state,x,y,vx,vy,wx,wy,wz`, one row a ball: `table` and `ball` are
@@ -14,8 +15,6 @@
 //! `hit`, `none`, `overlap`. [`write_next_csv`]: header `table,t,i,j,status`, one row a
 //! table, `inf` and empty ids when the table has no collision.
 
-use std::collections::BTreeMap;
-use std::collections::HashMap;
 use std::io::{Read, Write};
 use std::path::Path;
 
@@ -44,11 +43,106 @@ pub fn read_batch_csv_path(path: &Path) -> Result<Batch, Error> {
     read_batch_csv(std::io::BufReader::new(file), &name)
 }
 
-/// One parsed row, before grouping by table.
-struct Row {
-    line: u64,
-    ball: i64,
-    data: Ball,
+/// A file format, chosen by the file name: `.npy` (any case) is [`crate::npy`]'s NumPy
+/// layout, anything else CSV.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Comma-separated text with a header line.
+    Csv,
+    /// NumPy's binary `.npy` (see [`crate::npy`]).
+    Npy,
+}
+
+impl Format {
+    /// The format of the file at `path` (CSV for standard output, `None`).
+    pub fn of(path: Option<&Path>) -> Format {
+        match path.and_then(|p| p.extension()) {
+            Some(ext) if ext.eq_ignore_ascii_case("npy") => Format::Npy,
+            _ => Format::Csv,
+        }
+    }
+}
+
+/// Reads a batch from a file in the format its name says ([`Format::of`]).
+pub fn read_batch_path(path: &Path) -> Result<Batch, Error> {
+    match Format::of(Some(path)) {
+        Format::Csv => read_batch_csv_path(path),
+        Format::Npy => crate::npy::read_batch_npy_path(path),
+    }
+}
+
+/// Writes a batch as an input file in `format`.
+pub fn write_batch(out: &mut dyn Write, format: Format, batch: &Batch) -> std::io::Result<()> {
+    match format {
+        Format::Csv => write_batch_csv(out, batch),
+        Format::Npy => crate::npy::write_batch_npy(out, batch),
+    }
+}
+
+/// Writes each table's next collision in `format`.
+pub fn write_next(
+    out: &mut dyn Write,
+    format: Format,
+    next: &[crate::NextCollision],
+) -> std::io::Result<()> {
+    match format {
+        Format::Csv => write_next_csv(out, next),
+        Format::Npy => crate::npy::write_next_npy(out, next),
+    }
+}
+
+/// Balls as read, in file order, before they are sorted into a [`Batch`]: one column per
+/// field, so that a file of millions of balls is held once, compactly, and handed to the
+/// batch without copying when it is already in (table, ball) order.
+#[derive(Default)]
+pub(crate) struct BallRows {
+    tables: Vec<i64>,
+    ids: Vec<i64>,
+    balls: Vec<Ball>,
+    /// Where each ball is in the file: its line (CSV) or row (NPY).
+    at: Vec<u64>,
+}
+
+impl BallRows {
+    /// Appends one ball read at `at` (a line or a row).
+    pub(crate) fn push(&mut self, table: i64, id: i64, ball: Ball, at: u64) {
+        self.tables.push(table);
+        self.ids.push(id);
+        self.balls.push(ball);
+        self.at.push(at);
+    }
+
+    /// Sorts the balls by (table, ball) — stably, so of two balls with the same ids the
+    /// later in the file is reported — and builds the batch. `locate` adds a ball's place
+    /// (`at`) and the file name to an error; `unit` names what `at` counts (`line`, `row`).
+    pub(crate) fn into_batch(
+        mut self,
+        unit: &str,
+        locate: impl Fn(InputError, u64) -> InputError,
+    ) -> Result<Batch, Error> {
+        let key = |r: usize| (self.tables[r], self.ids[r]);
+        let sorted = (1..self.tables.len()).all(|r| key(r - 1) <= key(r));
+        if !sorted {
+            let mut order: Vec<usize> = (0..self.tables.len()).collect();
+            order.sort_by_key(|&r| key(r));
+            self.tables = order.iter().map(|&r| self.tables[r]).collect();
+            self.ids = order.iter().map(|&r| self.ids[r]).collect();
+            self.at = order.iter().map(|&r| self.at[r]).collect();
+            self.balls = order.iter().map(|&r| self.balls[r]).collect();
+        }
+        let BallRows {
+            tables,
+            ids,
+            balls,
+            at,
+        } = self;
+        Batch::from_sorted_columns(&tables, ids, balls).map_err(|(row, mut e)| {
+            if row > 0 && tables[row - 1] == tables[row] && e.message == "duplicate ball id" {
+                e.message = format!("duplicate ball id (first on {unit} {})", at[row - 1]);
+            }
+            locate(e, at[row]).into()
+        })
+    }
 }
 
 /// Reads a batch from CSV text; `file` is the name used in error messages.
@@ -59,17 +153,14 @@ pub fn read_batch_csv<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
         .flexible(true)
         .trim(csv::Trim::All)
         .from_reader(reader);
-    let mut records = rdr.records();
-    let header = match records.next() {
-        None => return Err(err(1, "the file is empty; expected the header line".into()).into()),
-        Some(rec) => rec.map_err(|e| csv_error(e, file))?,
-    };
-    check_header(&header).map_err(|m| err(1, m))?;
+    let mut rec = csv::StringRecord::new();
+    if !rdr.read_record(&mut rec).map_err(|e| csv_error(e, file))? {
+        return Err(err(1, "the file is empty; expected the header line".into()).into());
+    }
+    check_header(&rec).map_err(|m| err(1, m))?;
 
-    let mut tables: BTreeMap<i64, Vec<Row>> = BTreeMap::new();
-    let mut first_line: HashMap<(i64, i64), u64> = HashMap::new();
-    for rec in records {
-        let rec = rec.map_err(|e| csv_error(e, file))?;
+    let mut rows = BallRows::default();
+    while rdr.read_record(&mut rec).map_err(|e| csv_error(e, file))? {
         let line = rec.position().map_or(0, |p| p.line());
         if rec.len() != BALL_COLUMNS.len() {
             return Err(err(
@@ -104,45 +195,9 @@ pub fn read_batch_csv<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
             }
             v[k] = value;
         }
-        if let Some(first) = first_line.insert((table, ball), line) {
-            return Err(at(format!("duplicate ball id (first on line {first})")).into());
-        }
-        let data = Ball {
-            state,
-            x: v[0],
-            y: v[1],
-            vx: v[2],
-            vy: v[3],
-            wx: v[4],
-            wy: v[5],
-            wz: v[6],
-        };
-        tables
-            .entry(table)
-            .or_default()
-            .push(Row { line, ball, data });
+        rows.push(table, ball, Ball::from_numbers(state, v), line);
     }
-
-    let mut batch = Batch::new();
-    for (table, rows) in tables {
-        if rows.len() < 2 {
-            let row = &rows[0];
-            return Err(err(
-                row.line,
-                format!("a table needs at least 2 balls, table {table} has 1"),
-            )
-            .at_table(table)
-            .at_ball(row.ball)
-            .into());
-        }
-        batch
-            .push_table(table, rows.iter().map(|r| (r.ball, r.data)))
-            .map_err(|e| match e {
-                Error::Input(ie) => Error::Input(ie.in_file(file)),
-                other => other,
-            })?;
-    }
-    Ok(batch)
+    rows.into_batch("line", |e, line| e.in_file(file).at_line(line))
 }
 
 /// Checks the header row against [`BALL_COLUMNS`], naming a missing or extra column.
@@ -235,6 +290,57 @@ pub fn write_pairs_rows<W: Write + ?Sized>(
     Ok(())
 }
 
+/// Per-pair output in either format, written chunk by chunk as the answers come.
+pub struct PairsWriter<'w> {
+    sink: PairsSink<'w>,
+}
+
+enum PairsSink<'w> {
+    Csv(&'w mut dyn Write),
+    Npy(crate::npy::PairsNpy<&'w mut dyn Write>),
+}
+
+impl<'w> PairsWriter<'w> {
+    /// Starts the output of all pairs of `batch` (the CSV header, or the `.npy` header
+    /// promising every pair).
+    pub fn new(
+        out: &'w mut dyn Write,
+        format: Format,
+        batch: &Batch,
+    ) -> std::io::Result<PairsWriter<'w>> {
+        let sink = match format {
+            Format::Csv => {
+                writeln!(out, "{PAIR_COLUMNS}")?;
+                PairsSink::Csv(out)
+            }
+            Format::Npy => PairsSink::Npy(crate::npy::PairsNpy::new(out, batch)?),
+        };
+        Ok(PairsWriter { sink })
+    }
+
+    /// Appends the answers `contacts` of the tables `tables` (positions in the batch), as
+    /// [`crate::batch::pair_times_of`] returns them.
+    pub fn write_rows(
+        &mut self,
+        batch: &Batch,
+        tables: std::ops::Range<usize>,
+        contacts: &[Contact],
+    ) -> std::io::Result<()> {
+        match &mut self.sink {
+            PairsSink::Csv(out) => write_pairs_rows(*out, batch, tables, contacts),
+            PairsSink::Npy(npy) => npy.write_rows(batch, tables, contacts),
+        }
+    }
+
+    /// Ends the output (for `.npy`, an error if pairs are missing).
+    pub fn finish(self) -> std::io::Result<()> {
+        match self.sink {
+            PairsSink::Csv(_) => Ok(()),
+            PairsSink::Npy(npy) => npy.finish(),
+        }
+    }
+}
+
 /// The per-table output columns of `kisstime next`.
 pub const NEXT_COLUMNS: &str = "table,t,i,j,status";
 
@@ -297,10 +403,12 @@ pub fn write_output(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let tmp = tempfile::Builder::new()
-        .prefix(".kisstime-")
-        .tempfile_in(dir)
-        .map_err(io)?;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".kisstime-");
+    // an ordinary new file's permissions (0666 less the umask), not a temporary file's 0600
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let tmp = builder.tempfile_in(dir).map_err(io)?;
     let mut w = std::io::BufWriter::new(tmp);
     body(&mut w).map_err(named)?;
     let tmp = w.into_inner().map_err(|e| io(e.into_error()))?;

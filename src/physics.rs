@@ -222,6 +222,21 @@ impl Ball {
         }
     }
 
+    /// A ball from its state and its numbers in file order (`x, y, vx, vy, wx, wy, wz`).
+    pub fn from_numbers(state: MotionState, v: [f64; 7]) -> Ball {
+        let [x, y, vx, vy, wx, wy, wz] = v;
+        Ball {
+            state,
+            x,
+            y,
+            vx,
+            vy,
+            wx,
+            wy,
+            wz,
+        }
+    }
+
     /// The ball's numbers, in file order (`x, y, vx, vy, wx, wy, wz`).
     pub fn numbers(&self) -> [f64; 7] {
         [self.x, self.y, self.vx, self.vy, self.wx, self.wy, self.wz]

@@ -1,0 +1,329 @@
+//! Batches and answers as NumPy `.npy` files: the binary format for large inputs and
+//! outputs, read and written by `numpy.load` / `numpy.save` directly. The CLI picks it when
+//! a file name ends in `.npy`.
+//!
+//! # Layouts
+//! Input, one row a ball, either
+//! - a 1-D structured array of dtype [`BALL_DTYPE`]:
+//!   `[('table','<i8'), ('ball','<i8'), ('state','<i8'), ('x','<f8'), ('y','<f8'),
+//!   ('vx','<f8'), ('vy','<f8'), ('wx','<f8'), ('wy','<f8'), ('wz','<f8')]`, or
+//! - a plain 2-D `float64` array of shape `(N, 10)` with the same columns in the same order,
+//!   ids and state as whole numbers.
+//!
+//! `state` is pooltool's code: 0 stationary, 1 spinning, 2 sliding, 3 rolling, 4 pocketed.
+//! Rows of one table need not be adjacent. Either byte order is read; the arrays must be in
+//! C order (`numpy.ascontiguousarray`).
+//!
+//! Output, structured arrays (little-endian):
+//! - per pair ([`PAIR_DTYPE`]): `[('table','<i8'), ('i','<i8'), ('j','<i8'), ('t','<f8'),
+//!   ('status','<i8'), ('horizon','<f8')]`, rows in the order of the CSV output;
+//! - per table ([`NEXT_DTYPE`]): `[('table','<i8'), ('t','<f8'), ('i','<i8'), ('j','<i8'),
+//!   ('status','<i8')]`; when a table has no collision `t` is `inf`, `status` 0 and `i`, `j`
+//!   are −1 (the status says which rows these are, whatever the ball ids).
+//!
+//! `status` is 0 none, 1 hit, 2 overlap ([`crate::Status`]'s codes).
+//!
+//! Errors name the file and the row (`a[row]`, 0-based), and the table and ball.
+
+use std::io::{Read, Write};
+
+use npyz::WriterBuilder;
+
+use crate::batch::{Batch, NextCollision};
+use crate::error::{Error, InputError};
+use crate::io::{BALL_COLUMNS, BallRows};
+use crate::physics::{Ball, MotionState};
+use crate::solver::Contact;
+
+/// The structured input dtype, as NumPy writes it.
+pub const BALL_DTYPE: &str = "[('table','<i8'), ('ball','<i8'), ('state','<i8'), \
+     ('x','<f8'), ('y','<f8'), ('vx','<f8'), ('vy','<f8'), ('wx','<f8'), ('wy','<f8'), \
+     ('wz','<f8')]";
+/// The per-pair output dtype.
+pub const PAIR_DTYPE: &str = "[('table','<i8'), ('i','<i8'), ('j','<i8'), ('t','<f8'), \
+     ('status','<i8'), ('horizon','<f8')]";
+/// The per-table output dtype.
+pub const NEXT_DTYPE: &str =
+    "[('table','<i8'), ('t','<f8'), ('i','<i8'), ('j','<i8'), ('status','<i8')]";
+
+/// One ball, a row of the structured input.
+#[derive(npyz::Serialize, npyz::Deserialize, npyz::AutoSerialize)]
+struct BallRecord {
+    table: i64,
+    ball: i64,
+    state: i64,
+    x: f64,
+    y: f64,
+    vx: f64,
+    vy: f64,
+    wx: f64,
+    wy: f64,
+    wz: f64,
+}
+
+/// One pair's answer, a row of the per-pair output.
+#[derive(npyz::Serialize, npyz::AutoSerialize)]
+struct PairRecord {
+    table: i64,
+    i: i64,
+    j: i64,
+    t: f64,
+    status: i64,
+    horizon: f64,
+}
+
+/// One table's next collision, a row of the per-table output.
+#[derive(npyz::Serialize, npyz::AutoSerialize)]
+struct NextRecord {
+    table: i64,
+    t: f64,
+    i: i64,
+    j: i64,
+    status: i64,
+}
+
+/// Reads a batch from a `.npy` file's bytes (see the module docs); `file` is the name used
+/// in error messages.
+pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
+    let bad = |msg: String| Error::from(InputError::new(msg).in_file(file));
+    let npy =
+        npyz::NpyFile::new(reader).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
+    if npy.uses_pickled_array() {
+        return Err(bad(
+            "object arrays (pickled) are not read; use numeric dtypes".into(),
+        ));
+    }
+    if npy.order() != npyz::Order::C && npy.shape().len() > 1 {
+        return Err(bad(
+            "the array is in Fortran order; save numpy.ascontiguousarray(a)".into(),
+        ));
+    }
+    let expected = || {
+        format!(
+            "expected a 1-D structured array of dtype {BALL_DTYPE}, or a 2-D float64 array \
+             of shape (N, {}) with columns {}",
+            BALL_COLUMNS.len(),
+            BALL_COLUMNS.join(",")
+        )
+    };
+    let dtype = npy.dtype();
+    let shape = npy.shape().to_vec();
+    let read_err = |row: u64, e: std::io::Error| {
+        Error::from(
+            InputError::new(format!("unreadable data: {e}"))
+                .in_file(file)
+                .at_row(row),
+        )
+    };
+    let mut rows = BallRows::default();
+    match dtype {
+        npyz::DType::Record(_) => {
+            if shape.len() != 1 {
+                return Err(bad(format!("{}; found shape {shape:?}", expected())));
+            }
+            let data = npy
+                .data::<BallRecord>()
+                .map_err(|e| bad(format!("{}; found {}: {e}", expected(), dtype.descr())))?;
+            for (row, rec) in (0u64..).zip(data) {
+                let r = rec.map_err(|e| read_err(row, e))?;
+                let ball = make_ball(r.state as f64, [r.x, r.y, r.vx, r.vy, r.wx, r.wy, r.wz])
+                    .map_err(|m| locate(InputError::new(m), file, row, r.table, r.ball))?;
+                rows.push(r.table, r.ball, ball, row);
+            }
+        }
+        npyz::DType::Plain(_) => {
+            if shape.len() != 2 || shape[1] != BALL_COLUMNS.len() as u64 {
+                return Err(bad(format!(
+                    "{}; found {} of shape {shape:?}",
+                    expected(),
+                    dtype.descr()
+                )));
+            }
+            let mut data = npy
+                .data::<f64>()
+                .map_err(|e| bad(format!("{}; found {}: {e}", expected(), dtype.descr())))?;
+            let mut v = [0.0f64; 10];
+            for row in 0..shape[0] {
+                for (k, x) in v.iter_mut().enumerate() {
+                    *x = match data.next() {
+                        Some(x) => x.map_err(|e| read_err(row, e))?,
+                        None => {
+                            return Err(read_err(
+                                row,
+                                std::io::Error::other(format!("file ends in column {k}")),
+                            ));
+                        }
+                    };
+                }
+                let table = whole(v[0]).ok_or_else(|| {
+                    locate_row(file, row, format!("table id {} is not an integer", v[0]))
+                })?;
+                let id = whole(v[1]).ok_or_else(|| {
+                    locate_row(file, row, format!("ball id {} is not an integer", v[1]))
+                        .at_table(table)
+                })?;
+                let mut numbers = [0.0; 7];
+                numbers.copy_from_slice(&v[3..]);
+                let ball = make_ball(v[2], numbers)
+                    .map_err(|m| locate(InputError::new(m), file, row, table, id))?;
+                rows.push(table, id, ball, row);
+            }
+        }
+        npyz::DType::Array(..) => {
+            return Err(bad(format!("{}; found {}", expected(), dtype.descr())));
+        }
+    }
+    rows.into_batch("row", |e, row| e.in_file(file).at_row(row))
+}
+
+/// Reads a batch from a `.npy` file.
+pub fn read_batch_npy_path(path: &std::path::Path) -> Result<Batch, Error> {
+    let name = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|source| Error::Io {
+        path: name.clone(),
+        source,
+    })?;
+    read_batch_npy(std::io::BufReader::new(file), &name)
+}
+
+/// The id in a float column, when it is a whole number that an `i64` holds exactly.
+fn whole(v: f64) -> Option<i64> {
+    const LIMIT: f64 = 9_007_199_254_740_992.0; // 2^53: beyond it floats skip integers
+    (v.fract() == 0.0 && v.abs() <= LIMIT).then_some(v as i64)
+}
+
+/// A ball from a state code and its numbers, or what is wrong with them.
+fn make_ball(state: f64, numbers: [f64; 7]) -> Result<Ball, String> {
+    let code = whole(state)
+        .and_then(|c| u8::try_from(c).ok())
+        .and_then(|c| MotionState::ALL.get(usize::from(c)).copied())
+        .ok_or_else(|| {
+            format!(
+                "state {state} is not a state code (0 stationary, 1 spinning, 2 sliding, \
+                 3 rolling, 4 pocketed)"
+            )
+        })?;
+    if let Some(k) = numbers.iter().position(|v| !v.is_finite()) {
+        return Err(format!(
+            "{} is {}, numbers must be finite",
+            crate::io::BALL_NUMBER_COLUMNS[k],
+            numbers[k]
+        ));
+    }
+    Ok(Ball::from_numbers(code, numbers))
+}
+
+fn locate(e: InputError, file: &str, row: u64, table: i64, ball: i64) -> Error {
+    e.in_file(file)
+        .at_row(row)
+        .at_table(table)
+        .at_ball(ball)
+        .into()
+}
+
+fn locate_row(file: &str, row: u64, msg: String) -> InputError {
+    InputError::new(msg).in_file(file).at_row(row)
+}
+
+/// Writes a batch as a structured `.npy` input array ([`BALL_DTYPE`]): reading it back
+/// gives the same batch.
+pub fn write_batch_npy<W: Write>(out: W, batch: &Batch) -> std::io::Result<()> {
+    let mut w = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(&[batch.num_balls() as u64])
+        .writer(out)
+        .begin_nd()?;
+    for k in 0..batch.num_tables() {
+        let table = batch.table_id(k);
+        for (&ball, b) in batch.ball_ids(k).iter().zip(batch.balls(k)) {
+            w.push(&BallRecord {
+                table,
+                ball,
+                state: b.state as i64,
+                x: b.x,
+                y: b.y,
+                vx: b.vx,
+                vy: b.vy,
+                wx: b.wx,
+                wy: b.wy,
+                wz: b.wz,
+            })?;
+        }
+    }
+    w.finish()
+}
+
+/// Writes each table's next collision as a `.npy` array of dtype [`NEXT_DTYPE`].
+pub fn write_next_npy<W: Write>(out: W, next: &[NextCollision]) -> std::io::Result<()> {
+    let mut w = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(&[next.len() as u64])
+        .writer(out)
+        .begin_nd()?;
+    for n in next {
+        let (i, j) = n.pair.unwrap_or((-1, -1));
+        w.push(&NextRecord {
+            table: n.table,
+            t: n.t,
+            i,
+            j,
+            status: n.status as i64,
+        })?;
+    }
+    w.finish()
+}
+
+/// A `.npy` per-pair output written chunk by chunk (the CSV's streaming twin): the header,
+/// which holds the number of rows, is written first, so the whole batch's pairs are
+/// promised up front and [`PairsNpy::finish`] checks that they all came.
+pub struct PairsNpy<W: Write> {
+    writer: npyz::NpyWriter<PairRecord, W>,
+}
+
+impl<W: Write> PairsNpy<W> {
+    /// Starts the output for all pairs of `batch`.
+    pub fn new(out: W, batch: &Batch) -> std::io::Result<PairsNpy<W>> {
+        let writer = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(&[batch.num_pairs() as u64])
+            .writer(out)
+            .begin_nd()?;
+        Ok(PairsNpy { writer })
+    }
+
+    /// Appends the answers `contacts` of the tables `tables` (positions in the batch), as
+    /// [`crate::batch::pair_times_of`] returns them.
+    pub fn write_rows(
+        &mut self,
+        batch: &Batch,
+        tables: std::ops::Range<usize>,
+        contacts: &[Contact],
+    ) -> std::io::Result<()> {
+        let base = batch.pairs_of_tables(tables.clone()).start;
+        for k in tables {
+            let ids = batch.ball_ids(k);
+            let table = batch.table_id(k);
+            let mut at = batch.pair_range(k).start - base;
+            for i in 0..ids.len() {
+                for j in i + 1..ids.len() {
+                    let c = &contacts[at];
+                    at += 1;
+                    self.writer.push(&PairRecord {
+                        table,
+                        i: ids[i],
+                        j: ids[j],
+                        t: c.t,
+                        status: c.status as i64,
+                        horizon: c.horizon,
+                    })?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Ends the output; an error if fewer rows were written than the header promised.
+    pub fn finish(self) -> std::io::Result<()> {
+        self.writer.finish()
+    }
+}
