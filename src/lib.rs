@@ -17,7 +17,8 @@
 //! - [`gpu`]: the GPU backend (wgpu host code; the WGSL twins are in `shaders/`);
 //! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback;
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
-//! - [`io`]: CSV input and output;
+//! - [`io`]: CSV input and output, and the format by file name;
+//! - [`npy`]: NumPy `.npy` input and output for large batches;
 //! - the `kisstime` binary is a thin command-line layer over these.
 //!
 //! ```
@@ -45,6 +46,7 @@ pub mod engine;
 pub mod error;
 pub mod gpu;
 pub mod io;
+pub mod npy;
 pub mod physics;
 pub mod solver;
 pub mod workload;

@@ -10,6 +10,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use kisstime::physics::{
     DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS,
 };
+use kisstime::io::{Format, PairsWriter, output_error};
 use kisstime::workload::{Scenario, generate};
 use kisstime::{Backend, Engine, Error, Params, Precision};
 
@@ -259,21 +260,22 @@ const STREAM_PAIRS: usize = 1 << 22;
 fn prepare(args: &RunArgs) -> Result<(kisstime::Batch, Params, Engine), Error> {
     let params = args.physics.params();
     params.validate()?;
-    let batch = kisstime::io::read_batch_csv_path(&args.input)?;
+    let batch = kisstime::io::read_batch_path(&args.input)?;
     let engine = open_engine(args.backend, args.precision, args.verbose)?;
     Ok((batch, params, engine))
 }
 
 fn run_pairs(args: &RunArgs) -> Result<(), Error> {
     let (batch, params, mut engine) = prepare(args)?;
+    let format = Format::of(args.output.as_deref());
     let result = kisstime::io::write_output(args.output.as_deref(), |w| {
-        writeln!(w, "{}", kisstime::io::PAIR_COLUMNS).map_err(kisstime::io::output_error)?;
+        let mut out = PairsWriter::new(w, format, &batch).map_err(output_error)?;
         for tables in batch.table_chunks(STREAM_PAIRS) {
             let contacts = engine.pair_times_of(&batch, &params, tables.clone())?;
-            kisstime::io::write_pairs_rows(w, &batch, tables, &contacts)
-                .map_err(kisstime::io::output_error)?;
+            out.write_rows(&batch, tables, &contacts)
+                .map_err(output_error)?;
         }
-        Ok(())
+        out.finish().map_err(output_error)
     });
     print_notes(&mut engine);
     result
@@ -285,7 +287,7 @@ fn run_next(args: &RunArgs) -> Result<(), Error> {
     print_notes(&mut engine);
     let next = next?;
     kisstime::io::write_output(args.output.as_deref(), |w| {
-        kisstime::io::write_next_csv(w, &next).map_err(kisstime::io::output_error)
+        kisstime::io::write_next(w, Format::of(args.output.as_deref()), &next).map_err(output_error)
     })
 }
 
@@ -299,7 +301,7 @@ fn run_gen(args: &GenArgs) -> Result<(), Error> {
         &params,
     );
     kisstime::io::write_output(Some(&args.output), |w| {
-        kisstime::io::write_batch_csv(w, &batch).map_err(kisstime::io::output_error)
+        kisstime::io::write_batch(w, Format::of(Some(&args.output)), &batch).map_err(output_error)
     })
 }
 
