@@ -19,6 +19,9 @@
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
 //! - [`io`]: CSV input and output, and the format by file name;
 //! - [`npy`]: NumPy `.npy` input and output for large batches;
+//! - [`shot`], [`scenario`], [`study`], [`plot`]: Monte Carlo shot studies (the cue strike
+//!   and the cue ball's motion, the TOML scenario, the study driver and its summary, the
+//!   picture);
 //! - the `kisstime` binary is a thin command-line layer over these.
 //!
 //! ```
@@ -48,7 +51,11 @@ pub mod gpu;
 pub mod io;
 pub mod npy;
 pub mod physics;
+pub mod plot;
+pub mod scenario;
+pub mod shot;
 pub mod solver;
+pub mod study;
 pub mod workload;
 
 pub use batch::{Batch, NextCollision, next_collisions, next_from_pairs, pair_times};
