@@ -235,10 +235,24 @@ impl Scenario {
     /// Parses and validates scenario text; errors name `source` as the file.
     pub fn parse(text: &str, source: &str) -> Result<Scenario, Error> {
         let raw: RawFile = toml::from_str(text).map_err(|e| {
-            let mut ie = InputError::new(e.message().trim().to_owned()).in_file(source);
+            let mut message = e.message().trim().to_owned();
+            let mut line = None;
             if let Some(span) = e.span() {
-                let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-                ie = ie.at_line(line as u64);
+                let start = span.start.min(text.len());
+                line = Some(text[..start].matches('\n').count() as u64 + 1);
+                // name the offending text when the message does not (e.g. "duplicate key")
+                let at = text
+                    .get(start..span.end.min(text.len()))
+                    .and_then(|t| t.lines().next())
+                    .unwrap_or("")
+                    .trim();
+                if !at.is_empty() && at.len() <= 60 && !message.contains(at) {
+                    message = format!("{message} (at `{at}`)");
+                }
+            }
+            let mut ie = InputError::new(message).in_file(source);
+            if let Some(line) = line {
+                ie = ie.at_line(line);
             }
             Error::from(ie)
         })?;

@@ -21,7 +21,7 @@ use rand_pcg::Pcg64Mcg;
 use crate::batch::Batch;
 use crate::engine::Engine;
 use crate::error::Error;
-use crate::physics::{Ball, Vec2, ball_path, dot};
+use crate::physics::{Ball, Vec2, ball_path, dot, norm};
 use crate::scenario::{Noise, Scenario};
 use crate::shot::{Cushion, Strike, cue_strike, cushion_time, end_of_motion};
 use crate::solver::pair_contact;
@@ -60,6 +60,8 @@ pub struct Sample {
     pub t: f64,
     /// The cue ball's centre then.
     pub cue: Vec2,
+    /// The cue ball's speed then, m/s.
+    pub speed: f64,
     /// The contact point: on the object ball (halfway between the centres) for a ball, on
     /// the cushion nose for a cushion; NaN when the cue ball stopped.
     pub contact: Vec2,
@@ -121,6 +123,7 @@ fn step(scenario: &Scenario, cue: &Ball, elapsed: f64, hit: Option<(f64, i64)>) 
             outcome: Outcome::Stopped,
             t: elapsed,
             cue: at,
+            speed: 0.0,
             contact: Vec2::new(f64::NAN, f64::NAN),
             cut: f64::NAN,
         });
@@ -143,6 +146,7 @@ fn step(scenario: &Scenario, cue: &Ball, elapsed: f64, hit: Option<(f64, i64)>) 
                 outcome: Outcome::Ball(id),
                 t: elapsed + t,
                 cue: centre,
+                speed: norm(v),
                 contact: 0.5 * (centre + object),
                 cut,
             })
@@ -153,6 +157,7 @@ fn step(scenario: &Scenario, cue: &Ball, elapsed: f64, hit: Option<(f64, i64)>) 
                 outcome: Outcome::Cushion(c),
                 t: elapsed + t,
                 cue: centre,
+                speed: norm(path.b + (2.0 * t) * path.a),
                 contact: centre + p.radius * c.normal(),
                 cut: f64::NAN,
             })
@@ -490,12 +495,11 @@ impl Summary {
 }
 
 /// The columns of the per-sample CSV.
-pub const SAMPLE_COLUMNS: &str =
-    "sample,v0,phi,theta,a,b,outcome,ball,cushion,t,cue_x,cue_y,contact_x,contact_y,cut_angle";
+pub const SAMPLE_COLUMNS: &str = "sample,v0,phi,theta,a,b,outcome,ball,cushion,t,cue_x,cue_y,speed,contact_x,contact_y,cut_angle";
 
 /// Writes one CSV row per sample (header [`SAMPLE_COLUMNS`]): the noisy strike (recomputed
-/// from `seed`), the outcome, the ball or cushion, the time, the cue ball's centre and the
-/// contact point, and the cut angle; empty fields where they do not apply. Numbers are the
+/// from `seed`), the outcome, the ball or cushion, the time, the cue ball's centre and speed,
+/// the contact point, and the cut angle; empty fields where they do not apply. Numbers are the
 /// shortest decimals that read back as the same f64.
 pub fn write_samples_csv(
     out: &mut dyn std::io::Write,
@@ -522,7 +526,7 @@ pub fn write_samples_csv(
         };
         writeln!(
             out,
-            "{i},{},{},{},{},{},{},{ball},{cushion},{},{},{},{},{},{}",
+            "{i},{},{},{},{},{},{},{ball},{cushion},{},{},{},{},{},{},{}",
             num(k.v0),
             num(k.phi),
             num(k.theta),
@@ -532,6 +536,7 @@ pub fn write_samples_csv(
             num(s.t),
             num(s.cue.x),
             num(s.cue.y),
+            num(s.speed),
             num(s.contact.x),
             num(s.contact.y),
             num(s.cut)
