@@ -277,7 +277,7 @@ fn draw_balls(chart: &mut Chart, scenario: &Scenario, font: u32) -> DrawResult {
             continue;
         }
         let (fill, label) = if b.id == scenario.cue_ball {
-            (WHITE, "cue".to_owned())
+            (WHITE, String::new())
         } else if b.id == scenario.object_ball {
             (INTENDED_FILL, b.id.to_string())
         } else {
@@ -295,7 +295,13 @@ fn draw_balls(chart: &mut Chart, scenario: &Scenario, font: u32) -> DrawResult {
                 plotters::style::text_anchor::HPos::Center,
                 plotters::style::text_anchor::VPos::Center,
             ));
-        chart.draw_series([Text::new(label, (b.x, b.y), style)])?;
+        if b.id == scenario.cue_ball {
+            // "cue ball" under the ball: it does not fit inside
+            let below = style.clone().color(&WHITE);
+            chart.draw_series([Text::new("cue ball", (b.x, b.y - 2.2 * r), below)])?;
+        } else {
+            chart.draw_series([Text::new(label, (b.x, b.y), style)])?;
+        }
     }
     Ok(())
 }

@@ -347,7 +347,29 @@ pub fn wilson(k: usize, n: usize) -> (f64, f64) {
     let denom = 1.0 + z * z / n;
     let centre = (p + z * z / (2.0 * n)) / denom;
     let half = z / denom * (p * (1.0 - p) / n + z * z / (4.0 * n * n)).sqrt();
-    ((centre - half).max(0.0), (centre + half).min(1.0))
+    // exactly 0 and 1 at the ends (the formula leaves rounding there)
+    let lo = if k == 0.0 {
+        0.0
+    } else {
+        (centre - half).max(0.0)
+    };
+    let hi = if k == n {
+        1.0
+    } else {
+        (centre + half).min(1.0)
+    };
+    (lo, hi)
+}
+
+/// A fraction as a percentage: two decimals, or three significant digits below 1 %.
+fn percent(x: f64) -> String {
+    let p = 100.0 * x;
+    if p == 0.0 || p >= 1.0 {
+        format!("{p:.2}")
+    } else {
+        let digits = (2 - p.log10().floor() as i32).max(0) as usize;
+        format!("{p:.digits$}")
+    }
 }
 
 /// An outcome class of the summary: a ball, any cushion, or stopped.
@@ -461,10 +483,10 @@ impl Summary {
             };
             let _ = writeln!(
                 s,
-                "  {label:<22} {k:>9} {:>8.2}%   [{:.2}%, {:.2}%]",
+                "  {label:<22} {k:>9} {:>8.2}%   [{}%, {}%]",
                 100.0 * frac,
-                100.0 * lo,
-                100.0 * hi
+                percent(lo),
+                percent(hi)
             );
         }
         let _ = writeln!(s);
@@ -556,6 +578,14 @@ mod tests {
         assert_eq!(wilson(0, 100).0, 0.0);
         assert!(wilson(0, 100).1 > 0.0);
         assert_eq!(wilson(100, 100).1, 1.0);
+    }
+
+    #[test]
+    fn percentages_keep_three_digits_when_small() {
+        assert_eq!(percent(0.5), "50.00");
+        assert_eq!(percent(0.0), "0.00");
+        assert_eq!(percent(3.8e-5), "0.00380");
+        assert_eq!(percent(0.0042), "0.420");
     }
 
     #[test]
