@@ -130,44 +130,40 @@ fn step(scenario: &Scenario, cue: &Ball, elapsed: f64, hit: Option<(f64, i64)>) 
     }
     let cushion = cushion_time(&path, &scenario.table, p.radius, path.tmax);
     let at = |t: f64| path.c + t * (path.b + t * path.a);
-    match (hit, cushion) {
-        (Some((t, id)), c) if c.is_none_or(|(tc, _)| t <= tc) => {
-            let spot = scenario
-                .balls
-                .iter()
-                .find(|b| b.id == id)
-                .expect("the engine answers with the scenario's ids");
-            let centre = at(t);
-            let object = Vec2::new(spot.x, spot.y);
-            let v = path.b + (2.0 * t) * path.a;
-            let n = object - centre;
-            let cut = (v.x * n.y - v.y * n.x).atan2(dot(v, n)).to_degrees();
-            Step::Done(Sample {
-                outcome: Outcome::Ball(id),
-                t: elapsed + t,
-                cue: centre,
-                speed: norm(v),
-                contact: 0.5 * (centre + object),
-                cut,
-            })
-        }
-        (_, Some((t, c))) => {
-            let centre = at(t);
-            Step::Done(Sample {
-                outcome: Outcome::Cushion(c),
-                t: elapsed + t,
-                cue: centre,
-                speed: norm(path.b + (2.0 * t) * path.a),
-                contact: centre + p.radius * c.normal(),
-                cut: f64::NAN,
-            })
-        }
-        (None, None) => {
-            let (next, dt) = end_of_motion(cue, p);
-            Step::Next(next, elapsed + dt)
-        }
-        (Some(_), None) => unreachable!("the first arm takes a hit without a cushion"),
+    // a ball contact wins a tie with a cushion
+    if let Some((t, id)) = hit.filter(|&(t, _)| cushion.is_none_or(|(tc, _)| t <= tc)) {
+        let spot = scenario
+            .balls
+            .iter()
+            .find(|b| b.id == id)
+            .expect("the engine answers with the scenario's ids");
+        let centre = at(t);
+        let object = Vec2::new(spot.x, spot.y);
+        let v = path.b + (2.0 * t) * path.a;
+        let n = object - centre;
+        let cut = (v.x * n.y - v.y * n.x).atan2(dot(v, n)).to_degrees();
+        return Step::Done(Sample {
+            outcome: Outcome::Ball(id),
+            t: elapsed + t,
+            cue: centre,
+            speed: norm(v),
+            contact: 0.5 * (centre + object),
+            cut,
+        });
     }
+    if let Some((t, c)) = cushion {
+        let centre = at(t);
+        return Step::Done(Sample {
+            outcome: Outcome::Cushion(c),
+            t: elapsed + t,
+            cue: centre,
+            speed: norm(path.b + (2.0 * t) * path.a),
+            contact: centre + p.radius * c.normal(),
+            cut: f64::NAN,
+        });
+    }
+    let (next, dt) = end_of_motion(cue, p);
+    Step::Next(next, elapsed + dt)
 }
 
 /// Runs the study: `samples` noisy strikes from `seed`, every ball contact answered by
