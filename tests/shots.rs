@@ -528,6 +528,27 @@ fn cli_shots_prints_the_summary_and_writes_csv_and_png() {
 }
 
 #[test]
+fn cli_shots_with_no_arguments_runs_the_builtin_study() {
+    let out = common::run_kisstime(&["shots"], &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(stdout.contains("built-in study") && stdout.contains("100000 samples, seed 42"));
+    // the outcome mix of the README (65139, 23767, 11094 here; another libm may move a
+    // sample or two across a boundary)
+    let count = |label: &str| -> i64 {
+        let line = stdout
+            .lines()
+            .find(|l| l.trim_start().starts_with(label))
+            .unwrap();
+        let rest = &line.trim_start()[label.len()..];
+        rest.split_whitespace().next().unwrap().parse().unwrap()
+    };
+    assert!((count("ball 3 (intended)") - 65139).abs() <= 20, "{stdout}");
+    assert!((count("ball 11") - 23767).abs() <= 20, "{stdout}");
+    assert!((count("cushion") - 11094).abs() <= 20, "{stdout}");
+}
+
+#[test]
 fn cli_shots_same_seed_same_csv_and_noise_flags() {
     let dir = tempfile::tempdir().unwrap();
     let run = |name: &str, extra: &[&str]| {
