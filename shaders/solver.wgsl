@@ -7,6 +7,8 @@
 
 // The most iterations of one root refinement.
 const MAX_ITER: u32 = 64u;
+// At most this many steps of the walk into a convex dip before the critical point decides.
+const WALK_STEPS: u32 = 8u;
 // ROOT_RTOL (4 EPS) and APPROACH_BAND (64 EPS) are in the precision prelude: naga does not
 // constant-evaluate arithmetic on f64 constants.
 // What a missing root or time is reported as inside the algorithm.
@@ -195,6 +197,7 @@ fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real
     let e0 = contact_fn(rel, four_r2, lo, 0u);
     var f_lo = e0.x;
     var f1_lo = e0.y;
+    var f2_lo = e0.z;
     if start_inside {
         f_lo = 0.0;
     }
@@ -203,6 +206,40 @@ fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real
         let e_hi = contact_fn(rel, four_r2, hi, 0u);
         let f_hi = e_hi.x;
         let f1_hi = e_hi.y;
+        let f2_hi = e_hi.z;
+        // a convex dip (f falls at lo and rises at hi, outside at both ends): walk in from
+        // the left. On a convex f a Newton step stops short of the first entry and a
+        // Taylor step may pass it; either way the point reached is still outside and
+        // falling (a new lo), or inside and falling (the entry is bracketed on a monotone
+        // stretch), or past the lowest point or the piece (the critical point below then
+        // decides, as without the walk). Most meeting pairs end here.
+        if f_lo > 0.0 && f1_lo < 0.0 && f1_hi > 0.0 {
+            for (var walk = 0u; walk < WALK_STEPS; walk++) {
+                var step = smallest_positive_root(0.5 * f2_lo, f1_lo, f_lo);
+                if step <= 0.0 {
+                    step = -f_lo / f1_lo;
+                }
+                let t = lo + step;
+                if !(t < hi) {
+                    break;
+                }
+                let e_t = contact_fn(rel, four_r2, t, 0u);
+                if e_t.x <= 0.0 {
+                    // inside and still falling: f is monotone on [lo, t]
+                    if e_t.y <= 0.0 {
+                        return refine_root(rel, four_r2, 0u, lo, t, f_lo, e_t.x);
+                    }
+                    break;
+                }
+                if !(e_t.y < 0.0) {
+                    break;
+                }
+                lo = t;
+                f_lo = e_t.x;
+                f1_lo = e_t.y;
+                f2_lo = e_t.z;
+            }
+        }
         // a critical point of f inside the piece splits it into two monotone halves
         if (f1_lo < 0.0 && f1_hi > 0.0) || (f1_lo > 0.0 && f1_hi < 0.0) {
             let tc = refine_root(rel, four_r2, 1u, lo, hi, f1_lo, f1_hi);
@@ -219,6 +256,7 @@ fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real
         lo = hi;
         f_lo = f_hi;
         f1_lo = f1_hi;
+        f2_lo = f2_hi;
     }
     return NO_ROOT;
 }

@@ -44,6 +44,8 @@ pub const CONTACT_TOL: f64 = 1e-12;
 /// The most iterations of one root refinement. Safeguarded Newton from a Taylor start
 /// needs at most ~15 here; bisection alone would need ~60 in f64.
 pub const MAX_ITER: u32 = 64;
+/// At most this many steps of the walk into a convex dip before the critical point decides.
+pub const WALK_STEPS: u32 = 8;
 /// Relative step size at which a refinement has converged: a few ulps.
 const ROOT_RTOL: f64 = 4.0 * f64::EPSILON;
 /// Smallest absolute step size that still counts as progress.
@@ -285,7 +287,7 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
     }
     // walk the pieces [lo, hi] on which f' is monotone, in time order
     let mut lo = 0.0;
-    let (mut f_lo, mut f1_lo, _) = contact_fn(rel, four_r2, lo, 0);
+    let (mut f_lo, mut f1_lo, mut f2_lo) = contact_fn(rel, four_r2, lo, 0);
     if start_inside {
         f_lo = 0.0;
     }
@@ -293,7 +295,40 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
     #[allow(clippy::needless_range_loop)]
     for piece in 0..=n_knots {
         let hi = knots[piece];
-        let (f_hi, f1_hi, _) = contact_fn(rel, four_r2, hi, 0);
+        let (f_hi, f1_hi, f2_hi) = contact_fn(rel, four_r2, hi, 0);
+        // a convex dip (f falls at lo and rises at hi, outside at both ends): walk in from
+        // the left. On a convex f a Newton step stops short of the first entry and a
+        // Taylor step may pass it; either way the point reached is still outside and
+        // falling (a new lo), or inside and falling (the entry is bracketed on a monotone
+        // stretch), or past the lowest point or the piece (the critical point below then
+        // decides, as without the walk). Most meeting pairs end here.
+        if f_lo > 0.0 && f1_lo < 0.0 && f1_hi > 0.0 {
+            for _ in 0..WALK_STEPS {
+                let mut step = smallest_positive_root(0.5 * f2_lo, f1_lo, f_lo);
+                if step <= 0.0 {
+                    step = -f_lo / f1_lo;
+                }
+                let t = lo + step;
+                if !(t < hi) {
+                    break;
+                }
+                let (f_t, f1_t, f2_t) = contact_fn(rel, four_r2, t, 0);
+                if f_t <= 0.0 {
+                    // inside and still falling: f is monotone on [lo, t]
+                    if f1_t <= 0.0 {
+                        return refine_root(rel, four_r2, 0, lo, t, f_lo, f_t);
+                    }
+                    break;
+                }
+                if !(f1_t < 0.0) {
+                    break;
+                }
+                lo = t;
+                f_lo = f_t;
+                f1_lo = f1_t;
+                f2_lo = f2_t;
+            }
+        }
         // a critical point of f inside the piece splits it into two monotone halves
         if (f1_lo < 0.0 && f1_hi > 0.0) || (f1_lo > 0.0 && f1_hi < 0.0) {
             let tc = refine_root(rel, four_r2, 1, lo, hi, f1_lo, f1_hi);
@@ -310,6 +345,7 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
         lo = hi;
         f_lo = f_hi;
         f1_lo = f1_hi;
+        f2_lo = f2_hi;
     }
     NO_ROOT
 }
