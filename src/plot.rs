@@ -335,18 +335,29 @@ fn draw_closeup(area: &Area, scenario: &Scenario, samples: &[Sample]) -> DrawRes
     }
     let pad = 2.0 * r;
     let (cx, cy) = (0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y));
-    let (pw, ph) = area.dim_in_pixel();
-    let (plot_w, plot_h) = (pw as f64 - 90.0, ph as f64 - 110.0);
+    let (cap, body) = area.split_vertically(36);
+    cap.draw(&Text::new(
+        "Close-up: the cue ball's centre at contact (\"ghost ball\")",
+        (cap.dim_in_pixel().0 as i32 / 2, 12),
+        ("sans-serif", 20)
+            .into_font()
+            .color(&BLACK)
+            .pos(plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Top,
+            )),
+    ))?;
+    // equal scales: the plotting area is the body less the margins and label areas
+    let (margin, x_labels, y_labels) = (15u32, 40u32, 60u32);
+    let (pw, ph) = body.dim_in_pixel();
+    let plot_w = f64::from(pw - 2 * margin - y_labels);
+    let plot_h = f64::from(ph - 2 * margin - x_labels);
     let half_w = (0.5 * (hi_x - lo_x) + pad).max((0.5 * (hi_y - lo_y) + pad) * plot_w / plot_h);
     let half_h = half_w * plot_h / plot_w;
-    let mut chart = ChartBuilder::on(area)
-        .caption(
-            "Close-up: the cue ball's centre at contact (\"ghost ball\")",
-            ("sans-serif", 20),
-        )
-        .margin(15)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
+    let mut chart = ChartBuilder::on(&body)
+        .margin(margin)
+        .x_label_area_size(x_labels)
+        .y_label_area_size(y_labels)
         .build_cartesian_2d(cx - half_w..cx + half_w, cy - half_h..cy + half_h)?;
     chart
         .configure_mesh()
