@@ -402,8 +402,18 @@ fn table_next(batch: &Batch, k: usize, paths: &[BallPath], radius: f64) -> NextC
 ///
 /// Runs on the Rayon thread pool; the result does not depend on the number of threads.
 pub fn next_collisions(batch: &Batch, params: &Params) -> Result<Vec<NextCollision>, Error> {
+    next_collisions_of(batch, params, 0..batch.num_tables())
+}
+
+/// The next collision of the tables `tables` only (positions in the batch), in table order:
+/// the slice `tables` of [`next_collisions`]'s output.
+pub fn next_collisions_of(
+    batch: &Batch,
+    params: &Params,
+    tables: std::ops::Range<usize>,
+) -> Result<Vec<NextCollision>, Error> {
     params.validate()?;
-    let groups = batch.table_groups(0..batch.num_tables());
+    let groups = batch.table_groups(tables);
     let per_group: Vec<Vec<NextCollision>> = groups
         .into_par_iter()
         .map(|group| {
@@ -484,7 +494,51 @@ mod tests {
                 joined.extend(pair_times_of(&batch, &p, c.clone()).unwrap());
             }
             assert_eq!(joined, whole, "chunks of {pairs} pairs");
+            let mut next = Vec::new();
+            for c in &chunks {
+                next.extend(next_collisions_of(&batch, &p, c.clone()).unwrap());
+            }
+            assert_eq!(
+                next,
+                next_collisions(&batch, &p).unwrap(),
+                "chunks of {pairs}"
+            );
         }
+    }
+
+    #[test]
+    fn sorted_columns_make_the_same_batch_as_push_table() {
+        use crate::workload::{Scenario, generate};
+        let batch = generate(Scenario::Rack, 20, 16, 1, &Params::default());
+        let mut tables = Vec::new();
+        for k in 0..batch.num_tables() {
+            tables.extend(std::iter::repeat_n(
+                batch.table_id(k),
+                batch.ball_ids(k).len(),
+            ));
+        }
+        let same = Batch::from_sorted_columns(&tables, batch.ball_ids.clone(), batch.balls.clone())
+            .unwrap();
+        assert_eq!(same.table_ids, batch.table_ids);
+        assert_eq!(same.ball_start, batch.ball_start);
+        assert_eq!(same.pair_start, batch.pair_start);
+        assert_eq!(same.balls, batch.balls);
+        // a lone ball, a duplicate, rows out of order: errors at the row
+        let (row, e) =
+            Batch::from_sorted_columns(&[1, 2, 2], vec![0, 0, 1], vec![Ball::at_rest(0.0, 0.0); 3])
+                .unwrap_err();
+        assert_eq!((row, e.table, e.ball), (0, Some(1), Some(0)));
+        let (row, e) =
+            Batch::from_sorted_columns(&[1, 1], vec![4, 4], vec![Ball::at_rest(0.0, 0.0); 2])
+                .unwrap_err();
+        assert_eq!((row, e.message.as_str()), (1, "duplicate ball id"));
+        let (row, _) = Batch::from_sorted_columns(
+            &[2, 2, 1, 1],
+            vec![0, 1, 0, 1],
+            vec![Ball::at_rest(0.0, 0.0); 4],
+        )
+        .unwrap_err();
+        assert_eq!(row, 2);
     }
 
     #[test]

@@ -162,4 +162,20 @@ impl Engine {
             || batch::next_collisions(batch, params),
         )
     }
+
+    /// The next collision of the tables `tables` only (positions in the batch): the slice
+    /// `tables` of [`Engine::next_collisions`]'s output.
+    pub fn next_collisions_of(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+        tables: std::ops::Range<usize>,
+    ) -> Result<Vec<NextCollision>, Error> {
+        let cpu_tables = tables.clone();
+        self.run(
+            "the chunk was",
+            |g| g.next_collisions_of(batch, params, tables),
+            || batch::next_collisions_of(batch, params, cpu_tables),
+        )
+    }
 }

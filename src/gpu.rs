@@ -815,10 +815,21 @@ impl GpuEngine {
         batch: &Batch,
         params: &Params,
     ) -> Result<Vec<NextCollision>, Error> {
+        self.next_collisions_of(batch, params, 0..batch.num_tables())
+    }
+
+    /// The next collision of the tables `tables` only, as
+    /// [`crate::batch::next_collisions_of`] gives it.
+    pub fn next_collisions_of(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+        tables: Range<usize>,
+    ) -> Result<Vec<NextCollision>, Error> {
         params.validate()?;
         self.timings = GpuTimings::default();
-        let mut out = Vec::with_capacity(batch.num_tables());
-        for chunk in self.plan_chunks(batch, 0..batch.num_tables())? {
+        let mut out = Vec::with_capacity(tables.len());
+        for chunk in self.plan_chunks(batch, tables)? {
             let (t, code) = self.run_chunk(batch, chunk.clone(), Kernel::NextCollisions, params)?;
             for (local, k) in chunk.enumerate() {
                 let status = decode_status(code[local] & 3);

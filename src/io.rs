@@ -71,6 +71,14 @@ pub fn read_batch_path(path: &Path) -> Result<Batch, Error> {
     }
 }
 
+/// Reads a batch in `format` from `reader`; `file` is the name used in error messages.
+pub fn read_batch<R: Read>(reader: R, format: Format, file: &str) -> Result<Batch, Error> {
+    match format {
+        Format::Csv => read_batch_csv(reader, file),
+        Format::Npy => crate::npy::read_batch_npy(reader, file),
+    }
+}
+
 /// Writes a batch as an input file in `format`.
 pub fn write_batch(out: &mut dyn Write, format: Format, batch: &Batch) -> std::io::Result<()> {
     match format {

@@ -3,16 +3,20 @@
 //! Exit codes: 0 success, 2 bad input or usage (the message names the file, line, table and
 //! ball), 1 a file that cannot be read or written.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use kisstime::io::{Format, PairsWriter, output_error};
+
+#[path = "cli/progress.rs"]
+mod progress;
 use kisstime::physics::{
     DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS,
 };
 use kisstime::workload::{Scenario, generate};
 use kisstime::{Backend, Engine, Error, Params, Precision};
+use progress::Progress;
 
 #[derive(Parser)]
 #[command(
@@ -316,11 +320,29 @@ fn print_notes(engine: &mut Engine) {
 /// Pairs per chunk of streamed per-pair output.
 const STREAM_PAIRS: usize = 1 << 22;
 
+/// Per-pair work at least this large gets a progress bar (on a terminal).
+const SHOW_PAIRS: u64 = 1 << 25;
+
+/// Reads a batch in the format its name says, with a progress bar for large files.
+fn read_input(path: &Path) -> Result<kisstime::Batch, Error> {
+    let name = path.display().to_string();
+    let io = |source| Error::Io {
+        path: name.clone(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let bar = Progress::bytes("reading", file.metadata().map_err(io)?.len());
+    let reader = std::io::BufReader::with_capacity(1 << 20, bar.wrap_read(file));
+    let batch = kisstime::io::read_batch(reader, Format::of(Some(path)), &name);
+    bar.done();
+    batch
+}
+
 /// Reads the input and opens the engine.
 fn prepare(args: &RunArgs) -> Result<(kisstime::Batch, Params, Engine), Error> {
     let params = args.physics.params();
     params.validate()?;
-    let batch = kisstime::io::read_batch_path(&args.input)?;
+    let batch = read_input(&args.input)?;
     let engine = open_engine(args.backend, args.precision, args.verbose)?;
     Ok((batch, params, engine))
 }
@@ -330,20 +352,41 @@ fn run_pairs(args: &RunArgs) -> Result<(), Error> {
     let format = Format::of(args.output.as_deref());
     let result = kisstime::io::write_output(args.output.as_deref(), |w| {
         let mut out = PairsWriter::new(w, format, &batch).map_err(output_error)?;
+        let pairs = batch.num_pairs() as u64;
+        let bar = Progress::new("pairs", pairs, "pairs", pairs >= SHOW_PAIRS);
         for tables in batch.table_chunks(STREAM_PAIRS) {
             let contacts = engine.pair_times_of(&batch, &params, tables.clone())?;
             out.write_rows(&batch, tables, &contacts)
                 .map_err(output_error)?;
+            bar.inc(contacts.len() as u64);
         }
+        bar.done();
         out.finish().map_err(output_error)
     });
     print_notes(&mut engine);
     result
 }
 
+/// Every table's next collision, in chunks of tables so that a bar can show progress.
+fn next_with_progress(
+    engine: &mut Engine,
+    batch: &kisstime::Batch,
+    params: &Params,
+) -> Result<Vec<kisstime::NextCollision>, Error> {
+    let long = batch.num_pairs() as u64 >= SHOW_PAIRS;
+    let bar = Progress::new("next collisions", batch.num_tables() as u64, "tables", long);
+    let mut next = Vec::with_capacity(batch.num_tables());
+    for tables in batch.table_chunks(8 * STREAM_PAIRS) {
+        next.extend(engine.next_collisions_of(batch, params, tables.clone())?);
+        bar.inc(tables.len() as u64);
+    }
+    bar.done();
+    Ok(next)
+}
+
 fn run_next(args: &RunArgs) -> Result<(), Error> {
     let (batch, params, mut engine) = prepare(args)?;
-    let next = engine.next_collisions(&batch, &params);
+    let next = next_with_progress(&mut engine, &batch, &params);
     print_notes(&mut engine);
     let next = next?;
     kisstime::io::write_output(args.output.as_deref(), |w| {
@@ -434,7 +477,16 @@ fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
     let mut engine = open_engine(args.backend, args.precision, args.verbose)?;
     let n = args.samples as usize;
     let started = std::time::Instant::now();
-    let samples = run_study(&scenario, &sigma, n, args.seed, &mut engine, &mut |_, _| {});
+    let bar = Progress::new("shots", n as u64, "samples", n >= 100_000);
+    let samples = run_study(
+        &scenario,
+        &sigma,
+        n,
+        args.seed,
+        &mut engine,
+        &mut |done, _| bar.set(done as u64),
+    );
+    bar.done();
     let seconds = started.elapsed().as_secs_f64();
     print_notes(&mut engine);
     let samples = samples?;

@@ -267,6 +267,8 @@ pub fn refine_root(
 /// The first time in `(0, h]` at which `f` goes from `> 0` to `≤ 0`, or `−1` if none
 /// (rule 4). With `start_inside`, `f(0)` counts as `≤ 0` whatever its rounding: the pair
 /// touches at 0 and separates, so only a later entry into contact counts (rule 3).
+// `!(x < y)` rather than `x >= y` in the walk, as in the WGSL twin: it also stops on NaN
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f64 {
     // inflection points of f: roots of f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C in (0, h)
     let (a, b, c) = (rel.a, rel.b, rel.c);
