@@ -36,6 +36,17 @@ fn norm(a: real2) -> real {
     return sqrt(dot(a, a));
 }
 
+// The 2-D cross product a.x b.y − a.y b.x: |a| times the signed distance of b from the
+// line along a.
+fn perp_dot(a: real2, b: real2) -> real {
+    return a.x * b.y - a.y * b.x;
+}
+
+// The 1-norm |a.x| + |a.y|, an upper bound of norm without a square root.
+fn norm1(a: real2) -> real {
+    return abs(a.x) + abs(a.y);
+}
+
 // One ball's centre on its current motion, r(t) = c + b t + a t², valid for t in [0, tmax].
 struct BallPath {
     a: real2,

@@ -313,8 +313,26 @@ fn cannot_meet(rel: RelPath, radius: real, h: real) -> bool {
     return false;
 }
 
+// Whether the pair provably passes wide of contact for t in [0, h], sideways of the
+// relative velocity: cannot_meet's second axis without a square root or a division, tried
+// before anything else because it is this cheap. w(t) = B × C(t) = B × C + t² (B × A) is
+// |B| times the signed distance of C(t) from the line along B, monotone on [0, h]; the
+// reach adds CONTACT_TOL so that no overlapping or touching pair is passed over.
+fn passes_wide(rel: RelPath, radius: real, h: real) -> bool {
+    let w0 = perp_dot(rel.b, rel.c);
+    let w_h = w0 + (h * h) * perp_dot(rel.b, rel.a);
+    let scale = norm1(rel.c) + norm1(rel.b) * h + norm1(rel.a) * h * h;
+    let reach = 2.0 * radius + CONTACT_TOL + PRUNE_SLACK * scale;
+    let bound = reach * reach * dot(rel.b, rel.b);
+    return w0 * w_h > 0.0 && w0 * w0 > bound && w_h * w_h > bound;
+}
+
 // The answer for a relative path that moves, within horizon h (rules 2–4).
 fn first_contact(rel: RelPath, radius: real, h: real) -> Contact {
+    // prune: the pair passes by, wide of contact (no rule applies)
+    if passes_wide(rel, radius, h) {
+        return contact_none(h);
+    }
     let four_r2 = 4.0 * radius * radius;
     let d0 = norm(rel.c) - 2.0 * radius;
     // rule 2: overlap

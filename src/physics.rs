@@ -272,6 +272,18 @@ pub fn norm(a: Vec2) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// The 2-D cross product `a.x b.y − a.y b.x`: `|a|` times the signed distance of `b` from
+/// the line along `a` (WGSL: the same function).
+pub fn perp_dot(a: Vec2, b: Vec2) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+/// The 1-norm `|a.x| + |a.y|`, an upper bound of [`norm`] without a square root (WGSL: the
+/// same function).
+pub fn norm1(a: Vec2) -> f64 {
+    a.x.abs() + a.y.abs()
+}
+
 impl Add for Vec2 {
     type Output = Vec2;
     fn add(self, o: Vec2) -> Vec2 {

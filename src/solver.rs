@@ -37,7 +37,9 @@
 //! a missing root is `−1`, a time that never comes is `−1`, loops are bounded by
 //! [`MAX_ITER`], and only `sqrt` and arithmetic are used.
 
-use crate::physics::{BallPath, PATH_MOVES, PATH_POCKETED, RelPath, Vec2, dot, norm, pair_horizon};
+use crate::physics::{
+    BallPath, PATH_MOVES, PATH_POCKETED, RelPath, Vec2, dot, norm, norm1, pair_horizon, perp_dot,
+};
 
 /// Two centres closer than `2R` by at most this many metres (either way) touch.
 pub const CONTACT_TOL: f64 = 1e-12;
@@ -412,10 +414,35 @@ pub fn cannot_meet(rel: &RelPath, radius: f64, h: f64) -> bool {
     false
 }
 
+/// Whether the pair provably passes wide of contact for `t ∈ [0, h]`, sideways of the
+/// relative velocity: [`cannot_meet`]'s second axis without a square root or a division,
+/// tried before anything else because it is this cheap.
+///
+/// `w(t) = B × C(t) = B × C + t² (B × A)` is `|B|` times the signed distance of `C(t)` from
+/// the line through the origin along `B`, and monotone on `[0, h]`; if it keeps one sign
+/// with `|w| > reach·|B|` at both ends, `|C(t)| > reach` throughout. The reach is
+/// `cannot_meet`'s (with the 1-norm, an upper bound, in the slack) plus [`CONTACT_TOL`],
+/// so a pair passed over is neither overlapping nor touching (rules 2 and 3) and has no
+/// entry into contact (rule 4): the test never changes an answer. On overflow the
+/// comparisons come out false or hold exactly as they would unrounded.
+pub fn passes_wide(rel: &RelPath, radius: f64, h: f64) -> bool {
+    let w0 = perp_dot(rel.b, rel.c);
+    let w_h = w0 + (h * h) * perp_dot(rel.b, rel.a);
+    let scale = norm1(rel.c) + norm1(rel.b) * h + norm1(rel.a) * h * h;
+    let reach = 2.0 * radius + CONTACT_TOL + PRUNE_SLACK * scale;
+    let bound = reach * reach * dot(rel.b, rel.b);
+    w0 * w_h > 0.0 && w0 * w0 > bound && w_h * w_h > bound
+}
+
 /// The answer for a relative path that moves, within horizon `h` (rules 2–4).
 ///
-/// `h` must be finite and `≥ 0`. [`cannot_meet`] runs before any root finding.
+/// `h` must be finite and `≥ 0`. [`passes_wide`] and [`cannot_meet`] run before any root
+/// finding.
 pub fn first_contact(rel: &RelPath, radius: f64, h: f64) -> Contact {
+    // prune: the pair passes by, wide of contact (no rule applies)
+    if passes_wide(rel, radius, h) {
+        return Contact::none(h);
+    }
     let four_r2 = 4.0 * radius * radius;
     let d0 = norm(rel.c) - 2.0 * radius;
     // rule 2: overlap

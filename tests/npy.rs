@@ -313,3 +313,21 @@ fn csv_input_still_reads_in_any_order() {
     assert_eq!(batch.ball_ids(0), &[0, 1]);
     assert_eq!(batch.ball_ids(1), &[1, 5]);
 }
+
+/// Files written by NumPy itself (`np.save`, the README's example: a rolling cue ball 1 m
+/// from a still ball), in both layouts.
+#[test]
+fn files_saved_by_numpy_read() {
+    for name in ["numpy_structured.npy", "numpy_plain.npy"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data")
+            .join(name);
+        let batch = kisstime::npy::read_batch_npy_path(&path).unwrap();
+        assert_eq!(batch.num_tables(), 1);
+        assert_eq!(batch.ball_ids(0), &[0, 1]);
+        assert_eq!(batch.balls(0)[0].state, kisstime::MotionState::Rolling);
+        let next = kisstime::next_collisions(&batch, &Params::default()).unwrap();
+        assert_eq!(next[0].pair, Some((0, 1)));
+        assert!((next[0].t - 0.477).abs() < 1e-3, "{}", next[0].t);
+    }
+}

@@ -631,6 +631,30 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(common::proptest_config(0x0b1e_55ed, 40000))]
+
+    /// The prunes only ever pass over pairs that the rules answer `none` without them:
+    /// neither overlapping nor touching, and no entry into contact within the horizon.
+    #[test]
+    fn prunes_never_change_an_answer(pair in any_pair()) {
+        use kisstime::solver::{cannot_meet, first_entry, passes_wide};
+        if pair.rule1() {
+            return Ok(()); // nothing moves or a ball is pocketed: no prune is asked
+        }
+        let r = params().radius;
+        let (rel, h) = (pair.rel(), pair.horizon());
+        let wide = passes_wide(&rel, r, h);
+        let cannot = cannot_meet(&rel, r, h);
+        if wide || cannot {
+            let d0 = gap(&rel, r, 0.0);
+            prop_assert!(d0 > kisstime::CONTACT_TOL, "pruned at d0 = {:e}", d0);
+            prop_assert!(first_entry(&rel, 4.0 * r * r, h, false) < 0.0, "pruned a hit");
+            prop_assert_eq!(pair.contact().status, Status::None);
+        }
+    }
+}
+
 /// The generator really produces hits, misses, overlaps, touching pairs and hits at `t = 0`
 /// (otherwise the properties above would be vacuous).
 #[test]
