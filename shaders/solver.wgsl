@@ -121,26 +121,51 @@ fn refine_root(
     if g_lo == 0.0 {
         return lo_in;
     }
-    var lo = lo_in;
-    var hi = hi_in;
-    let lo_positive = g_lo > 0.0;
     // start: a second-order Taylor step from the end where |g| is smaller
     let from_lo = abs(g_lo) <= abs(g_hi);
+    var end = hi_in;
+    if from_lo {
+        end = lo_in;
+    }
+    let t = taylor_start(from_lo, contact_fn(rel, four_r2, end, k), lo_in, hi_in);
+    return refine_from(rel, four_r2, k, lo_in, hi_in, g_lo > 0.0, t);
+}
+
+// Where a refinement of the bracket [lo, hi] starts: a second-order Taylor step into the
+// bracket from lo (from_lo) or from hi, with e = (g, g', g'') there (a Newton step when the
+// Taylor quadratic has no root ahead); the midpoint when the step leaves the bracket.
+fn taylor_start(from_lo: bool, e: vec3<real>, lo: real, hi: real) -> real {
     var end = hi;
     var dir: real = -1.0;
     if from_lo {
         end = lo;
         dir = 1.0;
     }
-    let e = contact_fn(rel, four_r2, end, k);
     var step = smallest_positive_root(0.5 * e.z, dir * e.y, e.x);
     if step < 0.0 && e.y != 0.0 {
         step = -dir * e.x / e.y;
     }
-    var t = end + dir * step;
-    if !(t > lo && t < hi) {
-        t = 0.5 * (lo + hi);
+    let t = end + dir * step;
+    if t > lo && t < hi {
+        return t;
     }
+    return 0.5 * (lo + hi);
+}
+
+// refine_root's iteration from t_start in the bracket [lo_in, hi_in], where g is positive at
+// lo_in when lo_positive (and of the other sign, or zero, at hi_in).
+fn refine_from(
+    rel: RelPath,
+    four_r2: real,
+    k: u32,
+    lo_in: real,
+    hi_in: real,
+    lo_positive: bool,
+    t_start: real,
+) -> real {
+    var lo = lo_in;
+    var hi = hi_in;
+    var t = t_start;
     for (var iter = 0u; iter < MAX_ITER; iter++) {
         let g = contact_fn(rel, four_r2, t, k);
         if g.x == 0.0 {
@@ -225,9 +250,14 @@ fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real
                 }
                 let e_t = contact_fn(rel, four_r2, t, 0u);
                 if e_t.x <= 0.0 {
-                    // inside and still falling: f is monotone on [lo, t]
+                    // inside and still falling: f is monotone on [lo, t]; refine from t,
+                    // where f and its derivatives are known
                     if e_t.y <= 0.0 {
-                        return refine_root(rel, four_r2, 0u, lo, t, f_lo, e_t.x);
+                        if e_t.x == 0.0 {
+                            return t;
+                        }
+                        let start = taylor_start(false, e_t, lo, t);
+                        return refine_from(rel, four_r2, 0u, lo, t, true, start);
                     }
                     break;
                 }
@@ -284,45 +314,44 @@ fn approach_sign(rel: RelPath) -> real {
 
 // Whether C(t) provably stays farther than 2R from the origin for t in [0, h], by a
 // separating-axis test on the convex hull of the Bézier control points
-// P0 = C, P1 = C + (h/2) B, P2 = C + h B + h² A. h must be finite.
+// P0 = C, P1 = C + (h/2) B, P2 = C + h B + h² A: the initial centre line and the normal of
+// B, both tested on squares. h must be finite.
 fn cannot_meet(rel: RelPath, radius: real, h: real) -> bool {
-    let p0 = rel.c;
-    let p1 = rel.c + (0.5 * h) * rel.b;
-    let p2 = rel.c + h * rel.b + (h * h) * rel.a;
-    let scale = norm(rel.c) + norm(rel.b) * h + norm(rel.a) * h * h;
-    let reach = 2.0 * radius + PRUNE_SLACK * scale;
-    // axis 1: the initial centre line
-    let len_c = norm(rel.c);
-    if len_c > 0.0 {
-        let u = (1.0 / len_c) * rel.c;
-        if dot(u, p1) > reach && dot(u, p2) > reach && len_c > reach {
-            return true;
-        }
-    }
-    // axis 2: the normal of the relative velocity
-    let len_b = norm(rel.b);
-    if len_b > 0.0 {
-        let u = (1.0 / len_b) * real2(-rel.b.y, rel.b.x);
-        let s0 = dot(u, p0);
-        let s1 = dot(u, p1);
-        let s2 = dot(u, p2);
-        if (s0 > reach && s1 > reach && s2 > reach) || (s0 < -reach && s1 < -reach && s2 < -reach) {
-            return true;
-        }
-    }
-    return false;
+    let reach = 2.0 * radius + PRUNE_SLACK * path_scale(rel, h);
+    return wide_along_centres(rel, h, reach) || wide_sideways(rel, h, reach);
 }
 
 // Whether the pair provably passes wide of contact for t in [0, h], sideways of the
-// relative velocity: cannot_meet's second axis without a square root or a division, tried
-// before anything else because it is this cheap. w(t) = B × C(t) = B × C + t² (B × A) is
-// |B| times the signed distance of C(t) from the line along B, monotone on [0, h]; the
-// reach adds CONTACT_TOL so that no overlapping or touching pair is passed over.
+// relative velocity: cannot_meet's second axis, tried before anything else because it is
+// this cheap. Its reach adds CONTACT_TOL so that no overlapping or touching pair is passed
+// over.
 fn passes_wide(rel: RelPath, radius: real, h: real) -> bool {
+    let reach = 2.0 * radius + CONTACT_TOL + PRUNE_SLACK * path_scale(rel, h);
+    return wide_sideways(rel, h, reach);
+}
+
+// An upper bound of the path's length scale |C| + |B| h + |A| h² (1-norms), for the
+// prunes' slack.
+fn path_scale(rel: RelPath, h: real) -> real {
+    return norm1(rel.c) + norm1(rel.b) * h + norm1(rel.a) * h * h;
+}
+
+// Whether the projections of P0, P1, P2 on the initial centre line u = C/|C| all exceed
+// reach: C·Pi > reach·|C|, compared as squares of the positive sides.
+fn wide_along_centres(rel: RelPath, h: real, reach: real) -> bool {
+    let cc = dot(rel.c, rel.c);
+    let q1 = dot(rel.c, rel.c + (0.5 * h) * rel.b);
+    let q2 = dot(rel.c, rel.c + h * rel.b + (h * h) * rel.a);
+    let bound = reach * reach * cc;
+    return cc > reach * reach && q1 > 0.0 && q2 > 0.0 && q1 * q1 > bound && q2 * q2 > bound;
+}
+
+// Whether C(t) stays farther than reach from the line through the origin along B, on one
+// side, for t in [0, h]. w(t) = B × C(t) = B × C + t² (B × A) is |B| times the signed
+// distance, monotone on [0, h], so its ends decide; compared as squares.
+fn wide_sideways(rel: RelPath, h: real, reach: real) -> bool {
     let w0 = perp_dot(rel.b, rel.c);
     let w_h = w0 + (h * h) * perp_dot(rel.b, rel.a);
-    let scale = norm1(rel.c) + norm1(rel.b) * h + norm1(rel.a) * h * h;
-    let reach = 2.0 * radius + CONTACT_TOL + PRUNE_SLACK * scale;
     let bound = reach * reach * dot(rel.b, rel.b);
     return w0 * w_h > 0.0 && w0 * w0 > bound && w_h * w_h > bound;
 }

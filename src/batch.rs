@@ -43,6 +43,16 @@ pub struct Batch {
     seen: HashSet<i64>,
 }
 
+/// The error for a table of more than [`crate::limits::MAX_TABLE_BALLS`] balls.
+fn too_many_balls(table: i64, n: usize) -> InputError {
+    InputError::new(format!(
+        "a table has {n} balls ({} pairs); at most {} balls a table are supported",
+        pairs_in_table(n),
+        crate::limits::MAX_TABLE_BALLS
+    ))
+    .at_table(table)
+}
+
 /// Pairs of an `n`-ball table.
 pub fn pairs_in_table(n: usize) -> usize {
     n * n.saturating_sub(1) / 2
@@ -96,6 +106,9 @@ impl Batch {
             ))
             .at_table(table)
             .into());
+        }
+        if table_balls.len() > crate::limits::MAX_TABLE_BALLS {
+            return Err(too_many_balls(table, table_balls.len()).into());
         }
         for w in table_balls.windows(2) {
             if w[0].0 == w[1].0 {
@@ -169,6 +182,9 @@ impl Batch {
                     InputError::new("rows out of order (a bug in the reader)")
                         .at_table(tables[end]),
                 ));
+            }
+            if end - first > crate::limits::MAX_TABLE_BALLS {
+                return Err((first, too_many_balls(table, end - first)));
             }
             if end - first < 2 {
                 return Err((
@@ -358,7 +374,12 @@ pub fn pair_times_of(
     tables: std::ops::Range<usize>,
 ) -> Result<Vec<Contact>, Error> {
     params.validate()?;
-    let mut out = vec![Contact::none(f64::INFINITY); batch.pairs_of_tables(tables.clone()).len()];
+    let n_pairs = batch.pairs_of_tables(tables.clone()).len();
+    crate::limits::check_memory(
+        &format!("answering {n_pairs} pairs at once"),
+        (n_pairs as u64).saturating_mul(crate::limits::BYTES_PER_PAIR),
+    )?;
+    let mut out = vec![Contact::none(f64::INFINITY); n_pairs];
     // hand each group of tables its own slice of the output
     let mut tasks = Vec::new();
     let mut rest: &mut [Contact] = &mut out;

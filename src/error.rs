@@ -29,6 +29,10 @@ pub enum Error {
     /// A combination the crate does not offer (e.g. the CPU backend in f32).
     #[error("{0}")]
     Unsupported(String),
+    /// The input asks for more than this machine can hold, or more than the crate allows
+    /// (see [`crate::limits`]); refused before allocating.
+    #[error("{0}")]
+    TooLarge(String),
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {
@@ -45,7 +49,7 @@ impl Error {
     pub fn is_bad_input(&self) -> bool {
         matches!(
             self,
-            Error::Input(_) | Error::Param { .. } | Error::Unsupported(_)
+            Error::Input(_) | Error::Param { .. } | Error::Unsupported(_) | Error::TooLarge(_)
         )
     }
 }

@@ -161,6 +161,11 @@ pub enum Fault {
     FailedDispatch,
     /// The device is destroyed now: every later call fails as after a device loss.
     DeviceLost,
+    /// Mid-batch: after `n` more dispatches succeed, the next one fails as
+    /// [`Fault::FailedDispatch`] does (chunks before it have already run).
+    FailedDispatchAfter(u32),
+    /// Mid-batch: after `n` more dispatches succeed, the device is destroyed.
+    DeviceLostAfter(u32),
 }
 
 /// The GPU engine: device, pipelines and buffers, reused across calls.
@@ -178,7 +183,8 @@ pub struct GpuEngine {
     max_groups_per_dim: u32,
     lost: Arc<AtomicBool>,
     uncaptured: Arc<Mutex<Option<String>>>,
-    fail_next_dispatch: bool,
+    /// A fault waiting for its dispatch: the fault, and how many dispatches run first.
+    pending_fault: Option<(Fault, u32)>,
     timings: GpuTimings,
 }
 
@@ -363,7 +369,7 @@ impl GpuEngine {
             max_groups_per_dim: adapter_limits.max_compute_workgroups_per_dimension,
             lost,
             uncaptured,
-            fail_next_dispatch: false,
+            pending_fault: None,
             timings: GpuTimings::default(),
         })
     }
@@ -396,8 +402,10 @@ impl GpuEngine {
     /// Injects `fault` into the next call (see [`Fault`]).
     pub fn inject_fault(&mut self, fault: Fault) {
         match fault {
-            Fault::FailedDispatch => self.fail_next_dispatch = true,
+            Fault::FailedDispatch => self.pending_fault = Some((Fault::FailedDispatch, 0)),
             Fault::DeviceLost => self.device.destroy(),
+            Fault::FailedDispatchAfter(n) => self.pending_fault = Some((Fault::FailedDispatch, n)),
+            Fault::DeviceLostAfter(n) => self.pending_fault = Some((Fault::DeviceLost, n)),
         }
     }
 
@@ -584,8 +592,17 @@ impl GpuEngine {
         };
         self.ensure_buffers(n_tables, n_balls, n_out);
         let mut row_len = (n_tables as u32).min(self.max_groups_per_dim).max(1);
-        if std::mem::take(&mut self.fail_next_dispatch) {
-            row_len = self.max_groups_per_dim.saturating_add(1);
+        match self.pending_fault {
+            Some((fault, 0)) => {
+                self.pending_fault = None;
+                if fault == Fault::DeviceLost {
+                    self.device.destroy();
+                } else {
+                    row_len = self.max_groups_per_dim.saturating_add(1);
+                }
+            }
+            Some((fault, n)) => self.pending_fault = Some((fault, n - 1)),
+            None => {}
         }
         let rows = (n_tables as u32)
             .div_ceil(row_len.min(self.max_groups_per_dim))
@@ -789,7 +806,12 @@ impl GpuEngine {
     ) -> Result<Vec<Contact>, Error> {
         params.validate()?;
         self.timings = GpuTimings::default();
-        let mut out = Vec::with_capacity(batch.pairs_of_tables(tables.clone()).len());
+        let n_pairs = batch.pairs_of_tables(tables.clone()).len();
+        crate::limits::check_memory(
+            &format!("answering {n_pairs} pairs at once"),
+            (n_pairs as u64).saturating_mul(crate::limits::BYTES_PER_PAIR),
+        )?;
+        let mut out = Vec::with_capacity(n_pairs);
         let mut paths = Vec::new();
         for chunk in self.plan_chunks(batch, tables)? {
             let (t, code) = self.run_chunk(batch, chunk.clone(), Kernel::PairTimes, params)?;

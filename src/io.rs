@@ -112,12 +112,33 @@ pub(crate) struct BallRows {
 }
 
 impl BallRows {
-    /// Appends one ball read at `at` (a line or a row).
-    pub(crate) fn push(&mut self, table: i64, id: i64, ball: Ball, at: u64) {
+    /// Makes room for `more` balls, refusing ([`Error::TooLarge`]) when that needs more
+    /// memory than is available.
+    pub(crate) fn reserve(&mut self, more: usize) -> Result<(), Error> {
+        let len = self.balls.len() as u64;
+        let want = len.saturating_add(more as u64);
+        crate::limits::check_memory(
+            &format!("a batch of {want} balls"),
+            want.saturating_mul(crate::limits::BYTES_PER_BALL),
+        )?;
+        self.tables.reserve_exact(more);
+        self.ids.reserve_exact(more);
+        self.balls.reserve_exact(more);
+        self.at.reserve_exact(more);
+        Ok(())
+    }
+
+    /// Appends one ball read at `at` (a line or a row). The columns grow by doubling, each
+    /// growth checked against the available memory first.
+    pub(crate) fn push(&mut self, table: i64, id: i64, ball: Ball, at: u64) -> Result<(), Error> {
+        if self.balls.len() == self.balls.capacity() {
+            self.reserve(self.balls.len().max(4096))?;
+        }
         self.tables.push(table);
         self.ids.push(id);
         self.balls.push(ball);
         self.at.push(at);
+        Ok(())
     }
 
     /// Sorts the balls by (table, ball) — stably, so of two balls with the same ids the
@@ -131,6 +152,12 @@ impl BallRows {
         let key = |r: usize| (self.tables[r], self.ids[r]);
         let sorted = (1..self.tables.len()).all(|r| key(r - 1) <= key(r));
         if !sorted {
+            // the sort order, then each column copied once more
+            let n = self.tables.len() as u64;
+            crate::limits::check_memory(
+                &format!("sorting a batch of {n} balls"),
+                n.saturating_mul(2 * crate::limits::BYTES_PER_BALL),
+            )?;
             let mut order: Vec<usize> = (0..self.tables.len()).collect();
             order.sort_by_key(|&r| key(r));
             self.tables = order.iter().map(|&r| self.tables[r]).collect();
@@ -203,7 +230,7 @@ pub fn read_batch_csv<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
             }
             v[k] = value;
         }
-        rows.push(table, ball, Ball::from_numbers(state, v), line);
+        rows.push(table, ball, Ball::from_numbers(state, v), line)?;
     }
     rows.into_batch("line", |e, line| e.in_file(file).at_line(line))
 }
@@ -417,12 +444,55 @@ pub fn write_output(
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
     let tmp = builder.tempfile_in(dir).map_err(io)?;
+    let pending = Pending::register(tmp.path());
     let mut w = std::io::BufWriter::new(tmp);
     body(&mut w).map_err(named)?;
     let tmp = w.into_inner().map_err(|e| io(e.into_error()))?;
     tmp.as_file().sync_all().map_err(io)?;
     tmp.persist(path).map_err(|e| io(e.error))?;
+    drop(pending);
     Ok(())
+}
+
+/// Temporary files of [`write_output`] not yet renamed into place.
+static PENDING: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// One entry of [`PENDING`], removed from the list when dropped (the file itself is removed
+/// by `tempfile` on failure, or renamed on success).
+struct Pending(std::path::PathBuf);
+
+impl Pending {
+    fn register(path: &Path) -> Pending {
+        if let Ok(mut list) = PENDING.lock() {
+            list.push(path.to_owned());
+        }
+        Pending(path.to_owned())
+    }
+}
+
+impl Drop for Pending {
+    fn drop(&mut self) {
+        if let Ok(mut list) = PENDING.lock() {
+            list.retain(|p| p != &self.0);
+        }
+    }
+}
+
+/// Removes the temporary files of every [`write_output`] still in progress: for a signal
+/// handler (Ctrl-C), which then ends the process, so that an interrupted run leaves
+/// nothing behind, neither under the requested names nor beside them.
+pub fn remove_unfinished_outputs() {
+    // try_lock, a few times: a handler must not wait for ever on a lock that another
+    // thread holds for an instant
+    for _ in 0..100 {
+        if let Ok(list) = PENDING.try_lock() {
+            for path in list.iter() {
+                let _ = std::fs::remove_file(path);
+            }
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
 }
 
 /// Writes a batch as input CSV (module docs), numbers as the shortest decimals that read

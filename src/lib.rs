@@ -19,6 +19,7 @@
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
 //! - [`io`]: CSV input and output, and the format by file name;
 //! - [`npy`]: NumPy `.npy` input and output for large batches;
+//! - [`limits`]: what an input may ask for, checked before allocating;
 //! - [`shot`], [`scenario`], [`study`], [`plot`]: Monte Carlo shot studies (the cue strike
 //!   and the cue ball's motion, the TOML scenario, the study driver and its summary, the
 //!   picture);
@@ -49,6 +50,7 @@ pub mod engine;
 pub mod error;
 pub mod gpu;
 pub mod io;
+pub mod limits;
 pub mod npy;
 pub mod physics;
 pub mod plot;

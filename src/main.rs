@@ -533,6 +533,12 @@ fn set_threads(threads: Option<usize>) -> Result<(), String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Ctrl-C (or SIGTERM): leave no output file, finished or half-written, behind
+    let _ = ctrlc::set_handler(|| {
+        kisstime::io::remove_unfinished_outputs();
+        eprintln!("kisstime: interrupted; nothing was written");
+        std::process::exit(130);
+    });
     let threads = match &cli.command {
         Command::Pairs(a) | Command::Next(a) => a.threads,
         Command::Bench(a) => a.threads,

@@ -115,7 +115,14 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
                 .at_row(row),
         )
     };
+    // the header says how many balls: refuse a file too large for memory before reading
     let mut rows = BallRows::default();
+    let n_balls = shape.first().copied().unwrap_or(0);
+    rows.reserve(usize::try_from(n_balls).unwrap_or(usize::MAX))
+        .map_err(|e| match e {
+            Error::TooLarge(m) => Error::TooLarge(format!("{file}: {m}")),
+            other => other,
+        })?;
     match dtype {
         npyz::DType::Record(_) => {
             if shape.len() != 1 {
@@ -128,7 +135,7 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
                 let r = rec.map_err(|e| read_err(row, e))?;
                 let ball = make_ball(r.state as f64, [r.x, r.y, r.vx, r.vy, r.wx, r.wy, r.wz])
                     .map_err(|m| locate(InputError::new(m), file, row, r.table, r.ball))?;
-                rows.push(r.table, r.ball, ball, row);
+                rows.push(r.table, r.ball, ball, row)?;
             }
         }
         npyz::DType::Plain(_) => {
@@ -166,7 +173,7 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
                 numbers.copy_from_slice(&v[3..]);
                 let ball = make_ball(v[2], numbers)
                     .map_err(|m| locate(InputError::new(m), file, row, table, id))?;
-                rows.push(table, id, ball, row);
+                rows.push(table, id, ball, row)?;
             }
         }
         npyz::DType::Array(..) => {

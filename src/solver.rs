@@ -38,7 +38,7 @@
 //! [`MAX_ITER`], and only `sqrt` and arithmetic are used.
 
 use crate::physics::{
-    BallPath, PATH_MOVES, PATH_POCKETED, RelPath, Vec2, dot, norm, norm1, pair_horizon, perp_dot,
+    BallPath, PATH_MOVES, PATH_POCKETED, RelPath, dot, norm, norm1, pair_horizon, perp_dot,
 };
 
 /// Two centres closer than `2R` by at most this many metres (either way) touch.
@@ -217,22 +217,42 @@ pub fn refine_root(
     if g_lo == 0.0 {
         return lo_in;
     }
-    let mut lo = lo_in;
-    let mut hi = hi_in;
-    let lo_positive = g_lo > 0.0;
     // start: a second-order Taylor step from the end where |g| is smaller
     let from_lo = g_lo.abs() <= g_hi.abs();
-    let end = if from_lo { lo } else { hi };
-    let dir = if from_lo { 1.0 } else { -1.0 };
-    let (e0, e1, e2) = contact_fn(rel, four_r2, end, k);
+    let end = if from_lo { lo_in } else { hi_in };
+    let t = taylor_start(from_lo, contact_fn(rel, four_r2, end, k), lo_in, hi_in);
+    refine_from(rel, four_r2, k, lo_in, hi_in, g_lo > 0.0, t)
+}
+
+/// Where a refinement of the bracket `[lo, hi]` starts: a second-order Taylor step into the
+/// bracket from `lo` (`from_lo`) or from `hi`, with `e = (g, g', g'')` there (a Newton step
+/// when the Taylor quadratic has no root ahead); the midpoint when the step leaves the
+/// bracket.
+pub fn taylor_start(from_lo: bool, e: (f64, f64, f64), lo: f64, hi: f64) -> f64 {
+    let (e0, e1, e2) = e;
+    let (end, dir) = if from_lo { (lo, 1.0) } else { (hi, -1.0) };
     let mut step = smallest_positive_root(0.5 * e2, dir * e1, e0);
     if step < 0.0 && e1 != 0.0 {
         step = -dir * e0 / e1;
     }
-    let mut t = end + dir * step;
-    if !(t > lo && t < hi) {
-        t = 0.5 * (lo + hi);
-    }
+    let t = end + dir * step;
+    if t > lo && t < hi { t } else { 0.5 * (lo + hi) }
+}
+
+/// [`refine_root`]'s iteration from `t_start` in the bracket `[lo_in, hi_in]`, where `g`
+/// is positive at `lo_in` when `lo_positive` (and of the other sign, or zero, at `hi_in`).
+pub fn refine_from(
+    rel: &RelPath,
+    four_r2: f64,
+    k: u32,
+    lo_in: f64,
+    hi_in: f64,
+    lo_positive: bool,
+    t_start: f64,
+) -> f64 {
+    let mut lo = lo_in;
+    let mut hi = hi_in;
+    let mut t = t_start;
     for _ in 0..MAX_ITER {
         let (g, g1, _) = contact_fn(rel, four_r2, t, k);
         if g == 0.0 {
@@ -318,9 +338,14 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
                 }
                 let (f_t, f1_t, f2_t) = contact_fn(rel, four_r2, t, 0);
                 if f_t <= 0.0 {
-                    // inside and still falling: f is monotone on [lo, t]
+                    // inside and still falling: f is monotone on [lo, t]; refine from t,
+                    // where f and its derivatives are known
                     if f1_t <= 0.0 {
-                        return refine_root(rel, four_r2, 0, lo, t, f_lo, f_t);
+                        if f_t == 0.0 {
+                            return t;
+                        }
+                        let start = taylor_start(false, (f_t, f1_t, f2_t), lo, t);
+                        return refine_from(rel, four_r2, 0, lo, t, true, start);
                     }
                     break;
                 }
@@ -385,51 +410,49 @@ pub fn approach_sign(rel: &RelPath) -> f64 {
 /// the projections of all three points onto a unit axis `u` exceed `2R` (or all fall
 /// below `−2R`), so does `u·C(t)`, and `|C(t)| ≥ |u·C(t)| > 2R`: no contact. Two axes are
 /// tried: the initial centre line `C/|C|` (pairs moving apart, or too slow to close the
-/// gap) and the normal of the relative velocity `B` (pairs passing each other by). The
-/// test is exact up to [`PRUNE_SLACK`], so it never changes an answer; it only spares
-/// the root finding. `h` must be finite.
+/// gap, [`wide_along_centres`]) and the normal of the relative velocity `B` (pairs passing
+/// each other by, [`wide_sideways`]). The test is exact up to [`PRUNE_SLACK`] of the
+/// path's length scale, so it never changes an answer; it only spares the root finding.
+/// Both axes are tested on squares, without a square root or a division. `h` must be
+/// finite.
 pub fn cannot_meet(rel: &RelPath, radius: f64, h: f64) -> bool {
-    let p0 = rel.c;
-    let p1 = rel.c + (0.5 * h) * rel.b;
-    let p2 = rel.c + h * rel.b + (h * h) * rel.a;
-    let scale = norm(rel.c) + norm(rel.b) * h + norm(rel.a) * h * h;
-    let reach = 2.0 * radius + PRUNE_SLACK * scale;
-    // axis 1: the initial centre line
-    let len_c = norm(rel.c);
-    if len_c > 0.0 {
-        let u = (1.0 / len_c) * rel.c;
-        if dot(u, p1) > reach && dot(u, p2) > reach && len_c > reach {
-            return true;
-        }
-    }
-    // axis 2: the normal of the relative velocity
-    let len_b = norm(rel.b);
-    if len_b > 0.0 {
-        let u = (1.0 / len_b) * Vec2::new(-rel.b.y, rel.b.x);
-        let (s0, s1, s2) = (dot(u, p0), dot(u, p1), dot(u, p2));
-        if (s0 > reach && s1 > reach && s2 > reach) || (s0 < -reach && s1 < -reach && s2 < -reach) {
-            return true;
-        }
-    }
-    false
+    let reach = 2.0 * radius + PRUNE_SLACK * path_scale(rel, h);
+    wide_along_centres(rel, h, reach) || wide_sideways(rel, h, reach)
 }
 
 /// Whether the pair provably passes wide of contact for `t ∈ [0, h]`, sideways of the
-/// relative velocity: [`cannot_meet`]'s second axis without a square root or a division,
-/// tried before anything else because it is this cheap.
-///
-/// `w(t) = B × C(t) = B × C + t² (B × A)` is `|B|` times the signed distance of `C(t)` from
-/// the line through the origin along `B`, and monotone on `[0, h]`; if it keeps one sign
-/// with `|w| > reach·|B|` at both ends, `|C(t)| > reach` throughout. The reach is
-/// `cannot_meet`'s (with the 1-norm, an upper bound, in the slack) plus [`CONTACT_TOL`],
-/// so a pair passed over is neither overlapping nor touching (rules 2 and 3) and has no
-/// entry into contact (rule 4): the test never changes an answer. On overflow the
-/// comparisons come out false or hold exactly as they would unrounded.
+/// relative velocity: [`cannot_meet`]'s second axis, tried before anything else because it
+/// is this cheap. Its reach adds [`CONTACT_TOL`], so a pair passed over is neither
+/// overlapping nor touching (rules 2 and 3) and has no entry into contact (rule 4): the
+/// test never changes an answer.
 pub fn passes_wide(rel: &RelPath, radius: f64, h: f64) -> bool {
+    let reach = 2.0 * radius + CONTACT_TOL + PRUNE_SLACK * path_scale(rel, h);
+    wide_sideways(rel, h, reach)
+}
+
+/// An upper bound of the path's length scale `|C| + |B| h + |A| h²` (1-norms), for the
+/// prunes' slack.
+pub fn path_scale(rel: &RelPath, h: f64) -> f64 {
+    norm1(rel.c) + norm1(rel.b) * h + norm1(rel.a) * h * h
+}
+
+/// Whether the projections of `P0, P1, P2` on the initial centre line `u = C/|C|` all
+/// exceed `reach`: `C·Pᵢ > reach·|C|`, compared as squares of the positive sides.
+pub fn wide_along_centres(rel: &RelPath, h: f64, reach: f64) -> bool {
+    let cc = dot(rel.c, rel.c);
+    let q1 = dot(rel.c, rel.c + (0.5 * h) * rel.b);
+    let q2 = dot(rel.c, rel.c + h * rel.b + (h * h) * rel.a);
+    let bound = reach * reach * cc;
+    cc > reach * reach && q1 > 0.0 && q2 > 0.0 && q1 * q1 > bound && q2 * q2 > bound
+}
+
+/// Whether `C(t)` stays farther than `reach` from the line through the origin along `B`, on
+/// one side, for `t ∈ [0, h]`. `w(t) = B × C(t) = B × C + t² (B × A)` is `|B|` times the
+/// signed distance, monotone on `[0, h]`, so its ends decide; compared as squares. On
+/// overflow the comparisons come out false or hold exactly as they would unrounded.
+pub fn wide_sideways(rel: &RelPath, h: f64, reach: f64) -> bool {
     let w0 = perp_dot(rel.b, rel.c);
     let w_h = w0 + (h * h) * perp_dot(rel.b, rel.a);
-    let scale = norm1(rel.c) + norm1(rel.b) * h + norm1(rel.a) * h * h;
-    let reach = 2.0 * radius + CONTACT_TOL + PRUNE_SLACK * scale;
     let bound = reach * reach * dot(rel.b, rel.b);
     w0 * w_h > 0.0 && w0 * w0 > bound && w_h * w_h > bound
 }
@@ -494,6 +517,7 @@ pub fn pair_contact(p1: &BallPath, p2: &BallPath, radius: f64) -> Contact {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::Vec2;
 
     const R: f64 = 0.028575;
 

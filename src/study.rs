@@ -168,7 +168,8 @@ fn step(scenario: &Scenario, cue: &Ball, elapsed: f64, hit: Option<(f64, i64)>) 
 
 /// Runs the study: `samples` noisy strikes from `seed`, every ball contact answered by
 /// `engine`. `progress(done, total)` is called after each chunk. The samples come back in
-/// index order.
+/// index order. A study whose samples would not fit the available memory is refused
+/// before it starts ([`Error::TooLarge`]).
 pub fn run_study(
     scenario: &Scenario,
     sigma: &Noise,
@@ -177,6 +178,10 @@ pub fn run_study(
     engine: &mut Engine,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
+    crate::limits::check_memory(
+        &format!("a study of {samples} samples"),
+        (samples as u64).saturating_mul(std::mem::size_of::<Sample>() as u64),
+    )?;
     let mut out = Vec::with_capacity(samples);
     let objects = scenario.object_balls();
     let start = scenario.cue_spot();

@@ -261,6 +261,47 @@ fn a_lost_device_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
     assert!(auto.gpu().is_none(), "the CPU is used from then on");
 }
 
+/// A fault in the middle of a batch (chunks before it already answered): `gpu` reports an
+/// error, `auto` redoes the whole batch on the CPU, bit-identical, and says so.
+#[test]
+fn a_fault_mid_batch_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
+    let params = Params::default();
+    let batch = generate(Scenario::Spread, 60, 10, 12, &params);
+    let cpu_pairs = kisstime::pair_times(&batch, &params).unwrap();
+    let cpu_next = kisstime::next_collisions(&batch, &params).unwrap();
+    let small = kisstime::gpu::ChunkLimits {
+        tables: 10,
+        balls: 1000,
+        pairs: 1000,
+    };
+    for fault in [Fault::FailedDispatchAfter(2), Fault::DeviceLostAfter(3)] {
+        let Some(mut gpu) = gpu_or_skip(Precision::F32, "fault_mid_batch") else {
+            return;
+        };
+        gpu.set_chunk_limits(small);
+        gpu.inject_fault(fault);
+        let err = gpu.next_collisions(&batch, &params).unwrap_err();
+        assert!(matches!(err, Error::Gpu(_)), "{fault:?}: {err}");
+
+        let mut auto = Engine::new(Backend::Auto, Precision::F32).unwrap();
+        let g = auto.gpu().expect("a GPU is there");
+        g.set_chunk_limits(small);
+        g.inject_fault(fault);
+        assert_eq!(
+            auto.pair_times(&batch, &params).unwrap(),
+            cpu_pairs,
+            "{fault:?}"
+        );
+        let notes = auto.take_notes();
+        assert!(
+            notes.iter().any(|n| n.contains("redone on the CPU")),
+            "{fault:?}: {notes:?}"
+        );
+        assert!(auto.gpu().is_none(), "the CPU is used from then on");
+        assert_eq!(auto.next_collisions(&batch, &params).unwrap(), cpu_next);
+    }
+}
+
 #[test]
 fn the_engine_is_reused_across_many_calls_and_buffers_grow() {
     let Some(mut gpu) = gpu_or_skip(Precision::F32, "reuse") else {
