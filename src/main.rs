@@ -42,6 +42,9 @@ enum Command {
     /// time in seconds (`inf` for none), `status` is hit, none or overlap, and `horizon` is
     /// the time until the first of the two balls changes its motion state. The output is
     /// streamed: a few million pairs are held at a time, whatever the batch size.
+    ///
+    /// Files whose name ends in .npy are NumPy arrays instead of CSV, input and output
+    /// (layouts in the README and `kisstime::npy`). Ctrl-C leaves no output file behind.
     Pairs(RunArgs),
     /// Each table's next collision: the earliest pair in contact, as an event loop asks
     /// after every event.
@@ -49,7 +52,8 @@ enum Command {
     /// INPUT as for `pairs`. The output is CSV `table,t,i,j,status`, one row per table in
     /// ascending id order: `t` the time in seconds, (i, j) the ball ids, status hit or
     /// overlap; `inf`, empty ids and `none` when no pair of the table collides. Ties: the
-    /// smallest time, then the smallest (i, j).
+    /// smallest time, then the smallest (i, j). Files ending in .npy are NumPy arrays, as
+    /// for `pairs`.
     Next(RunArgs),
     /// Measure each backend on a built-in workload generated in memory: pairs/s per pair
     /// and for the next collision, the GPU's upload / kernel / readback split, and whether
@@ -71,10 +75,10 @@ enum Command {
 
 #[derive(Args)]
 struct RunArgs {
-    /// Input CSV file.
+    /// Input file: CSV, or a NumPy .npy array when the name ends in .npy.
     input: PathBuf,
     /// Write the output here instead of standard output (atomically: nothing is left under
-    /// this name if the run fails).
+    /// this name if the run fails or is interrupted); a name ending in .npy writes NumPy.
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// Where to compute: `cpu` (Rayon, f64), `gpu` (wgpu; an error when no GPU is usable),
@@ -112,7 +116,7 @@ struct GenArgs {
     /// Random seed: the same seed gives the same file on every machine.
     #[arg(long, default_value_t = 42)]
     seed: u64,
-    /// The file to write (CSV).
+    /// The file to write: CSV, or a NumPy .npy array when the name ends in .npy.
     #[arg(short, long)]
     output: PathBuf,
 }
