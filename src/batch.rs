@@ -261,6 +261,20 @@ impl Batch {
         self.pair_start[tables.start]..self.pair_start[tables.end]
     }
 
+    /// `(table id, i, j)` for every pair of the tables `tables` (positions in the batch),
+    /// `i < j` the ball ids, in pair order: the rows that go with
+    /// [`pair_times_of`]`(tables)`'s answers.
+    pub fn pair_ids(
+        &self,
+        tables: std::ops::Range<usize>,
+    ) -> impl Iterator<Item = (i64, i64, i64)> + '_ {
+        tables.flat_map(move |k| {
+            let (table, ids) = (self.table_id(k), self.ball_ids(k));
+            (0..ids.len())
+                .flat_map(move |i| (i + 1..ids.len()).map(move |j| (table, ids[i], ids[j])))
+        })
+    }
+
     /// Consecutive ranges of whole tables of about `pairs` pairs each (at least one table
     /// each), covering the batch: the unit in which per-pair output is streamed.
     pub fn table_chunks(&self, pairs: usize) -> Vec<std::ops::Range<usize>> {

@@ -301,26 +301,14 @@ pub fn write_pairs_rows<W: Write + ?Sized>(
 ) -> std::io::Result<()> {
     let mut tb = ryu::Buffer::new();
     let mut hb = ryu::Buffer::new();
-    let base = batch.pairs_of_tables(tables.clone()).start;
-    for k in tables {
-        let ids = batch.ball_ids(k);
-        let table = batch.table_id(k);
-        let mut at = batch.pair_range(k).start - base;
-        for i in 0..ids.len() {
-            for j in i + 1..ids.len() {
-                let c = &contacts[at];
-                at += 1;
-                writeln!(
-                    out,
-                    "{table},{},{},{},{},{}",
-                    ids[i],
-                    ids[j],
-                    format_time(c.t, &mut tb),
-                    c.status,
-                    format_time(c.horizon, &mut hb)
-                )?;
-            }
-        }
+    for ((table, i, j), c) in batch.pair_ids(tables).zip(contacts) {
+        writeln!(
+            out,
+            "{table},{i},{j},{},{},{}",
+            format_time(c.t, &mut tb),
+            c.status,
+            format_time(c.horizon, &mut hb)
+        )?;
     }
     Ok(())
 }

@@ -306,25 +306,15 @@ impl<W: Write> PairsNpy<W> {
         tables: std::ops::Range<usize>,
         contacts: &[Contact],
     ) -> std::io::Result<()> {
-        let base = batch.pairs_of_tables(tables.clone()).start;
-        for k in tables {
-            let ids = batch.ball_ids(k);
-            let table = batch.table_id(k);
-            let mut at = batch.pair_range(k).start - base;
-            for i in 0..ids.len() {
-                for j in i + 1..ids.len() {
-                    let c = &contacts[at];
-                    at += 1;
-                    self.writer.push(&PairRecord {
-                        table,
-                        i: ids[i],
-                        j: ids[j],
-                        t: c.t,
-                        status: c.status as i64,
-                        horizon: c.horizon,
-                    })?;
-                }
-            }
+        for ((table, i, j), c) in batch.pair_ids(tables).zip(contacts) {
+            self.writer.push(&PairRecord {
+                table,
+                i,
+                j,
+                t: c.t,
+                status: c.status as i64,
+                horizon: c.horizon,
+            })?;
         }
         Ok(())
     }
