@@ -61,9 +61,11 @@ fn a_million_random_tables_agree_and_memory_stays_flat() {
         );
         for (k, (r, g)) in ref_next.iter().zip(&got).enumerate() {
             assert!(!g.t.is_nan(), "table {k}: NaN");
-            if r.pair.is_some() && r.pair == g.pair && r.t > 0.0 {
+            if let Some((i, j)) = r.pair
+                && r.pair == g.pair
+                && r.t > 0.0
+            {
                 let ids = batch.ball_ids(k);
-                let (i, j) = r.pair.unwrap();
                 let at = |id| ids.iter().position(|&x| x == id).unwrap();
                 let b = batch.balls(k);
                 let rel = RelPath::between(
