@@ -365,6 +365,12 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
             if f_lo > 0.0 && f_c <= 0.0 {
                 return refine_root(rel, four_r2, 0, lo, tc, f_lo, f_c);
             }
+            // in contact at lo (only a touching pair that separates gets here: rule 3) and
+            // still at the maximum of f: it turned back before it measurably left contact,
+            // so it re-enters where it turns
+            if f_lo <= 0.0 && f1_lo > 0.0 && f_c <= 0.0 {
+                return tc;
+            }
             lo = tc;
             f_lo = f_c;
         }

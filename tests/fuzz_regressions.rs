@@ -1,0 +1,42 @@
+//! Inputs found by the fuzz targets in `fuzz/` (see FUZZING.md), kept as plain tests with
+//! the values inline so they run with every `cargo test`.
+
+use kisstime::physics::{PATH_MOVES, RelPath};
+use kisstime::{Ball, MotionState, Params, Status, ball_path, pair_contact};
+
+/// `|C(s)| − 2R` along the pair's relative path.
+fn gap(rel: &RelPath, r: f64, s: f64) -> f64 {
+    let c = rel.at(s);
+    c.x.hypot(c.y) - 2.0 * r
+}
+
+/// pair_solver, finding 1: a touching pair (`|C| = 2R` exactly) that separates at
+/// 6e-20 m/s while ball 1 accelerates into ball 2 (backspin, 0.98 m/s²). The separation
+/// never rises above the rounding of `f`, so the critical point's `f` came out `0` and no
+/// "entry from outside" was found: the answer was `none` while the balls overlap by 3.8 mm
+/// within the horizon. The pair never left contact, so it re-enters where it turns.
+#[test]
+fn touching_pair_that_turns_back_before_separating_measurably_is_a_hit() {
+    let params = Params::default();
+    let b1 = Ball {
+        state: MotionState::Sliding,
+        x: 2.0771976560354234e-5,
+        y: 1.990579590177549e-21,
+        vx: -5.999999999998508e-20,
+        vy: 1.9014222339689e-310,
+        wx: 0.0,
+        wy: 14.901969315181418,
+        wz: -199.99916553497314,
+    };
+    let b2 = Ball::at_rest(0.057170771976560356, 1.990579590177549e-21);
+    let (p1, p2) = (ball_path(&b1, &params), ball_path(&b2, &params));
+    assert_eq!(p1.flags, PATH_MOVES);
+    let rel = RelPath::between(&p1, &p2);
+    let r = params.radius;
+    // the balls overlap by millimetres at the end of the horizon
+    assert!(gap(&rel, r, p1.tmax) < -1e-3);
+    let c = pair_contact(&p1, &p2, r);
+    assert_eq!(c.status, Status::Hit, "{c:?}");
+    assert!(c.t <= 1e-18, "{c:?}");
+    assert!(gap(&rel, r, c.t).abs() <= 1e-12, "{c:?}");
+}
