@@ -74,9 +74,11 @@ impl Default for Params {
 }
 
 impl Params {
-    /// Checks that every parameter is finite and strictly positive.
+    /// Checks that every parameter is finite and strictly positive, and so are the
+    /// decelerations `μs g` and `μr g` (neither may underflow to 0 or a subnormal, nor
+    /// overflow: [`ball_path`] divides by them).
     ///
-    /// On failure the error names the first offending parameter.
+    /// On failure the error names the first offending parameter (or product).
     pub fn validate(&self) -> Result<(), crate::Error> {
         for (name, value) in [
             ("radius", self.radius),
@@ -86,6 +88,14 @@ impl Params {
             ("g", self.g),
         ] {
             if !(value.is_finite() && value > 0.0) {
+                return Err(crate::Error::Param { name, value });
+            }
+        }
+        for (name, value) in [
+            ("mu_s * g", self.mu_s * self.g),
+            ("mu_r * g", self.mu_r * self.g),
+        ] {
+            if !(value.is_normal() && (7.0 * value).is_finite()) {
                 return Err(crate::Error::Param { name, value });
             }
         }

@@ -40,3 +40,47 @@ fn touching_pair_that_turns_back_before_separating_measurably_is_a_hit() {
     assert!(c.t <= 1e-18, "{c:?}");
     assert!(gap(&rel, r, c.t).abs() <= 1e-12, "{c:?}");
 }
+
+/// pair_solver, finding 2: `μr = 1.2e-319`, `g = 4.4e-312` (each finite and positive) make
+/// `μr g` underflow to 0, and a rolling ball at rest then got `tmax = 0/0 = NaN`: a NaN
+/// horizon in the answer. Such parameters are now refused, naming the product.
+#[test]
+fn decelerations_that_underflow_or_overflow_are_refused() {
+    let bad = Params {
+        mu_r: 1.20157e-319,
+        g: 4.4004368984e-312,
+        ..Params::default()
+    };
+    let err = bad.validate().unwrap_err().to_string();
+    assert!(err.contains("* g"), "{err}");
+    let subnormal = Params {
+        mu_s: 1e-160,
+        g: 1e-160,
+        ..Params::default()
+    };
+    assert!(subnormal.validate().is_err());
+    let huge = Params {
+        mu_s: 1e200,
+        g: 1e200,
+        ..Params::default()
+    };
+    assert!(
+        huge.validate()
+            .unwrap_err()
+            .to_string()
+            .contains("mu_s * g")
+    );
+    // the batch driver refuses them too, instead of answering with a NaN horizon
+    let mut batch = kisstime::Batch::new();
+    batch
+        .push_table(
+            0,
+            [
+                (0, Ball::rolling(0.9, 0.0, 0.0, 0.0, 0.028575)),
+                (1, Ball::rolling(0.0, 0.0, 0.0, 0.0, 0.028575)),
+            ],
+        )
+        .unwrap();
+    assert!(kisstime::pair_times(&batch, &bad).is_err());
+    assert!(Params::default().validate().is_ok());
+}
