@@ -300,6 +300,10 @@ impl Scenario {
             )?,
             g: positive("physics.g", ph.g.unwrap_or(DEFAULT_G))?,
         };
+        // each key is fine; their products (the decelerations) must be too
+        params
+            .validate()
+            .map_err(|e| err(format!("keys of `physics`: {e}")))?;
         let masses = Masses {
             ball: positive(
                 "physics.ball_mass",

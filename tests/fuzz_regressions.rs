@@ -84,3 +84,26 @@ fn decelerations_that_underflow_or_overflow_are_refused() {
     assert!(kisstime::pair_times(&batch, &bad).is_err());
     assert!(Params::default().validate().is_ok());
 }
+
+/// scenario: `mu_r = 1e-200`, `g = 1e-200` are each finite and positive, but `μr g`
+/// underflows to 0 (finding 2 again, through the shot study's reader). Refused, naming it.
+#[test]
+fn scenario_with_underflowing_deceleration_is_refused() {
+    let text = "[table]\nlength = 2.54\nwidth = 1.27\n\
+                [physics]\nmu_r = 1e-200\ng = 1e-200\n\
+                [[balls]]\nid = 0\nx = 0.7\ny = 0.45\n\
+                [[balls]]\nid = 3\nx = 1.85\ny = 0.78\n\
+                [shot]\ncue_ball = 0\nobject_ball = 3\nv0 = 1.6\nphi = 18.58\n\
+                theta = 5.0\na = 0.0\nb = 0.2\n";
+    let err = kisstime::scenario::Scenario::parse(text, "s.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("mu_s * g") || err.contains("mu_r * g"),
+        "{err}"
+    );
+    assert!(err.contains("s.toml"), "{err}");
+    // the same file with ordinary values is fine
+    let ok = text.replace("mu_r = 1e-200\ng = 1e-200\n", "");
+    assert!(kisstime::scenario::Scenario::parse(&ok, "s.toml").is_ok());
+}
