@@ -86,6 +86,17 @@ struct NextRecord {
 /// in error messages.
 pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
     let bad = |msg: String| Error::from(InputError::new(msg).in_file(file));
+    let mut reader = reader;
+    let prefix = read_header_prefix(&mut reader)
+        .map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
+    let depth = nesting_depth(&prefix);
+    if depth > MAX_HEADER_NESTING {
+        return Err(bad(format!(
+            "not a readable .npy file: its header nests brackets {depth} deep \
+             (a NumPy header needs at most {MAX_HEADER_NESTING})"
+        )));
+    }
+    let reader = std::io::Cursor::new(prefix).chain(reader);
     let npy =
         npyz::NpyFile::new(reader).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
     if npy.uses_pickled_array() {
@@ -181,6 +192,49 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
         }
     }
     rows.into_batch("row", |e, row| e.in_file(file).at_row(row))
+}
+
+/// The deepest bracket nesting a header may have. NumPy's headers for the arrays read here
+/// nest three deep (`{'descr': [('x', '<f8'), …], …}`); the header parser npyz uses
+/// backtracks exponentially in the depth of unclosed brackets (a 100-byte header of 20
+/// `{` took seconds, found by fuzzing), so deeper headers are refused before it sees them.
+const MAX_HEADER_NESTING: usize = 8;
+
+/// The magic string, version, header length and header of a `.npy` file, as far as the
+/// reader has them (a short file gives fewer bytes; npyz then reports what is missing).
+fn read_header_prefix<R: Read>(reader: &mut R) -> std::io::Result<Vec<u8>> {
+    let mut prefix = Vec::new();
+    reader.by_ref().take(8).read_to_end(&mut prefix)?;
+    if prefix.len() < 8 {
+        return Ok(prefix);
+    }
+    let len_bytes = if prefix[6] == 1 { 2 } else { 4 };
+    reader.by_ref().take(len_bytes).read_to_end(&mut prefix)?;
+    if prefix.len() < 8 + len_bytes as usize {
+        return Ok(prefix);
+    }
+    let mut len = 0u64;
+    for (k, &b) in prefix[8..].iter().enumerate() {
+        len |= (b as u64) << (8 * k);
+    }
+    reader.by_ref().take(len).read_to_end(&mut prefix)?;
+    Ok(prefix)
+}
+
+/// The deepest nesting of `(`, `[` and `{` in `bytes` (closing brackets of any kind close).
+fn nesting_depth(bytes: &[u8]) -> usize {
+    let (mut depth, mut deepest) = (0usize, 0usize);
+    for &b in bytes {
+        match b {
+            b'(' | b'[' | b'{' => {
+                depth += 1;
+                deepest = deepest.max(depth);
+            }
+            b')' | b']' | b'}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    deepest
 }
 
 /// Reads a batch from a `.npy` file.

@@ -107,3 +107,35 @@ fn scenario_with_underflowing_deceleration_is_refused() {
     let ok = text.replace("mu_r = 1e-200\ng = 1e-200\n", "");
     assert!(kisstime::scenario::Scenario::parse(&ok, "s.toml").is_ok());
 }
+
+/// A `.npy` file of `header` (version 1.0, padded as NumPy pads).
+fn npy_v1(header: &str) -> Vec<u8> {
+    let mut h = header.as_bytes().to_vec();
+    let pad = 64 - (10 + h.len() + 1) % 64;
+    h.extend(std::iter::repeat_n(b' ', pad));
+    h.push(b'\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend((h.len() as u16).to_le_bytes());
+    out.extend(h);
+    out
+}
+
+/// read_npy, finding 3: a header with many unclosed brackets hung the reader (the header
+/// parser inside npyz backtracks exponentially: 18 `[` took 11 s, the fuzzer's input with
+/// 86 `{` would take longer than the universe). Refused at once now.
+#[test]
+fn npy_header_with_deeply_nested_brackets_is_refused_at_once() {
+    for open in ["[", "{", "("] {
+        let bytes = npy_v1(&format!("{{'descr': {}}}", open.repeat(40)));
+        let start = std::time::Instant::now();
+        let err = kisstime::npy::read_batch_npy(&bytes[..], "deep.npy")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("nests brackets"), "{err}");
+        assert!(start.elapsed().as_secs() < 5);
+    }
+    // an ordinary header still reads (here: a valid header, no data)
+    let bytes = npy_v1("{'descr': '<f8', 'fortran_order': False, 'shape': (0, 10), }");
+    let batch = kisstime::npy::read_batch_npy(&bytes[..], "empty.npy").unwrap();
+    assert_eq!(batch.num_tables(), 0);
+}
