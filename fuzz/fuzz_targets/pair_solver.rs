@@ -21,6 +21,7 @@
 //! of samples; distances are taken with `hypot` (no overflow of squares).
 #![no_main]
 use libfuzzer_sys::fuzz_target;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 use kisstime::physics::{BallPath, PATH_MOVES, PATH_POCKETED, RelPath, Vec2};
 use kisstime::solver::CONTACT_TOL;
@@ -317,6 +318,24 @@ fn min_gap(rel: &RelPath, r: f64, lo: f64, hi: f64) -> (f64, f64) {
     best
 }
 
+/// How the inputs were checked: invalid parameters, rule 1, hard requirements only (outside
+/// the box), contract checked for a hit, a none, an overlap. With `PAIR_SOLVER_STATS` set
+/// in the environment the counts are printed at every power of two of inputs.
+static COUNTS: [AtomicU64; 6] = [const { AtomicU64::new(0) }; 6];
+static TOTAL: AtomicU64 = AtomicU64::new(0);
+
+fn count(k: usize) {
+    COUNTS[k].fetch_add(1, Relaxed);
+    let n = TOTAL.fetch_add(1, Relaxed) + 1;
+    if n.is_power_of_two() && n >= 1 << 16 && std::env::var_os("PAIR_SOLVER_STATS").is_some() {
+        let c: Vec<u64> = COUNTS.iter().map(|c| c.load(Relaxed)).collect();
+        eprintln!(
+            "stats after {n}: invalid params {}, rule 1 {}, hard only {}, contract hit {}, none {}, overlap {}",
+            c[0], c[1], c[2], c[3], c[4], c[5]
+        );
+    }
+}
+
 fuzz_target!(|data: &[u8]| {
     let (params, b1, b2) = decode(data);
     let valid = params.validate().is_ok();
@@ -329,6 +348,7 @@ fuzz_target!(|data: &[u8]| {
     let batch_answer = pair_times(&batch, &params);
     assert_eq!(batch_answer.is_ok(), valid, "{params:?}");
     if !valid {
+        count(0);
         return;
     }
     let batch_answer = batch_answer.unwrap()[0];
@@ -363,11 +383,13 @@ fuzz_target!(|data: &[u8]| {
     let flags = p1.flags | p2.flags;
     if flags & PATH_POCKETED != 0 || flags & PATH_MOVES == 0 {
         assert_eq!(c.status, Status::None, "rule 1\n{}", ctx());
+        count(1);
         return;
     }
 
     // the contract, where f64 can decide it
     if !(finite_path(&p1) && finite_path(&p2) && h.is_finite()) {
+        count(2);
         return;
     }
     let rel = RelPath::between(&p1, &p2);
@@ -375,6 +397,7 @@ fuzz_target!(|data: &[u8]| {
         .iter()
         .all(|v| v.is_finite())
     {
+        count(2);
         return;
     }
     let r = params.radius;
@@ -386,6 +409,7 @@ fuzz_target!(|data: &[u8]| {
         .into_iter()
         .all(in_box)
     {
+        count(2);
         return;
     }
     let end = if c.status == Status::Hit { c.t } else { h };
@@ -399,6 +423,11 @@ fuzz_target!(|data: &[u8]| {
         "overlap iff d0 < -CONTACT_TOL, d0 = {d0:e}\n{}",
         ctx()
     );
+    count(match c.status {
+        Status::Hit => 3,
+        Status::None => 4,
+        Status::Overlap => 5,
+    });
     match c.status {
         Status::Overlap => {}
         Status::Hit => {
