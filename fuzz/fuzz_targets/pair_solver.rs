@@ -137,16 +137,7 @@ impl Bytes<'_> {
         }
         let wx = self.value(-200.0, 200.0);
         let wy = self.value(-200.0, 200.0);
-        Ball {
-            state,
-            x,
-            y,
-            vx,
-            vy,
-            wx,
-            wy,
-            wz,
-        }
+        Ball::from_numbers(state, [x, y, vx, vy, wx, wy, wz])
     }
 }
 
