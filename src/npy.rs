@@ -96,6 +96,13 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
              (a NumPy header needs at most {MAX_HEADER_NESTING})"
         )));
     }
+    if !shape_fits(&prefix) {
+        return Err(bad(
+            "not a readable .npy file: its header's shape has more elements than memory \
+             can address"
+                .into(),
+        ));
+    }
     let reader = std::io::Cursor::new(prefix).chain(reader);
     let npy =
         npyz::NpyFile::new(reader).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
@@ -219,6 +226,42 @@ fn read_header_prefix<R: Read>(reader: &mut R) -> std::io::Result<Vec<u8>> {
     }
     reader.by_ref().take(len).read_to_end(&mut prefix)?;
     Ok(prefix)
+}
+
+/// Whether the product of the header's shape, in bytes at 8 a number, fits in 64 bits
+/// (npyz multiplies the dimensions unchecked: a fuzzed header overflowed it). A shape that
+/// cannot be found or read is left for npyz to refuse.
+fn shape_fits(header: &[u8]) -> bool {
+    let key = b"'shape'";
+    let Some(at) = header.windows(key.len()).position(|w| w == key) else {
+        return true;
+    };
+    let rest = &header[at + key.len()..];
+    let (Some(open), Some(close)) = (
+        rest.iter().position(|&b| b == b'('),
+        rest.iter().position(|&b| b == b')'),
+    ) else {
+        return true;
+    };
+    if close < open {
+        return true;
+    }
+    let mut total: u64 = 8;
+    for dim in rest[open + 1..close].split(|&b| b == b',') {
+        let text = String::from_utf8_lossy(dim);
+        let text = text.trim();
+        if text.is_empty() {
+            continue;
+        }
+        match text.parse::<u64>() {
+            Ok(n) => match total.checked_mul(n) {
+                Some(t) => total = t,
+                None => return false,
+            },
+            Err(_) => return !text.chars().all(|c| c.is_ascii_digit()),
+        }
+    }
+    true
 }
 
 /// The deepest nesting of `(`, `[` and `{` in `bytes` (closing brackets of any kind close).

@@ -139,3 +139,24 @@ fn npy_header_with_deeply_nested_brackets_is_refused_at_once() {
     let batch = kisstime::npy::read_batch_npy(&bytes[..], "empty.npy").unwrap();
     assert_eq!(batch.num_tables(), 0);
 }
+
+/// `read_npy` (fuzzing, session 2): a header whose shape's product overflows 64 bits made
+/// npyz multiply with overflow (a panic with overflow checks on, a wrapped length without).
+#[test]
+fn npy_header_whose_shape_overflows_is_refused() {
+    let mut header = b"{'descr': '<f8', 'fortran_order': False, 'shape': \
+        (4444444444444444442, 10), }"
+        .to_vec();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(b' ');
+    }
+    header.push(b'\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(&header);
+    bytes.extend_from_slice(&[0u8; 80]);
+    let err = kisstime::npy::read_batch_npy(&bytes[..], "shape.npy")
+        .expect_err("refused")
+        .to_string();
+    assert!(err.contains("shape.npy") && err.contains("shape"), "{err}");
+}
