@@ -147,7 +147,7 @@ fn npy_header_whose_shape_overflows_is_refused() {
     let mut header = b"{'descr': '<f8', 'fortran_order': False, 'shape': \
         (4444444444444444442, 10), }"
         .to_vec();
-    while (10 + header.len() + 1) % 64 != 0 {
+    while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(b' ');
     }
     header.push(b'\n');
