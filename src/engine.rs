@@ -126,11 +126,7 @@ impl Engine {
 
     /// The answer for every pair of every table, in pair order (see [`crate::batch`]).
     pub fn pair_times(&mut self, batch: &Batch, params: &Params) -> Result<Vec<Contact>, Error> {
-        self.run(
-            "the batch was",
-            |g| g.pair_times(batch, params),
-            || batch::pair_times(batch, params),
-        )
+        self.pair_times_of(batch, params, 0..batch.num_tables())
     }
 
     /// The answers for the pairs of the tables `tables` only (positions in the batch): the
@@ -144,7 +140,7 @@ impl Engine {
     ) -> Result<Vec<Contact>, Error> {
         let cpu_tables = tables.clone();
         self.run(
-            "the chunk was",
+            redone(batch, &tables),
             |g| g.pair_times_of(batch, params, tables),
             || batch::pair_times_of(batch, params, cpu_tables),
         )
@@ -156,11 +152,7 @@ impl Engine {
         batch: &Batch,
         params: &Params,
     ) -> Result<Vec<NextCollision>, Error> {
-        self.run(
-            "the batch was",
-            |g| g.next_collisions(batch, params),
-            || batch::next_collisions(batch, params),
-        )
+        self.next_collisions_of(batch, params, 0..batch.num_tables())
     }
 
     /// The next collision of the tables `tables` only (positions in the batch): the slice
@@ -173,9 +165,18 @@ impl Engine {
     ) -> Result<Vec<NextCollision>, Error> {
         let cpu_tables = tables.clone();
         self.run(
-            "the chunk was",
+            redone(batch, &tables),
             |g| g.next_collisions_of(batch, params, tables),
             || batch::next_collisions_of(batch, params, cpu_tables),
         )
+    }
+}
+
+/// What a fallback note says was redone on the CPU: the whole batch or a chunk of it.
+fn redone(batch: &Batch, tables: &std::ops::Range<usize>) -> &'static str {
+    if *tables == (0..batch.num_tables()) {
+        "the batch was"
+    } else {
+        "the chunk was"
     }
 }

@@ -126,18 +126,7 @@ fn an_npy_header_promising_too_much_is_refused() {
         eprintln!("skipped: the available memory is not known on this system");
         return;
     }
-    let mut bytes = Vec::new();
-    {
-        use npyz::WriterBuilder;
-        let mut w = npyz::WriteOptions::new()
-            .default_dtype()
-            .shape(&[1, 10])
-            .writer(&mut bytes)
-            .begin_nd()
-            .unwrap();
-        w.extend([0.0f64; 10]).unwrap();
-        w.finish().unwrap();
-    }
+    let bytes = common::plain_array_npy(&[1, 10], &[0.0f64; 10]);
     // rewrite the shape in the header text: (1, 10) becomes (10**15, 10)
     let key = b"'shape': (";
     let at = bytes

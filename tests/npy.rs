@@ -8,10 +8,9 @@ use kisstime::Params;
 use kisstime::io::{read_batch_csv, write_batch_csv};
 use kisstime::npy::{read_batch_npy, write_batch_npy};
 use kisstime::workload::{Scenario, generate};
-use npyz::WriterBuilder;
 
 mod common;
-use common::run_kisstime;
+use common::{plain_array_npy, run_kisstime};
 
 /// A batch as CSV text: two batches are the same when these are.
 fn csv_of(batch: &kisstime::Batch) -> String {
@@ -35,18 +34,7 @@ fn structured_layout_round_trips() {
 
 /// The plain layout: a float64 array of shape (N, 10), rows in any order.
 fn plain_npy(rows: &[[f64; 10]]) -> Vec<u8> {
-    let mut bytes = Vec::new();
-    let mut w = npyz::WriteOptions::new()
-        .default_dtype()
-        .shape(&[rows.len() as u64, 10])
-        .writer(&mut bytes)
-        .begin_nd()
-        .unwrap();
-    for row in rows {
-        w.extend(row.iter().copied()).unwrap();
-    }
-    w.finish().unwrap();
-    bytes
+    plain_array_npy(&[rows.len() as u64, 10], rows.as_flattened())
 }
 
 /// The batch's rows as (table, ball, state code, numbers…), last table first and each
@@ -130,40 +118,16 @@ fn bad_arrays_are_refused_naming_row_table_and_ball() {
 #[test]
 fn wrong_shapes_dtypes_and_truncated_files_are_errors() {
     // a 1-D float array
-    let mut bytes = Vec::new();
-    let mut w = npyz::WriteOptions::new()
-        .default_dtype()
-        .shape(&[3])
-        .writer(&mut bytes)
-        .begin_nd()
-        .unwrap();
-    w.extend([1.0f64, 2.0, 3.0]).unwrap();
-    w.finish().unwrap();
+    let bytes = plain_array_npy(&[3], &[1.0f64, 2.0, 3.0]);
     let msg = npy_error(&bytes);
     assert!(msg.contains("expected a 1-D structured array"), "{msg}");
 
     // 2-D of the wrong width
-    let mut bytes = Vec::new();
-    let mut w = npyz::WriteOptions::new()
-        .default_dtype()
-        .shape(&[1, 3])
-        .writer(&mut bytes)
-        .begin_nd()
-        .unwrap();
-    w.extend([1.0f64, 2.0, 3.0]).unwrap();
-    w.finish().unwrap();
+    let bytes = plain_array_npy(&[1, 3], &[1.0f64, 2.0, 3.0]);
     assert!(npy_error(&bytes).contains("shape [1, 3]"));
 
     // integers instead of floats
-    let mut bytes = Vec::new();
-    let mut w = npyz::WriteOptions::new()
-        .default_dtype()
-        .shape(&[1, 10])
-        .writer(&mut bytes)
-        .begin_nd()
-        .unwrap();
-    w.extend([0i32; 10]).unwrap();
-    w.finish().unwrap();
+    let bytes = plain_array_npy(&[1, 10], &[0i32; 10]);
     assert!(npy_error(&bytes).contains("'<i4'"));
 
     // not an npy file at all, and every truncation of a good one

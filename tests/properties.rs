@@ -197,16 +197,7 @@ fn make_ball(
     let r = params().radius;
     let (vx, vy) = (speed * dir.cos(), speed * dir.sin());
     match state {
-        MotionState::Sliding => Ball {
-            state,
-            x,
-            y,
-            vx,
-            vy,
-            wx,
-            wy,
-            wz,
-        },
+        MotionState::Sliding => Ball::from_numbers(state, [x, y, vx, vy, wx, wy, wz]),
         MotionState::Rolling => Ball {
             wz,
             ..Ball::rolling(x, y, vx, vy, r)

@@ -270,16 +270,9 @@ fn ball_in(state: MotionState) -> BoxedStrategy<Ball> {
         .prop_map(move |((x, y), speed, dir, (wx, wy, wz))| {
             let (vx, vy) = (speed * dir.cos(), speed * dir.sin());
             match state {
-                MotionState::Sliding | MotionState::Rolling => Ball {
-                    state,
-                    x,
-                    y,
-                    vx,
-                    vy,
-                    wx,
-                    wy,
-                    wz,
-                },
+                MotionState::Sliding | MotionState::Rolling => {
+                    Ball::from_numbers(state, [x, y, vx, vy, wx, wy, wz])
+                }
                 MotionState::Spinning => Ball {
                     state,
                     wz,

@@ -236,3 +236,20 @@ pub fn run_kisstime(args: &[&str], env: &[(&str, &str)]) -> std::process::Output
     }
     cmd.output().expect("the kisstime binary runs")
 }
+
+/// A plain `.npy` file (NumPy's default little-endian dtype for `T`) holding `values` in
+/// C order under the shape `shape`, as `numpy.save` writes it.
+pub fn plain_array_npy<T: npyz::AutoSerialize + Copy>(shape: &[u64], values: &[T]) -> Vec<u8> {
+    use npyz::WriterBuilder;
+    let mut bytes = Vec::new();
+    let mut w = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(shape)
+        .writer(&mut bytes)
+        .begin_nd()
+        .expect("an in-memory npy header is written");
+    w.extend(values.iter().copied())
+        .expect("in-memory npy rows are written");
+    w.finish().expect("an in-memory npy file is finished");
+    bytes
+}
