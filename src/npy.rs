@@ -89,20 +89,7 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
     let mut reader = reader;
     let prefix = read_header_prefix(&mut reader)
         .map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
-    let depth = nesting_depth(&prefix);
-    if depth > MAX_HEADER_NESTING {
-        return Err(bad(format!(
-            "not a readable .npy file: its header nests brackets {depth} deep \
-             (a NumPy header needs at most {MAX_HEADER_NESTING})"
-        )));
-    }
-    if !shape_fits(&prefix) {
-        return Err(bad(
-            "not a readable .npy file: its header's shape has more elements than memory \
-             can address"
-                .into(),
-        ));
-    }
+    check_header(&prefix).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
     let reader = std::io::Cursor::new(prefix).chain(reader);
     let npy =
         npyz::NpyFile::new(reader).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
@@ -207,61 +194,120 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
 /// `{` took seconds, found by fuzzing), so deeper headers are refused before it sees them.
 const MAX_HEADER_NESTING: usize = 8;
 
+/// The longest header read. NumPy writes headers of a few hundred bytes (and `numpy.load`
+/// refuses more than 10,000 unless told otherwise); npyz allocates the declared length
+/// before reading it, so a long or cut-short header is refused before it sees it.
+const MAX_HEADER_LEN: u64 = 65_536;
+
 /// The magic string, version, header length and header of a `.npy` file, as far as the
-/// reader has them (a short file gives fewer bytes; npyz then reports what is missing).
+/// reader has them (at most [`MAX_HEADER_LEN`] bytes of header; a short file gives fewer
+/// bytes, and [`check_header`] says what is missing).
 fn read_header_prefix<R: Read>(reader: &mut R) -> std::io::Result<Vec<u8>> {
     let mut prefix = Vec::new();
     reader.by_ref().take(8).read_to_end(&mut prefix)?;
     if prefix.len() < 8 {
         return Ok(prefix);
     }
-    let len_bytes = if prefix[6] == 1 { 2 } else { 4 };
-    reader.by_ref().take(len_bytes).read_to_end(&mut prefix)?;
-    if prefix.len() < 8 + len_bytes as usize {
-        return Ok(prefix);
+    reader
+        .by_ref()
+        .take(header_len_bytes(&prefix) as u64)
+        .read_to_end(&mut prefix)?;
+    if let Some(len) = declared_header_len(&prefix) {
+        reader
+            .by_ref()
+            .take(len.min(MAX_HEADER_LEN))
+            .read_to_end(&mut prefix)?;
     }
-    let mut len = 0u64;
-    for (k, &b) in prefix[8..].iter().enumerate() {
-        len |= (b as u64) << (8 * k);
-    }
-    reader.by_ref().take(len).read_to_end(&mut prefix)?;
     Ok(prefix)
 }
 
-/// Whether the product of the header's shape, in bytes at 8 a number, fits in 64 bits
-/// (npyz multiplies the dimensions unchecked: a fuzzed header overflowed it). A shape that
-/// cannot be found or read is left for npyz to refuse.
-fn shape_fits(header: &[u8]) -> bool {
-    let key = b"'shape'";
-    let Some(at) = header.windows(key.len()).position(|w| w == key) else {
-        return true;
-    };
-    let rest = &header[at + key.len()..];
-    let (Some(open), Some(close)) = (
-        rest.iter().position(|&b| b == b'('),
-        rest.iter().position(|&b| b == b')'),
-    ) else {
-        return true;
-    };
-    if close < open {
-        return true;
+/// How many bytes give the header's length: 2 in format version 1, 4 from version 2 on.
+fn header_len_bytes(prefix: &[u8]) -> usize {
+    if prefix[6] == 1 { 2 } else { 4 }
+}
+
+/// The header length that the bytes after the magic string and version declare, if they
+/// are all there.
+fn declared_header_len(prefix: &[u8]) -> Option<u64> {
+    let n = header_len_bytes(prefix);
+    let bytes = prefix.get(8..8 + n)?;
+    Some(
+        bytes
+            .iter()
+            .enumerate()
+            .fold(0u64, |len, (k, &b)| len | (b as u64) << (8 * k)),
+    )
+}
+
+/// Checks what npyz would trip over in a header that [`read_header_prefix`] read: a header
+/// longer than [`MAX_HEADER_LEN`] or cut short, brackets nested deeper than
+/// [`MAX_HEADER_NESTING`], and a shape whose element count overflows 64 bits (npyz
+/// multiplies the dimensions unchecked: fuzzed headers overflowed it, once with plain
+/// digits and once with an integer written as a sum, which its Python-literal parser
+/// evaluates). The shape is read with the parser npyz uses, `py_literal`, so both see the
+/// same numbers. Anything else wrong (a bad magic string, a header that does not parse, a
+/// missing key) is left for npyz to report.
+fn check_header(prefix: &[u8]) -> Result<(), String> {
+    if prefix.len() < 8 {
+        return Ok(());
     }
-    let mut total: u64 = 8;
-    for dim in rest[open + 1..close].split(|&b| b == b',') {
-        let text = String::from_utf8_lossy(dim);
-        let text = text.trim();
-        if text.is_empty() {
+    let Some(len) = declared_header_len(prefix) else {
+        return Ok(());
+    };
+    if len > MAX_HEADER_LEN {
+        return Err(format!(
+            "its header is {len} bytes long (at most {MAX_HEADER_LEN} are read)"
+        ));
+    }
+    let text = &prefix[8 + header_len_bytes(prefix)..];
+    if (text.len() as u64) < len {
+        return Err(format!(
+            "its header is cut short ({} of {len} bytes)",
+            text.len()
+        ));
+    }
+    let depth = nesting_depth(text);
+    if depth > MAX_HEADER_NESTING {
+        return Err(format!(
+            "its header nests brackets {depth} deep (a NumPy header needs at most \
+             {MAX_HEADER_NESTING})"
+        ));
+    }
+    let text = text.strip_suffix(b"\n").unwrap_or(text);
+    let Ok(Ok(py_literal::Value::Dict(entries))) =
+        std::str::from_utf8(text).map(str::parse::<py_literal::Value>)
+    else {
+        return Ok(());
+    };
+    for (key, value) in &entries {
+        let (
+            py_literal::Value::String(key),
+            py_literal::Value::Tuple(dims) | py_literal::Value::List(dims),
+        ) = (key, value)
+        else {
+            continue;
+        };
+        if key != "shape" {
             continue;
         }
-        match text.parse::<u64>() {
-            Ok(n) => match total.checked_mul(n) {
-                Some(t) => total = t,
-                None => return false,
-            },
-            Err(_) => return !text.chars().all(|c| c.is_ascii_digit()),
+        // 8 bytes a number at the least; a zero dimension does not make the others fit
+        let mut total: u64 = 8;
+        for dim in dims {
+            let py_literal::Value::Integer(dim) = dim else {
+                continue;
+            };
+            let Ok(dim) = u64::try_from(dim) else {
+                continue;
+            };
+            if dim == 0 {
+                continue;
+            }
+            total = total.checked_mul(dim).ok_or_else(|| {
+                "its header's shape has more elements than memory can address".to_string()
+            })?;
         }
     }
-    true
+    Ok(())
 }
 
 /// The deepest nesting of `(`, `[` and `{` in `bytes` (closing brackets of any kind close).

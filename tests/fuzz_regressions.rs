@@ -160,3 +160,66 @@ fn npy_header_whose_shape_overflows_is_refused() {
         .to_string();
     assert!(err.contains("shape.npy") && err.contains("shape"), "{err}");
 }
+
+/// read_npy, finding 5 (fuzzing, session 3): the shape check of finding 4 read the header's
+/// text and let through what was not plain digits, but npyz's Python-literal parser reads
+/// `-02222+000000000014554249058172262684` as one integer (a sum), so the product
+/// overflowed again. The header is now read with the same parser before npyz sees it. The
+/// fuzzer's bytes as found, then the other ways to write a shape npyz would multiply out:
+/// a sum, a list, a repeated key (either value), and a zero beside dimensions whose
+/// product overflows (npyz's strides multiply them even though the array is empty).
+#[test]
+fn npy_header_whose_shape_overflows_when_evaluated_is_refused() {
+    let found: &[u8] = b"\x93NUMPY\x01\x00v\x00{'descr': '<f8', 'fortran_order': False, \
+        'shape': (2, -02222+000000000014554249058172262684), }                           NMP ";
+    let refused = |bytes: &[u8]| {
+        let err = kisstime::npy::read_batch_npy(bytes, "sum.npy")
+            .expect_err("refused")
+            .to_string();
+        assert!(
+            err.contains("sum.npy") && err.contains("more elements than memory"),
+            "{err}"
+        );
+    };
+    refused(found);
+    for shape in [
+        "(3, 6148914691236517205+1)",
+        "[4444444444444444442, 10]",
+        "(0, 4444444444444444442, 10)",
+        "(1, 10), 'shape': (4444444444444444442, 10)",
+    ] {
+        refused(&npy_v1(&format!(
+            "{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}"
+        )));
+    }
+    // a repeated key is refused whichever of its values overflows
+    refused(&npy_v1(
+        "{'descr': '<f8', 'fortran_order': False, 'shape': (4444444444444444442, 10), \
+         'shape': (0, 10), }",
+    ));
+}
+
+/// npyz allocates a header's declared length before it reads it: a 12-byte file declaring
+/// a 4 GB header (format version 2) is refused from the declaration, as is a header cut
+/// short of what it declares.
+#[test]
+fn npy_header_declared_too_long_or_cut_short_is_refused() {
+    let mut bytes = b"\x93NUMPY\x02\x00".to_vec();
+    bytes.extend(u32::MAX.to_le_bytes());
+    bytes.extend(b"{'de");
+    let err = kisstime::npy::read_batch_npy(&bytes[..], "long.npy")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("long.npy") && err.contains("4294967295 bytes long"),
+        "{err}"
+    );
+    let good = npy_v1("{'descr': '<f8', 'fortran_order': False, 'shape': (0, 10), }");
+    let err = kisstime::npy::read_batch_npy(&good[..good.len() - 3], "short.npy")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("short.npy") && err.contains("cut short"),
+        "{err}"
+    );
+}
