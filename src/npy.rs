@@ -24,6 +24,10 @@
 //! `status` is 0 none, 1 hit, 2 overlap ([`crate::Status`]'s codes).
 //!
 //! Errors name the file and the row (`a[row]`, 0-based), and the table and ball.
+//!
+//! Headers are checked before the array is read: at most 64 KiB long, brackets nested at
+//! most 8 deep, and a shape whose element count fits in 64 bits (NumPy's own headers are a
+//! few hundred bytes and nest 3 deep).
 
 use std::io::{Read, Write};
 
