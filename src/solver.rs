@@ -390,7 +390,7 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
 /// relative to anything.
 ///
 /// `f'(0) = 2 B·C`, `f''(0) = 2(|B|² + 2 A·C)`, `f'''(0) = 12 A·B`, `f''''(0) = 24 |A|²`;
-/// each counts as zero within [`APPROACH_BAND`] of the magnitudes that formed it.
+/// each counts as zero within `APPROACH_BAND` of the magnitudes that formed it.
 pub fn approach_sign(rel: &RelPath) -> f64 {
     let (a, b, c) = (rel.a, rel.b, rel.c);
     let d1 = dot(b, c);
@@ -417,7 +417,7 @@ pub fn approach_sign(rel: &RelPath) -> f64 {
 /// below `−2R`), so does `u·C(t)`, and `|C(t)| ≥ |u·C(t)| > 2R`: no contact. Two axes are
 /// tried: the initial centre line `C/|C|` (pairs moving apart, or too slow to close the
 /// gap, [`wide_along_centres`]) and the normal of the relative velocity `B` (pairs passing
-/// each other by, [`wide_sideways`]). The test is exact up to [`PRUNE_SLACK`] of the
+/// each other by, [`wide_sideways`]). The test is exact up to `PRUNE_SLACK` of the
 /// path's length scale, so it never changes an answer; it only spares the root finding.
 /// Both axes are tested on squares, without a square root or a division. `h` must be
 /// finite.
