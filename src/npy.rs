@@ -25,9 +25,9 @@
 //!
 //! Errors name the file and the row (`a[row]`, 0-based), and the table and ball.
 //!
-//! Headers are checked before the array is read: at most 64 KiB long, brackets nested at
-//! most 8 deep, and a shape whose element count fits in 64 bits (NumPy's own headers are a
-//! few hundred bytes and nest 3 deep).
+//! Headers are checked before the array is read: at most 10,000 bytes long (as
+//! `numpy.load` reads by default), brackets nested at most 5 deep, and a shape whose element
+//! count fits in 64 bits (NumPy's own headers are a few hundred bytes and nest 3 deep).
 
 use std::io::{Read, Write};
 
@@ -95,8 +95,12 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
         .map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
     check_header(&prefix).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
     let reader = std::io::Cursor::new(prefix).chain(reader);
-    let npy =
-        npyz::NpyFile::new(reader).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
+    let npy = npyz::NpyFile::new(reader).map_err(|e| {
+        bad(format!(
+            "not a readable .npy file: {}",
+            first_line(&e.to_string())
+        ))
+    })?;
     if npy.uses_pickled_array() {
         return Err(bad(
             "object arrays (pickled) are not read; use numeric dtypes".into(),
@@ -193,15 +197,20 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
 }
 
 /// The deepest bracket nesting a header may have. NumPy's headers for the arrays read here
-/// nest three deep (`{'descr': [('x', '<f8'), …], …}`); the header parser npyz uses
-/// backtracks exponentially in the depth of unclosed brackets (a 100-byte header of 20
-/// `{` took seconds, found by fuzzing), so deeper headers are refused before it sees them.
-const MAX_HEADER_NESTING: usize = 8;
+/// nest three deep (`{'descr': [('x', '<f8'), …], …}`, four with a sub-array field). The
+/// header parser npyz uses, `py_literal` (a pest grammar), backtracks exponentially in the
+/// depth of unclosed brackets (20 `{` in 100 bytes took seconds, found by fuzzing) and
+/// about quadratically in the length (10,000 bytes 6 deep took 0.4 s, 7 deep 0.9 s).
+const MAX_HEADER_NESTING: usize = 5;
 
-/// The longest header read. NumPy writes headers of a few hundred bytes (and `numpy.load`
-/// refuses more than 10,000 unless told otherwise); npyz allocates the declared length
-/// before reading it, so a long or cut-short header is refused before it sees it.
-const MAX_HEADER_LEN: u64 = 65_536;
+/// The longest header read: `numpy.load`'s own default limit (`max_header_size`). NumPy
+/// writes headers of a few hundred bytes; npyz allocates the declared length (up to 4 GiB)
+/// before reading it, and parses it in a time that grows faster than the length.
+const MAX_HEADER_LEN: u64 = 10_000;
+
+/// The longest part of a header parser's message quoted in an error (pest quotes the whole
+/// offending line, which can be the whole header).
+const MAX_QUOTED: usize = 160;
 
 /// The magic string, version, header length and header of a `.npy` file, as far as the
 /// reader has them (at most [`MAX_HEADER_LEN`] bytes of header; a short file gives fewer
@@ -243,16 +252,18 @@ fn declared_header_len(prefix: &[u8]) -> Option<u64> {
     )
 }
 
-/// Checks what npyz would trip over in a header that [`read_header_prefix`] read: a header
-/// longer than [`MAX_HEADER_LEN`] or cut short, brackets nested deeper than
-/// [`MAX_HEADER_NESTING`], and a shape whose element count overflows 64 bits (npyz
-/// multiplies the dimensions unchecked: fuzzed headers overflowed it, once with plain
-/// digits and once with an integer written as a sum, which its Python-literal parser
-/// evaluates). The shape is read with the parser npyz uses, `py_literal`, so both see the
-/// same numbers. Anything else wrong (a bad magic string, a header that does not parse, a
-/// missing key) is left for npyz to report.
+/// Checks what npyz would trip over in a header that [`read_header_prefix`] read, and
+/// parses it once, so that npyz parses only a header known to parse: a header longer than
+/// [`MAX_HEADER_LEN`] or cut short, brackets nested deeper than [`MAX_HEADER_NESTING`], a
+/// header that is not UTF-8 or not a Python literal, and a shape whose element count
+/// overflows 64 bits (npyz multiplies the dimensions unchecked: fuzzed headers overflowed
+/// it, once with plain digits and once with an integer written as a sum, which its
+/// Python-literal parser evaluates). The header is read with the parser npyz uses,
+/// `py_literal`, so both see the same numbers. A file that is not `.npy` at all (no magic
+/// string, an unknown version) and a header without the keys npyz needs are left for npyz
+/// to report.
 fn check_header(prefix: &[u8]) -> Result<(), String> {
-    if prefix.len() < 8 {
+    if prefix.len() < 8 || !prefix.starts_with(b"\x93NUMPY") || !(1..=3).contains(&prefix[6]) {
         return Ok(());
     }
     let Some(len) = declared_header_len(prefix) else {
@@ -260,7 +271,8 @@ fn check_header(prefix: &[u8]) -> Result<(), String> {
     };
     if len > MAX_HEADER_LEN {
         return Err(format!(
-            "its header is {len} bytes long (at most {MAX_HEADER_LEN} are read)"
+            "its header is {len} bytes long (at most {MAX_HEADER_LEN} are read, as by \
+             numpy.load)"
         ));
     }
     let text = &prefix[8 + header_len_bytes(prefix)..];
@@ -278,9 +290,14 @@ fn check_header(prefix: &[u8]) -> Result<(), String> {
         ));
     }
     let text = text.strip_suffix(b"\n").unwrap_or(text);
-    let Ok(Ok(py_literal::Value::Dict(entries))) =
-        std::str::from_utf8(text).map(str::parse::<py_literal::Value>)
-    else {
+    let text = std::str::from_utf8(text).map_err(|_| "its header is not UTF-8 text".to_string())?;
+    let header = text.parse::<py_literal::Value>().map_err(|e| {
+        format!(
+            "its header is not a Python literal: {}",
+            first_line(&e.to_string())
+        )
+    })?;
+    let py_literal::Value::Dict(entries) = header else {
         return Ok(());
     };
     for (key, value) in &entries {
@@ -312,6 +329,15 @@ fn check_header(prefix: &[u8]) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The first line of a parser's message, at most [`MAX_QUOTED`] characters of it.
+fn first_line(msg: &str) -> String {
+    let line = msg.lines().next().unwrap_or("").trim_end();
+    match line.char_indices().nth(MAX_QUOTED) {
+        Some((at, _)) => format!("{}…", &line[..at]),
+        None => line.to_string(),
+    }
 }
 
 /// The deepest nesting of `(`, `[` and `{` in `bytes` (closing brackets of any kind close).
