@@ -299,6 +299,9 @@ fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real
 
 // The sign of the first clearly non-zero derivative of f at t = 0: negative when a touching
 // pair approaches, positive when it separates, zero when nothing moves relative to anything.
+//
+// f'(0) = 2 B·C, f''(0) = 2(|B|² + 2 A·C), f'''(0) = 12 A·B, f''''(0) = 24 |A|²; each counts
+// as zero within APPROACH_BAND of the magnitudes that formed it.
 fn approach_sign(rel: RelPath) -> real {
     let a = rel.a;
     let b = rel.b;

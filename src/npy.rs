@@ -300,35 +300,37 @@ fn check_header(prefix: &[u8]) -> Result<(), String> {
     let py_literal::Value::Dict(entries) = header else {
         return Ok(());
     };
-    for (key, value) in &entries {
-        let (
-            py_literal::Value::String(key),
-            py_literal::Value::Tuple(dims) | py_literal::Value::List(dims),
-        ) = (key, value)
-        else {
-            continue;
-        };
-        if key != "shape" {
-            continue;
-        }
-        // 8 bytes a number at the least; a zero dimension does not make the others fit
-        let mut total: u64 = 8;
-        for dim in dims {
-            let py_literal::Value::Integer(dim) = dim else {
-                continue;
-            };
-            let Ok(dim) = u64::try_from(dim) else {
-                continue;
-            };
-            if dim == 0 {
-                continue;
-            }
-            total = total.checked_mul(dim).ok_or_else(|| {
-                "its header's shape has more elements than memory can address".to_string()
-            })?;
+    // every 'shape' entry: npyz keeps the last of a repeated key
+    let shapes = entries
+        .iter()
+        .filter_map(|(key, value)| match (key, value) {
+            (
+                py_literal::Value::String(key),
+                py_literal::Value::Tuple(dims) | py_literal::Value::List(dims),
+            ) if key == "shape" => Some(dims),
+            _ => None,
+        });
+    for dims in shapes {
+        if !shape_fits(dims) {
+            return Err("its header's shape has more elements than memory can address".into());
         }
     }
     Ok(())
+}
+
+/// Whether a shape's non-negative integer dimensions, at 8 bytes a number, multiply out
+/// within 64 bits. Zeros are skipped: a zero does not make the others fit, as npyz's
+/// strides multiply them even for an empty array. What is not a non-negative integer is
+/// left for npyz to refuse.
+fn shape_fits(dims: &[py_literal::Value]) -> bool {
+    dims.iter()
+        .filter_map(|dim| match dim {
+            py_literal::Value::Integer(dim) => u64::try_from(dim).ok(),
+            _ => None,
+        })
+        .filter(|&dim| dim != 0)
+        .try_fold(8u64, |total, dim| total.checked_mul(dim))
+        .is_some()
 }
 
 /// The first line of a parser's message, at most [`MAX_QUOTED`] characters of it.
