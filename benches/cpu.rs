@@ -9,14 +9,14 @@
 //! `next_collisions` (the per-table minimum, nothing per pair kept).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use kisstime::workload::{Scenario, generate};
+use kisstime::workload::{Workload, generate};
 use kisstime::{Params, next_collisions, pair_times};
 use std::hint::black_box;
 use std::time::Duration;
 
 fn cpu(c: &mut Criterion) {
     let params = Params::default();
-    for scenario in [Scenario::Midshot, Scenario::Worst] {
+    for scenario in [Workload::Midshot, Workload::Worst] {
         let batch = generate(scenario, 10_000, 16, 42, &params);
         let mut group = c.benchmark_group(format!("cpu_f64/{}", scenario.name()));
         group.throughput(Throughput::Elements(batch.num_pairs() as u64));

@@ -11,8 +11,9 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kisstime::Params;
-use kisstime::gpu::{GpuEngine, Kernel, Precision};
-use kisstime::workload::{Scenario, generate};
+use kisstime::Precision;
+use kisstime::gpu::{GpuEngine, Kernel};
+use kisstime::workload::{Workload, generate};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -31,7 +32,7 @@ fn gpu(c: &mut Criterion) {
             }
         };
         eprintln!("gpu bench {}: {}", precision.name(), engine.adapter());
-        for scenario in [Scenario::Midshot, Scenario::Worst] {
+        for scenario in [Workload::Midshot, Workload::Worst] {
             let batch = generate(scenario, tables, 16, 42, &params);
             let mut group =
                 c.benchmark_group(format!("gpu_{}/{}", precision.name(), scenario.name()));

@@ -1,7 +1,8 @@
 // Entry points: one workgroup per table. WGSL twin of the per-table loops of
-// src/batch.rs (`pair_times`, `table_next`, `pair_of_index`); the buffers are owned and
-// filled by src/gpu.rs. A batch larger than one dispatch is split there into chunks of
-// whole tables; all indices below are relative to the chunk.
+// src/cpu/kernels.rs (`table_paths`, `pair_times`, `next_collisions` with `table_next`)
+// and of `pair_of_index` in src/batch/pairs.rs; the buffers are owned and filled by
+// src/gpu/ (buffers.rs, dispatch.rs). A batch larger than one dispatch is split there
+// into chunks of whole tables; all indices below are relative to the chunk.
 
 // Threads per workgroup.
 const WG: u32 = 64u;
@@ -76,7 +77,7 @@ fn path_of(t: Table, i: u32) -> BallPath {
     return load_path(t.b0 + i);
 }
 
-// The pair (i, j), i < j < n, at local index p in pair order (Rust: batch::pair_of_index).
+// The pair (i, j), i < j < n, at local index p in pair order (Rust: batch::pairs::pair_of_index).
 // Row i starts at s(i) = i (2n − i − 1) / 2; the f32 estimate of i is corrected exactly.
 fn pair_of_index(n: u32, p: u32) -> vec2<u32> {
     let m = f32(2u * n - 1u);
@@ -93,7 +94,7 @@ fn pair_of_index(n: u32, p: u32) -> vec2<u32> {
     return vec2<u32>(i, j);
 }
 
-// Every pair of every table (Rust: batch::pair_times).
+// Every pair of every table (Rust: cpu::kernels::pair_times).
 @compute @workgroup_size(64)
 fn pair_times(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let t = this_table(wg);
@@ -119,7 +120,7 @@ fn comes_first(t: real, code: u32, t_best: real, code_best: u32) -> bool {
     return t < t_best || (t == t_best && (code >> 2u) < (code_best >> 2u));
 }
 
-// The next collision of every table (Rust: batch::table_next), reduced in the workgroup.
+// The next collision of every table (Rust: cpu::kernels::table_next), reduced in the workgroup.
 @compute @workgroup_size(64)
 fn next_collisions(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let t = this_table(wg);

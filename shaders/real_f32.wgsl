@@ -1,5 +1,5 @@
-// Precision prelude: f32. Prepended to physics.wgsl, solver.wgsl and kernels.wgsl by the
-// host (src/gpu.rs). The f64 prelude, real_f64.wgsl, defines the same names.
+// Precision prelude: f32. Prepended to the twins by the host (src/gpu/shader.rs). The f64
+// prelude, real_f64.wgsl, defines the same names.
 alias real = f32;
 alias real2 = vec2<f32>;
 

@@ -1,6 +1,6 @@
-// Precision prelude: f64 (needs the SHADER_F64 feature). Prepended to physics.wgsl,
-// solver.wgsl and kernels.wgsl by the host (src/gpu.rs). Only arithmetic and sqrt are
-// used on f64: transcendental builtins compile for f64 on Vulkan but return garbage.
+// Precision prelude: f64 (needs the SHADER_F64 feature). Prepended to the twins by the
+// host (src/gpu/shader.rs). Only arithmetic and sqrt are used on f64: transcendental
+// builtins compile for f64 on Vulkan but return garbage.
 alias real = f64;
 alias real2 = vec2<f64>;
 

@@ -9,10 +9,10 @@
 //! can resolve (`1e-5 m + 5e-7·S` for f32, `S` the length of the relative path; `1e-9 m` for
 //! f64).
 
-use crate::batch::{Batch, NextCollision, pair_index};
-use crate::gpu::Precision;
-use crate::physics::{Params, RelPath, ball_path, dot, norm};
-use crate::solver::{Contact, Status, pair_contact};
+use crate::batch::{Batch, NextCollision, pair_index, pairs};
+use crate::model::{Params, Precision, dot, norm};
+use crate::motion::path::ball_path;
+use crate::query::ball_ball::{Contact, RelPath, Status, pair_contact};
 
 /// How two sets of per-pair answers agree.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -86,21 +86,19 @@ pub fn compare_pairs(
     let mut at = 0;
     for k in 0..batch.num_tables() {
         let balls = batch.balls(k);
-        for i in 0..balls.len() {
-            for j in i + 1..balls.len() {
-                let (r, o) = (reference[at], other[at]);
-                at += 1;
-                let rel =
-                    RelPath::between(&ball_path(&balls[i], params), &ball_path(&balls[j], params));
-                if answers_agree(&rel, r, o, precision) {
-                    continue;
-                }
-                if grazes(batch, k, i, j, params, excuse_margin(precision)) {
-                    agreement.excused += 1;
-                } else {
-                    agreement.outside_tier += 1;
-                    report(k, i, j, r, o);
-                }
+        for (i, j) in pairs(balls.len()) {
+            let (r, o) = (reference[at], other[at]);
+            at += 1;
+            let rel =
+                RelPath::between(&ball_path(&balls[i], params), &ball_path(&balls[j], params));
+            if answers_agree(&rel, r, o, precision) {
+                continue;
+            }
+            if grazes(batch, k, i, j, params, excuse_margin(precision)) {
+                agreement.excused += 1;
+            } else {
+                agreement.outside_tier += 1;
+                report(k, i, j, r, o);
             }
         }
     }

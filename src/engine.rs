@@ -6,11 +6,24 @@
 //! batch on the CPU, again with a note. `gpu` reports such failures as errors. The CPU
 //! backend computes in f64 only; a fallback from GPU f32 therefore computes in f64.
 
-use crate::batch::{self, Batch, NextCollision};
+use crate::batch::{Batch, NextCollision};
+use crate::cpu;
 use crate::error::Error;
-use crate::gpu::{GpuEngine, Precision};
-use crate::physics::Params;
-use crate::solver::Contact;
+use crate::gpu::GpuEngine;
+use crate::model::Params;
+pub use crate::model::Precision;
+use crate::query::ball_ball::Contact;
+
+/// The backend used when none is asked for: the CPU, the reference.
+pub const DEFAULT_BACKEND: Backend = Backend::Cpu;
+/// The precision used when none is asked for: f64 on the CPU, f32 on a GPU (every GPU has
+/// it; f64 only where the adapter offers `SHADER_F64`).
+pub fn default_precision(backend: Backend) -> Precision {
+    match backend {
+        Backend::Cpu => Precision::F64,
+        Backend::Gpu | Backend::Auto => Precision::F32,
+    }
+}
 
 /// Where batches are computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -142,7 +155,7 @@ impl Engine {
         self.run(
             redone(batch, &tables),
             |g| g.pair_times_of(batch, params, tables),
-            || batch::pair_times_of(batch, params, cpu_tables),
+            || cpu::pair_times_of(batch, params, cpu_tables),
         )
     }
 
@@ -167,7 +180,7 @@ impl Engine {
         self.run(
             redone(batch, &tables),
             |g| g.next_collisions_of(batch, params, tables),
-            || batch::next_collisions_of(batch, params, cpu_tables),
+            || cpu::next_collisions_of(batch, params, cpu_tables),
         )
     }
 }

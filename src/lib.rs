@@ -8,22 +8,29 @@
 //! fail (parallel rolling, identical motion, a ball that stops short, a just-collided
 //! touching pair, grazes).
 //!
-//! Where things are:
-//! - [`physics`]: the model — parameters, motion states, one ball's path, a pair's
-//!   relative path and quartic;
-//! - [`solver`]: the answer for one pair (rules 1–4) and the root finder;
-//! - [`batch`]: the flat batch layout and the Rayon drivers [`pair_times`] and
-//!   [`next_collisions`];
-//! - [`gpu`]: the GPU backend (wgpu host code; the WGSL twins are in `shaders/`);
-//! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback;
+//! Where things are — modules by the question they answer, imports pointing one way, from
+//! the vocabulary up to the drivers:
+//! - [`model`]: the vocabulary — vectors, parameters, balls and motion states, the table,
+//!   the precision;
+//! - [`motion`]: a ball's path between events, and its state after some time on it;
+//! - [`query`]: when does something happen — [`query::roots`], [`query::ball_ball`] (the
+//!   pair solver), [`query::ball_cushion`];
+//! - [`resolve`]: what an event does — the cue strike ([`resolve::stick_ball`]);
+//! - [`batch`]: the flat batch layout, the pair order and the next-collision tie rule;
+//! - [`cpu`]: the Rayon drivers [`pair_times`] and [`next_collisions`] (f64, the
+//!   reference);
+//! - [`gpu`]: the GPU backend (wgpu host code; each WGSL twin in `shaders/` mirrors its
+//!   Rust file: `shaders/query/ball_ball.wgsl` beside `src/query/ball_ball.rs`);
+//! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback, and the defaults;
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
-//! - [`io`]: CSV input and output, and the format by file name;
-//! - [`npy`]: NumPy `.npy` input and output for large batches;
-//! - [`limits`]: what an input may ask for, checked before allocating;
-//! - [`shot`], [`scenario`], [`study`], [`plot`]: Monte Carlo shot studies (the cue strike
-//!   and the cue ball's motion, the TOML scenario, the study driver and its summary, the
-//!   picture);
-//! - the `kisstime` binary is a thin command-line layer over these.
+//! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files;
+//! - [`study`]: Monte Carlo shot studies (configuration, noise, the driver, statistics);
+//! - [`workload`]: reproducible built-in workloads; [`limits`], [`error`].
+//!
+//! The `kisstime` command line (`src/main.rs`, `src/cli/`) is a thin layer over these,
+//! built with the default `cli` feature; `default-features = false` leaves the library
+//! with only what the computation needs. The `testing` feature adds test hooks (fault
+//! injection and chunk limits on [`GpuEngine`]).
 //!
 //! ```
 //! use kisstime::{Ball, Batch, Params, Status, pair_times};
@@ -44,25 +51,25 @@
 #![warn(missing_docs)]
 
 pub mod batch;
-pub mod bench;
 pub mod compare;
+pub mod cpu;
 pub mod engine;
 pub mod error;
 pub mod gpu;
 pub mod io;
 pub mod limits;
-pub mod npy;
-pub mod physics;
-pub mod plot;
-pub mod scenario;
-pub mod shot;
-pub mod solver;
+pub mod model;
+pub mod motion;
+pub mod query;
+pub mod resolve;
 pub mod study;
 pub mod workload;
 
-pub use batch::{Batch, NextCollision, next_collisions, next_from_pairs, pair_times};
+pub use batch::{Batch, NextCollision, next_from_pairs};
+pub use cpu::{next_collisions, next_collisions_of, pair_times, pair_times_of};
 pub use engine::{Backend, Engine};
 pub use error::{Error, InputError};
-pub use gpu::{Fault, GpuEngine, Precision};
-pub use physics::{Ball, BallPath, MotionState, Params, RelPath, ball_path};
-pub use solver::{CONTACT_TOL, Contact, Status, pair_contact};
+pub use gpu::GpuEngine;
+pub use model::{Ball, MotionState, Params, Precision, Vec2};
+pub use motion::{BallPath, ball_path};
+pub use query::{CONTACT_TOL, Contact, RelPath, Status, pair_contact};

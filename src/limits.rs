@@ -18,7 +18,7 @@ pub const MAX_TABLE_BALLS: usize = 32_768;
 pub const BYTES_PER_BALL: u64 = 88;
 
 /// Memory per pair of per-pair answers ([`crate::Contact`]).
-pub const BYTES_PER_PAIR: u64 = std::mem::size_of::<crate::solver::Contact>() as u64;
+pub const BYTES_PER_PAIR: u64 = std::mem::size_of::<crate::query::ball_ball::Contact>() as u64;
 
 /// The memory available to this process in bytes, as the operating system reports it, or
 /// `None` where it is not known.

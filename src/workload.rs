@@ -9,7 +9,7 @@ use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
 use crate::batch::Batch;
-use crate::physics::{Ball, MotionState, Params};
+use crate::model::{Ball, MotionState, Params};
 
 /// Playing-area length of a 9-ft table in metres.
 pub const TABLE_LENGTH: f64 = 2.54;
@@ -18,7 +18,7 @@ pub const TABLE_WIDTH: f64 = 1.27;
 
 /// A built-in workload.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Scenario {
+pub enum Workload {
     /// The break: a racked 15-ball pyramid and the cue ball struck at it (16 balls;
     /// `balls` is ignored).
     Rack,
@@ -32,22 +32,22 @@ pub enum Scenario {
     Worst,
 }
 
-impl Scenario {
+impl Workload {
     /// Every scenario.
-    pub const ALL: [Scenario; 4] = [
-        Scenario::Rack,
-        Scenario::Midshot,
-        Scenario::Spread,
-        Scenario::Worst,
+    pub const ALL: [Workload; 4] = [
+        Workload::Rack,
+        Workload::Midshot,
+        Workload::Spread,
+        Workload::Worst,
     ];
 
     /// The scenario's name (`rack`, `midshot`, `spread`, `worst`).
     pub fn name(self) -> &'static str {
         match self {
-            Scenario::Rack => "rack",
-            Scenario::Midshot => "midshot",
-            Scenario::Spread => "spread",
-            Scenario::Worst => "worst",
+            Workload::Rack => "rack",
+            Workload::Midshot => "midshot",
+            Workload::Spread => "spread",
+            Workload::Worst => "worst",
         }
     }
 }
@@ -99,7 +99,7 @@ fn mover(rng: &mut Pcg64Mcg, x: f64, y: f64, sliding: bool, params: &Params) -> 
 
 /// The balls of one table of `scenario`, as `(ball id, ball)`.
 fn table(
-    scenario: Scenario,
+    scenario: Workload,
     balls: usize,
     rng: &mut Pcg64Mcg,
     params: &Params,
@@ -111,7 +111,7 @@ fn table(
         (margin, TABLE_WIDTH - margin),
     );
     match scenario {
-        Scenario::Rack => {
+        Workload::Rack => {
             let mut out = Vec::with_capacity(16);
             let d = 2.0 * r + 1e-4;
             let (ax, ay) = (0.75 * TABLE_LENGTH, 0.5 * TABLE_WIDTH);
@@ -148,7 +148,7 @@ fn table(
             ));
             out
         }
-        Scenario::Midshot => {
+        Workload::Midshot => {
             let pts = place(rng, balls, full.0, full.1, 2.0 * r + 1e-3);
             pts.into_iter()
                 .enumerate()
@@ -162,14 +162,14 @@ fn table(
                 })
                 .collect()
         }
-        Scenario::Spread => {
+        Workload::Spread => {
             let pts = place(rng, balls, full.0, full.1, 2.0 * r + 1e-3);
             pts.into_iter()
                 .enumerate()
                 .map(|(i, (x, y))| (i as i64, mover(rng, x, y, i % 2 == 0, params)))
                 .collect()
         }
-        Scenario::Worst => {
+        Workload::Worst => {
             // balls on a circle, every one aimed at its centre (± 0.05 rad) at similar
             // speeds: every pair closes in, so no pair can be ruled out cheaply. Two balls
             // slide with strong draw and side spin (curved paths); the rest roll.
@@ -210,7 +210,7 @@ fn table(
 /// A batch of `tables` tables of `scenario` with `balls` balls each (2 to 64; the rack
 /// always has 16), table ids `0..tables`, reproducible from `seed`.
 pub fn generate(
-    scenario: Scenario,
+    scenario: Workload,
     tables: usize,
     balls: usize,
     seed: u64,
@@ -231,12 +231,12 @@ pub fn generate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::Status;
+    use crate::query::Status;
 
     #[test]
     fn generated_batches_are_reproducible_and_valid() {
         let p = Params::default();
-        for s in Scenario::ALL {
+        for s in Workload::ALL {
             let a = generate(s, 20, 16, 7, &p);
             let b = generate(s, 20, 16, 7, &p);
             assert_eq!(a.num_pairs(), 20 * 120, "{s:?}");
@@ -251,7 +251,7 @@ mod tests {
     #[test]
     fn the_break_hits_the_rack() {
         let p = Params::default();
-        let batch = generate(Scenario::Rack, 10, 16, 1, &p);
+        let batch = generate(Workload::Rack, 10, 16, 1, &p);
         let next = crate::next_collisions(&batch, &p).unwrap();
         assert!(
             next.iter()

@@ -49,7 +49,7 @@ fn write(dir: &Path, name: &str, content: &str) -> PathBuf {
 /// Two tables (ids 7 and −2), their rows interleaved, ball ids not sorted, with hits,
 /// misses, a touching pair, a pocketed ball and padded fields.
 fn small_csv() -> String {
-    let r = kisstime::physics::DEFAULT_RADIUS;
+    let r = kisstime::model::DEFAULT_RADIUS;
     let rows = [
         // table 7: a rolling cue ball at a still ball, a sliding ball, a pocketed ball
         "7,5,rolling,0.3,0.5,2.0,0.0,0.0,69.99125109361329,0.0".to_owned(),
@@ -459,7 +459,7 @@ fn big_csv() -> String {
         z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
         ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
     };
-    let r = kisstime::physics::DEFAULT_RADIUS;
+    let r = kisstime::model::DEFAULT_RADIUS;
     let mut s = String::from(HEADER_IN);
     s.push('\n');
     for table in 0..400 {

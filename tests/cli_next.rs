@@ -6,7 +6,7 @@ use std::path::Path;
 use std::process::Command;
 
 use kisstime::Params;
-use kisstime::workload::{Scenario, generate};
+use kisstime::workload::{Workload, generate};
 
 fn kisstime(args: &[&str]) -> std::process::Output {
     let out = Command::new(env!("CARGO_BIN_EXE_kisstime"))
@@ -146,7 +146,7 @@ fn generated_files_read_back_as_the_generated_batch() {
         s(&file),
     ]);
     let read = kisstime::io::read_batch_csv_path(&file).unwrap();
-    let made = generate(Scenario::Spread, 50, 7, 9, &Params::default());
+    let made = generate(Workload::Spread, 50, 7, 9, &Params::default());
     assert_eq!(read.num_tables(), made.num_tables());
     for k in 0..made.num_tables() {
         assert_eq!(read.table_id(k), made.table_id(k));

@@ -94,12 +94,12 @@ fn the_prune_never_discards_a_corpus_collision() {
     for case in corpus() {
         let p1 = kisstime::ball_path(&case.b1, &case.params);
         let p2 = kisstime::ball_path(&case.b2, &case.params);
-        let h = kisstime::physics::pair_horizon(&p1, &p2);
+        let h = kisstime::motion::pair_horizon(&p1, &p2);
         if !h.is_finite() {
             continue;
         }
         let rel = kisstime::RelPath::between(&p1, &p2);
-        if kisstime::solver::cannot_meet(&rel, case.params.radius, h) {
+        if kisstime::query::ball_ball::cannot_meet(&rel, case.params.radius, h) {
             pruned += 1;
             assert!(
                 !case.expected_t.is_finite(),

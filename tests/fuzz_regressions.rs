@@ -1,7 +1,8 @@
 //! Inputs found by the fuzz targets in `fuzz/` (see FUZZING.md), kept as plain tests with
 //! the values inline so they run with every `cargo test`.
 
-use kisstime::physics::{PATH_MOVES, RelPath};
+use kisstime::motion::PATH_MOVES;
+use kisstime::query::RelPath;
 use kisstime::{Ball, MotionState, Params, Status, ball_path, pair_contact};
 
 /// `|C(s)| − 2R` along the pair's relative path.
@@ -95,7 +96,7 @@ fn scenario_with_underflowing_deceleration_is_refused() {
                 [[balls]]\nid = 3\nx = 1.85\ny = 0.78\n\
                 [shot]\ncue_ball = 0\nobject_ball = 3\nv0 = 1.6\nphi = 18.58\n\
                 theta = 5.0\na = 0.0\nb = 0.2\n";
-    let err = kisstime::scenario::Scenario::parse(text, "s.toml")
+    let err = kisstime::study::StudyConfig::parse(text, "s.toml")
         .unwrap_err()
         .to_string();
     assert!(
@@ -105,7 +106,7 @@ fn scenario_with_underflowing_deceleration_is_refused() {
     assert!(err.contains("s.toml"), "{err}");
     // the same file with ordinary values is fine
     let ok = text.replace("mu_r = 1e-200\ng = 1e-200\n", "");
-    assert!(kisstime::scenario::Scenario::parse(&ok, "s.toml").is_ok());
+    assert!(kisstime::study::StudyConfig::parse(&ok, "s.toml").is_ok());
 }
 
 /// A `.npy` file of `header` (version 1.0, padded as NumPy pads).
@@ -128,7 +129,7 @@ fn npy_header_with_deeply_nested_brackets_is_refused_at_once() {
     for open in ["[", "{", "("] {
         let bytes = npy_v1(&format!("{{'descr': {}}}", open.repeat(40)));
         let start = std::time::Instant::now();
-        let err = kisstime::npy::read_batch_npy(&bytes[..], "deep.npy")
+        let err = kisstime::io::npy::read_batch_npy(&bytes[..], "deep.npy")
             .unwrap_err()
             .to_string();
         assert!(err.contains("nests brackets"), "{err}");
@@ -136,7 +137,7 @@ fn npy_header_with_deeply_nested_brackets_is_refused_at_once() {
     }
     // an ordinary header still reads (here: a valid header, no data)
     let bytes = npy_v1("{'descr': '<f8', 'fortran_order': False, 'shape': (0, 10), }");
-    let batch = kisstime::npy::read_batch_npy(&bytes[..], "empty.npy").unwrap();
+    let batch = kisstime::io::npy::read_batch_npy(&bytes[..], "empty.npy").unwrap();
     assert_eq!(batch.num_tables(), 0);
 }
 
@@ -155,7 +156,7 @@ fn npy_header_whose_shape_overflows_is_refused() {
     bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
     bytes.extend_from_slice(&header);
     bytes.extend_from_slice(&[0u8; 80]);
-    let err = kisstime::npy::read_batch_npy(&bytes[..], "shape.npy")
+    let err = kisstime::io::npy::read_batch_npy(&bytes[..], "shape.npy")
         .expect_err("refused")
         .to_string();
     assert!(err.contains("shape.npy") && err.contains("shape"), "{err}");
@@ -173,7 +174,7 @@ fn npy_header_whose_shape_overflows_when_evaluated_is_refused() {
     let found: &[u8] = b"\x93NUMPY\x01\x00v\x00{'descr': '<f8', 'fortran_order': False, \
         'shape': (2, -02222+000000000014554249058172262684), }                           NMP ";
     let refused = |bytes: &[u8]| {
-        let err = kisstime::npy::read_batch_npy(bytes, "sum.npy")
+        let err = kisstime::io::npy::read_batch_npy(bytes, "sum.npy")
             .expect_err("refused")
             .to_string();
         assert!(
@@ -207,7 +208,7 @@ fn npy_header_declared_too_long_or_cut_short_is_refused() {
     let mut bytes = b"\x93NUMPY\x02\x00".to_vec();
     bytes.extend(u32::MAX.to_le_bytes());
     bytes.extend(b"{'de");
-    let err = kisstime::npy::read_batch_npy(&bytes[..], "long.npy")
+    let err = kisstime::io::npy::read_batch_npy(&bytes[..], "long.npy")
         .unwrap_err()
         .to_string();
     assert!(
@@ -215,7 +216,7 @@ fn npy_header_declared_too_long_or_cut_short_is_refused() {
         "{err}"
     );
     let good = npy_v1("{'descr': '<f8', 'fortran_order': False, 'shape': (0, 10), }");
-    let err = kisstime::npy::read_batch_npy(&good[..good.len() - 3], "short.npy")
+    let err = kisstime::io::npy::read_batch_npy(&good[..good.len() - 3], "short.npy")
         .unwrap_err()
         .to_string();
     assert!(
@@ -233,7 +234,7 @@ fn npy_header_that_is_slow_to_parse_is_refused_quickly_with_a_short_message() {
     let body = format!("{{'descr': [[[[{}", "1,".repeat(4_900));
     let bytes = npy_v1(&body);
     let start = std::time::Instant::now();
-    let err = kisstime::npy::read_batch_npy(&bytes[..], "slow.npy")
+    let err = kisstime::io::npy::read_batch_npy(&bytes[..], "slow.npy")
         .unwrap_err()
         .to_string();
     assert!(start.elapsed().as_secs() < 5);
@@ -247,7 +248,7 @@ fn npy_header_that_is_slow_to_parse_is_refused_quickly_with_a_short_message() {
     let header = format!("{{'descr': '<f8', 'x': '{}'}}\n", "a".repeat(10_000));
     bytes.extend((header.len() as u32).to_le_bytes());
     bytes.extend(header.as_bytes());
-    let err = kisstime::npy::read_batch_npy(&bytes[..], "long.npy")
+    let err = kisstime::io::npy::read_batch_npy(&bytes[..], "long.npy")
         .unwrap_err()
         .to_string();
     assert!(err.contains("bytes long") && err.len() < 300, "{err}");

@@ -64,30 +64,30 @@ fn corpus_gpu_f64_passes_the_f64_tier() {
 }
 
 use kisstime::compare::{compare_pairs, next_disagreements, time_agrees};
-use kisstime::workload::{Scenario, generate};
+use kisstime::gpu::Fault;
+use kisstime::workload::{Workload, generate};
 use kisstime::{
-    Backend, Batch, Engine, Error, Fault, GpuEngine, Params, RelPath, Status, ball_path,
-    next_from_pairs,
+    Backend, Batch, Engine, Error, GpuEngine, Params, RelPath, Status, ball_path, next_from_pairs,
 };
 
 /// The large random batches: ~120k pairs of realistic and hard tables.
-fn random_batches(params: &Params) -> Vec<(Scenario, Batch)> {
+fn random_batches(params: &Params) -> Vec<(Workload, Batch)> {
     vec![
         (
-            Scenario::Midshot,
-            generate(Scenario::Midshot, 300, 16, 11, params),
+            Workload::Midshot,
+            generate(Workload::Midshot, 300, 16, 11, params),
         ),
         (
-            Scenario::Spread,
-            generate(Scenario::Spread, 300, 16, 12, params),
+            Workload::Spread,
+            generate(Workload::Spread, 300, 16, 12, params),
         ),
         (
-            Scenario::Worst,
-            generate(Scenario::Worst, 300, 16, 13, params),
+            Workload::Worst,
+            generate(Workload::Worst, 300, 16, 13, params),
         ),
         (
-            Scenario::Rack,
-            generate(Scenario::Rack, 100, 16, 14, params),
+            Workload::Rack,
+            generate(Workload::Rack, 100, 16, 14, params),
         ),
     ]
 }
@@ -172,8 +172,8 @@ fn chunked_batches_give_the_same_answers_as_one_chunk() {
     };
     let params = Params::default();
     // tables of different sizes, one larger than the workgroup's path cache
-    let mut batch = generate(Scenario::Spread, 50, 9, 3, &params);
-    let extra = generate(Scenario::Midshot, 20, 40, 4, &params);
+    let mut batch = generate(Workload::Spread, 50, 9, 3, &params);
+    let extra = generate(Workload::Midshot, 20, 40, 4, &params);
     for k in 0..extra.num_tables() {
         let balls = extra
             .ball_ids(k)
@@ -182,7 +182,7 @@ fn chunked_batches_give_the_same_answers_as_one_chunk() {
             .zip(extra.balls(k).iter().copied());
         batch.push_table(1000 + k as i64, balls).unwrap();
     }
-    let big = generate(Scenario::Worst, 1, 150, 5, &params);
+    let big = generate(Workload::Worst, 1, 150, 5, &params);
     batch
         .push_table(
             5000,
@@ -214,7 +214,7 @@ fn chunked_batches_give_the_same_answers_as_one_chunk() {
 #[test]
 fn a_failed_dispatch_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
     let params = Params::default();
-    let batch = generate(Scenario::Midshot, 40, 16, 8, &params);
+    let batch = generate(Workload::Midshot, 40, 16, 8, &params);
     let cpu = kisstime::pair_times(&batch, &params).unwrap();
     let Some(mut gpu) = gpu_or_skip(Precision::F32, "failed_dispatch") else {
         return;
@@ -242,7 +242,7 @@ fn a_failed_dispatch_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
 #[test]
 fn a_lost_device_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
     let params = Params::default();
-    let batch = generate(Scenario::Spread, 30, 8, 9, &params);
+    let batch = generate(Workload::Spread, 30, 8, 9, &params);
     let cpu_next = kisstime::next_collisions(&batch, &params).unwrap();
     let Some(mut gpu) = gpu_or_skip(Precision::F32, "device_lost") else {
         return;
@@ -266,7 +266,7 @@ fn a_lost_device_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
 #[test]
 fn a_fault_mid_batch_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
     let params = Params::default();
-    let batch = generate(Scenario::Spread, 60, 10, 12, &params);
+    let batch = generate(Workload::Spread, 60, 10, 12, &params);
     let cpu_pairs = kisstime::pair_times(&batch, &params).unwrap();
     let cpu_next = kisstime::next_collisions(&batch, &params).unwrap();
     let small = kisstime::gpu::ChunkLimits {
@@ -309,7 +309,7 @@ fn the_engine_is_reused_across_many_calls_and_buffers_grow() {
     };
     let params = Params::default();
     for (n, seed) in [(5, 1), (50, 2), (3, 3), (200, 4)] {
-        let batch = generate(Scenario::Midshot, n, 16, seed, &params);
+        let batch = generate(Workload::Midshot, n, 16, seed, &params);
         let got = gpu.next_collisions(&batch, &params).unwrap();
         let pairs = gpu.pair_times(&batch, &params).unwrap();
         assert_eq!(got, next_from_pairs(&batch, &pairs));
@@ -327,7 +327,7 @@ fn a_million_tables_of_16_balls() {
         return;
     };
     let params = Params::default();
-    let batch = generate(Scenario::Midshot, 1_000_000, 16, 99, &params);
+    let batch = generate(Workload::Midshot, 1_000_000, 16, 99, &params);
     assert_eq!(batch.num_pairs(), 120_000_000);
     let clock = std::time::Instant::now();
     let next = gpu.next_collisions(&batch, &params).unwrap();

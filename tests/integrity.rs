@@ -142,7 +142,7 @@ fn an_npy_header_promising_too_much_is_refused() {
     let header_end = forged.iter().position(|&b| b == b'\n').unwrap();
     let extra = forged.len() - bytes.len();
     forged.drain(header_end - extra..header_end);
-    let err = kisstime::npy::read_batch_npy(&forged[..], "forged.npy").expect_err("refused");
+    let err = kisstime::io::npy::read_batch_npy(&forged[..], "forged.npy").expect_err("refused");
     let msg = err.to_string();
     assert!(matches!(err, kisstime::Error::TooLarge(_)), "{msg}");
     assert!(

@@ -5,9 +5,9 @@
 use std::path::Path;
 
 use kisstime::Params;
+use kisstime::io::npy::{read_batch_npy, write_batch_npy};
 use kisstime::io::{read_batch_csv, write_batch_csv};
-use kisstime::npy::{read_batch_npy, write_batch_npy};
-use kisstime::workload::{Scenario, generate};
+use kisstime::workload::{Workload, generate};
 
 mod common;
 use common::{plain_array_npy, run_kisstime};
@@ -20,7 +20,7 @@ fn csv_of(batch: &kisstime::Batch) -> String {
 }
 
 fn sample_batch() -> kisstime::Batch {
-    generate(Scenario::Spread, 50, 7, 3, &Params::default())
+    generate(Workload::Spread, 50, 7, 3, &Params::default())
 }
 
 #[test]
@@ -286,7 +286,7 @@ fn files_saved_by_numpy_read() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("tests/data")
             .join(name);
-        let batch = kisstime::npy::read_batch_npy_path(&path).unwrap();
+        let batch = kisstime::io::npy::read_batch_npy_path(&path).unwrap();
         assert_eq!(batch.num_tables(), 1);
         assert_eq!(batch.ball_ids(0), &[0, 1]);
         assert_eq!(batch.balls(0)[0].state, kisstime::MotionState::Rolling);

@@ -11,7 +11,9 @@
 
 mod common;
 
-use kisstime::physics::{PATH_MOVES, PATH_POCKETED, RelPath, dot, norm};
+use kisstime::model::{dot, norm};
+use kisstime::motion::{PATH_MOVES, PATH_POCKETED};
+use kisstime::query::RelPath;
 use kisstime::{
     Ball, Batch, Contact, MotionState, Params, Status, ball_path, next_collisions, next_from_pairs,
     pair_contact, pair_times,
@@ -629,7 +631,7 @@ proptest! {
     /// neither overlapping nor touching, and no entry into contact within the horizon.
     #[test]
     fn prunes_never_change_an_answer(pair in any_pair()) {
-        use kisstime::solver::{cannot_meet, first_entry, passes_wide};
+        use kisstime::query::ball_ball::{cannot_meet, first_entry, passes_wide};
         if pair.rule1() {
             return Ok(()); // nothing moves or a ball is pocketed: no prune is asked
         }

@@ -1,8 +1,9 @@
 //! Named regressions: the degenerate pairs where ball-ball collision solvers go wrong
 //! (pooltool 0.6.0 among them), each checked against a closed form or a rule of the
-//! contract in `src/solver.rs`.
+//! contract in `src/query/ball_ball.rs`.
 
-use kisstime::physics::{RelPath, dot, norm};
+use kisstime::model::{dot, norm};
+use kisstime::query::RelPath;
 use kisstime::{Ball, Contact, MotionState, Params, Status, ball_path, pair_contact};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
@@ -10,7 +11,7 @@ fn p() -> Params {
     Params::default()
 }
 
-const R: f64 = kisstime::physics::DEFAULT_RADIUS;
+const R: f64 = kisstime::model::DEFAULT_RADIUS;
 
 fn solve(b1: &Ball, b2: &Ball) -> Contact {
     let p = p();

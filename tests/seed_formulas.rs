@@ -10,7 +10,7 @@
 
 mod common;
 
-use kisstime::physics::{PATH_MOVES, PATH_POCKETED};
+use kisstime::motion::{PATH_MOVES, PATH_POCKETED};
 use kisstime::{Ball, BallPath, MotionState, Params, RelPath, ball_path};
 use proptest::prelude::*;
 

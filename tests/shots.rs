@@ -3,9 +3,10 @@
 
 mod common;
 
-use kisstime::physics::{MotionState, Params};
-use kisstime::scenario::{BUILTIN_TOML, Noise, Scenario};
-use kisstime::shot::{Masses, Strike, contact_velocity, cue_strike, end_of_motion};
+use kisstime::model::{MotionState, Params};
+use kisstime::motion::{contact_velocity, end_of_motion};
+use kisstime::resolve::{Masses, Strike, cue_strike};
+use kisstime::study::{BUILTIN_TOML, Noise, StudyConfig};
 use kisstime::study::{Outcome, Sample, grazes, noisy_strike, run_study, simulate_one};
 use kisstime::{Backend, Engine, Error, Precision};
 
@@ -13,18 +14,18 @@ fn cpu() -> Engine {
     Engine::new(Backend::Cpu, Precision::F64).unwrap()
 }
 
-fn study(scenario: &Scenario, sigma: &Noise, n: usize, seed: u64) -> Vec<Sample> {
+fn study(scenario: &StudyConfig, sigma: &Noise, n: usize, seed: u64) -> Vec<Sample> {
     run_study(scenario, sigma, n, seed, &mut cpu(), &mut |_, _| {}).unwrap()
 }
 
 /// The built-in study with some of its text replaced.
-fn variant(replacements: &[(&str, &str)]) -> Scenario {
+fn variant(replacements: &[(&str, &str)]) -> StudyConfig {
     let mut text = BUILTIN_TOML.to_owned();
     for (from, to) in replacements {
         assert!(text.contains(from), "{from}");
         text = text.replacen(from, to, 1);
     }
-    Scenario::parse(&text, "variant.toml").unwrap()
+    StudyConfig::parse(&text, "variant.toml").unwrap()
 }
 
 // ---------------------------------------------------------------- the strike model
@@ -134,7 +135,7 @@ fn follow_at_two_fifths_rolls_at_once_and_sliding_ends_in_rolling() {
     let u = contact_velocity(&rolling, p.radius);
     assert!(u.x.hypot(u.y) < 1e-12, "{u:?}");
     // the closed-form sliding spin agrees with the rolling spin at the transition
-    let slid = kisstime::shot::evolve(&ball, &p, t);
+    let slid = kisstime::motion::evolve(&ball, &p, t);
     assert!((slid.wx - rolling.wx).abs() < 1e-9 && (slid.wy - rolling.wy).abs() < 1e-9);
     let (still, _) = end_of_motion(&rolling, &p);
     assert!(!still.state.translates());
@@ -144,8 +145,8 @@ fn follow_at_two_fifths_rolls_at_once_and_sliding_ends_in_rolling() {
 // ---------------------------------------------------------------- independent check
 
 /// What the fixed-step integration found: outcome and time.
-fn integrate(scenario: &Scenario, s: &Strike, dt: f64) -> (Outcome, f64) {
-    use kisstime::shot::Cushion;
+fn integrate(scenario: &StudyConfig, s: &Strike, dt: f64) -> (Outcome, f64) {
+    use kisstime::model::Cushion;
     let p = scenario.params;
     let r = p.radius;
     let start = scenario.cue_spot();
@@ -222,7 +223,7 @@ fn integrate(scenario: &Scenario, s: &Strike, dt: f64) -> (Outcome, f64) {
     }
 }
 
-fn check_against_integration(scenario: &Scenario, sigma: &Noise, n: usize, seed: u64) -> usize {
+fn check_against_integration(scenario: &StudyConfig, sigma: &Noise, n: usize, seed: u64) -> usize {
     let dt = 2e-5;
     let samples = study(scenario, sigma, n, seed);
     let mut excused = 0;
@@ -255,7 +256,7 @@ fn check_against_integration(scenario: &Scenario, sigma: &Noise, n: usize, seed:
 
 #[test]
 fn study_agrees_with_a_fixed_step_integration() {
-    let builtin = Scenario::builtin();
+    let builtin = StudyConfig::builtin();
     let excused = check_against_integration(&builtin, &builtin.sigma(), 300, 11);
     assert!(excused <= 3, "{excused}");
     // slow enough that some samples stop before reaching anything
@@ -274,7 +275,7 @@ fn study_agrees_with_a_fixed_step_integration() {
 
 #[test]
 fn builtin_study_has_a_real_mix_of_outcomes() {
-    let s = Scenario::builtin();
+    let s = StudyConfig::builtin();
     let samples = study(&s, &s.sigma(), 5000, 42);
     let frac = |f: &dyn Fn(&Outcome) -> bool| {
         samples.iter().filter(|x| f(&x.outcome)).count() as f64 / samples.len() as f64
@@ -299,7 +300,7 @@ fn fingerprint(samples: &[Sample]) -> Vec<String> {
 
 #[test]
 fn same_seed_same_samples_whatever_the_threads_and_chunks() {
-    let s = Scenario::builtin();
+    let s = StudyConfig::builtin();
     let sigma = s.sigma();
     let run = |threads: usize, n: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -326,7 +327,7 @@ fn same_seed_same_samples_whatever_the_threads_and_chunks() {
 
 #[test]
 fn more_than_one_chunk() {
-    let s = Scenario::builtin();
+    let s = StudyConfig::builtin();
     let sigma = s.sigma();
     let n = kisstime::study::CHUNK + 10;
     let mut calls = Vec::new();
@@ -350,7 +351,7 @@ fn gpu_f32_outcomes_match_cpu_f64() {
     };
     drop(gpu);
     let mut engine = Engine::new(Backend::Gpu, Precision::F32).unwrap();
-    let s = Scenario::builtin();
+    let s = StudyConfig::builtin();
     let sigma = s.sigma();
     let n = 3000;
     let seed = 21;
@@ -390,7 +391,7 @@ fn bad(replacements: &[(&str, &str)]) -> String {
         assert!(text.contains(from), "{from}");
         text = text.replacen(from, to, 1);
     }
-    match Scenario::parse(&text, "bad.toml") {
+    match StudyConfig::parse(&text, "bad.toml") {
         Err(e @ Error::Input(_)) => {
             assert!(e.is_bad_input());
             let msg = e.to_string();
@@ -449,10 +450,10 @@ fn bad_scenarios_are_input_errors_naming_the_key() {
 #[test]
 fn example_file_is_the_builtin_study() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/study.toml");
-    let file = Scenario::read(std::path::Path::new(path)).unwrap();
-    let builtin = Scenario::builtin();
+    let file = StudyConfig::read(std::path::Path::new(path)).unwrap();
+    let builtin = StudyConfig::builtin();
     assert_eq!(
-        Scenario {
+        StudyConfig {
             source: builtin.source.clone(),
             ..file
         },
@@ -467,7 +468,7 @@ fn optional_sections_take_pooltools_defaults() {
                 [[balls]]\nid = 0\nx = 0.5\ny = 0.5\n\
                 [[balls]]\nid = 1\nx = 1.5\ny = 0.5\n\
                 [shot]\ncue_ball = 0\nobject_ball = 1\nv0 = 1\nphi = 0\ntheta = 0\na = 0\nb = 0\n";
-    let s = Scenario::parse(text, "minimal.toml").unwrap();
+    let s = StudyConfig::parse(text, "minimal.toml").unwrap();
     assert_eq!(s.params, Params::default());
     assert_eq!(s.masses, Masses::default());
     assert_eq!(s.noise, Noise::default());

@@ -14,7 +14,7 @@ mod common;
 
 use common::gpu_or_skip;
 use kisstime::compare::{next_disagreements, time_agrees};
-use kisstime::workload::{Scenario, generate};
+use kisstime::workload::{Workload, generate};
 use kisstime::{Params, Precision, RelPath, ball_path, next_collisions, pair_times};
 
 /// Resident memory of this process in bytes (Linux), or 0 where unknown.
@@ -33,10 +33,10 @@ fn a_million_random_tables_agree_and_memory_stays_flat() {
     };
     let params = Params::default();
     let scenarios = [
-        Scenario::Midshot,
-        Scenario::Spread,
-        Scenario::Rack,
-        Scenario::Worst,
+        Workload::Midshot,
+        Workload::Spread,
+        Workload::Rack,
+        Workload::Worst,
     ];
     const ROUNDS: usize = 10;
     const TABLES: usize = 100_000;

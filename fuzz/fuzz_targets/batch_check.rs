@@ -63,7 +63,7 @@ pub fn check_round_trips(batch: &Batch) {
     let back = kisstime::io::read_batch_csv(&csv[..], "round-trip.csv").expect("read back csv");
     same_batch(batch, &back);
     let mut npy = Vec::new();
-    kisstime::npy::write_batch_npy(&mut npy, batch).expect("write npy");
-    let back = kisstime::npy::read_batch_npy(&npy[..], "round-trip.npy").expect("read back npy");
+    kisstime::io::npy::write_batch_npy(&mut npy, batch).expect("write npy");
+    let back = kisstime::io::npy::read_batch_npy(&npy[..], "round-trip.npy").expect("read back npy");
     same_batch(batch, &back);
 }

@@ -23,8 +23,10 @@
 use libfuzzer_sys::fuzz_target;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
-use kisstime::physics::{BallPath, PATH_MOVES, PATH_POCKETED, RelPath, Vec2};
-use kisstime::solver::CONTACT_TOL;
+use kisstime::model::Vec2;
+use kisstime::motion::{BallPath, PATH_MOVES, PATH_POCKETED};
+use kisstime::query::RelPath;
+use kisstime::query::CONTACT_TOL;
 use kisstime::{Ball, Batch, MotionState, Params, Status, ball_path, pair_contact, pair_times};
 
 /// Reads the fuzzer's bytes as a stream of choices (zeros once they run out).

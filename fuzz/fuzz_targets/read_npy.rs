@@ -7,7 +7,7 @@ use libfuzzer_sys::fuzz_target;
 mod batch_check;
 
 fuzz_target!(|data: &[u8]| {
-    match kisstime::npy::read_batch_npy(data, "fuzz.npy") {
+    match kisstime::io::npy::read_batch_npy(data, "fuzz.npy") {
         Ok(batch) => {
             batch_check::check_batch(&batch);
             batch_check::check_round_trips(&batch);

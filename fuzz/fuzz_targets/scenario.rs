@@ -4,12 +4,12 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
-use kisstime::scenario::Scenario;
+use kisstime::study::StudyConfig;
 
 fuzz_target!(|data: &[u8]| {
     // the reader takes text; bytes that are not UTF-8 are replaced, as a lossy read would
     let text = String::from_utf8_lossy(data);
-    match Scenario::parse(&text, "fuzz.toml") {
+    match StudyConfig::parse(&text, "fuzz.toml") {
         Ok(s) => {
             s.params.validate().expect("validated parameters");
             assert!(s.balls.len() >= 2);

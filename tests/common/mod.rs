@@ -2,7 +2,8 @@
 //! (`tests/data/README.md`).
 #![allow(dead_code)]
 
-use kisstime::physics::{RelPath, dot, norm};
+use kisstime::model::{dot, norm};
+use kisstime::query::RelPath;
 use kisstime::{Ball, MotionState, Params, Status, ball_path};
 
 /// One corpus case.

@@ -13,11 +13,10 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
-use crate::error::Error;
-use crate::physics::ball_path;
-use crate::scenario::Scenario;
-use crate::shot::{cue_strike, end_of_motion};
-use crate::study::{Class, Outcome, Sample, Summary, simulate_one};
+use kisstime::Error;
+use kisstime::motion::{ball_path, end_of_motion};
+use kisstime::resolve::cue_strike;
+use kisstime::study::{Class, Outcome, Sample, StudyConfig, Summary, simulate_one};
 
 /// Picture size in pixels.
 const SIZE: (u32, u32) = (1600, 1150);
@@ -72,7 +71,7 @@ fn circle(x: f64, y: f64, r: f64) -> Vec<(f64, f64)> {
 }
 
 /// The intended shot's path (points of the cue ball's centre) up to its first event.
-fn intended_path(scenario: &Scenario) -> Vec<(f64, f64)> {
+fn intended_path(scenario: &StudyConfig) -> Vec<(f64, f64)> {
     let p = &scenario.params;
     let end = simulate_one(scenario, &scenario.shot, 2.0 * p.radius);
     let start = scenario.cue_spot();
@@ -85,7 +84,7 @@ fn intended_path(scenario: &Scenario) -> Vec<(f64, f64)> {
         // a few points per motion: plotters rounds every segment to whole pixels
         for k in 1..=6 {
             let t = span * k as f64 / 6.0;
-            let r = path.c + t * (path.b + t * path.a);
+            let r = path.at(t);
             points.push((r.x, r.y));
         }
         let (next, dt) = end_of_motion(&ball, p);
@@ -98,19 +97,19 @@ fn intended_path(scenario: &Scenario) -> Vec<(f64, f64)> {
 /// Draws the study and writes it as a PNG to `path` (atomically).
 pub fn write_study_png(
     path: &Path,
-    scenario: &Scenario,
+    scenario: &StudyConfig,
     samples: &[Sample],
     summary: &Summary,
 ) -> Result<(), Error> {
     let png = render_png(scenario, samples, summary)?;
-    crate::io::write_output(Some(path), |w| {
-        w.write_all(&png).map_err(crate::io::output_error)
+    kisstime::io::write_output(Some(path), |w| {
+        w.write_all(&png).map_err(kisstime::io::output_error)
     })
 }
 
 /// The picture as PNG bytes.
 pub fn render_png(
-    scenario: &Scenario,
+    scenario: &StudyConfig,
     samples: &[Sample],
     summary: &Summary,
 ) -> Result<Vec<u8>, Error> {
@@ -137,7 +136,7 @@ pub fn render_png(
 type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 type DrawResult = Result<(), Box<dyn std::error::Error + 'static>>;
 
-fn draw(root: &Area, scenario: &Scenario, samples: &[Sample], summary: &Summary) -> DrawResult {
+fn draw(root: &Area, scenario: &StudyConfig, samples: &[Sample], summary: &Summary) -> DrawResult {
     let n = samples.len();
     let pct = |class: Class| 100.0 * summary.count(class) as f64 / n.max(1) as f64;
     let mut title = format!(
@@ -173,7 +172,7 @@ fn draw(root: &Area, scenario: &Scenario, samples: &[Sample], summary: &Summary)
 }
 
 /// The legend entries: colour and label.
-fn legend(scenario: &Scenario) -> Vec<(RGBColor, String)> {
+fn legend(scenario: &StudyConfig) -> Vec<(RGBColor, String)> {
     vec![
         (
             INTENDED_HIT,
@@ -185,7 +184,7 @@ fn legend(scenario: &Scenario) -> Vec<(RGBColor, String)> {
     ]
 }
 
-fn draw_table(area: &Area, scenario: &Scenario, samples: &[Sample]) -> DrawResult {
+fn draw_table(area: &Area, scenario: &StudyConfig, samples: &[Sample]) -> DrawResult {
     let t = scenario.table;
     let r = scenario.params.radius;
     let rail = 0.09;
@@ -269,7 +268,7 @@ type Chart<'a, 'b> = ChartContext<
 >;
 
 /// The balls to scale, labelled; `font` is the label size in pixels.
-fn draw_balls(chart: &mut Chart, scenario: &Scenario, font: u32) -> DrawResult {
+fn draw_balls(chart: &mut Chart, scenario: &StudyConfig, font: u32) -> DrawResult {
     let r = scenario.params.radius;
     let (xs, ys) = (chart.x_range(), chart.y_range());
     for b in &scenario.balls {
@@ -306,7 +305,7 @@ fn draw_balls(chart: &mut Chart, scenario: &Scenario, font: u32) -> DrawResult {
     Ok(())
 }
 
-fn draw_closeup(area: &Area, scenario: &Scenario, samples: &[Sample]) -> DrawResult {
+fn draw_closeup(area: &Area, scenario: &StudyConfig, samples: &[Sample]) -> DrawResult {
     let r = scenario.params.radius;
     // frame the balls that were hit first and the contacts on them
     let hits: Vec<&Sample> = samples
@@ -390,7 +389,7 @@ fn draw_closeup(area: &Area, scenario: &Scenario, samples: &[Sample]) -> DrawRes
     Ok(())
 }
 
-fn draw_histogram(area: &Area, scenario: &Scenario, samples: &[Sample]) -> DrawResult {
+fn draw_histogram(area: &Area, scenario: &StudyConfig, samples: &[Sample]) -> DrawResult {
     let mut cuts: Vec<f64> = samples
         .iter()
         .filter(|s| s.outcome == Outcome::Ball(scenario.object_ball))

@@ -1,4 +1,5 @@
-//! Shot-study scenarios: one table, one intended shot and the cue noise, as a TOML file.
+//! A shot study's configuration: one table, one intended shot and the cue noise, as a
+//! TOML file (the "scenario" file of `kisstime shots`).
 //!
 //! The format (every length in metres, angles in degrees; `examples/study.toml` is the
 //! built-in study and a complete example):
@@ -47,14 +48,15 @@
 use serde::Deserialize;
 
 use crate::error::{Error, InputError};
-use crate::physics::{
+use crate::model::{
     Ball, DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS, Params,
+    Table,
 };
-use crate::shot::{DEFAULT_BALL_MASS, DEFAULT_CUE_MASS, Masses, Strike, Table};
-use crate::solver::CONTACT_TOL;
+use crate::query::ball_ball::CONTACT_TOL;
+use crate::resolve::stick_ball::{DEFAULT_BALL_MASS, DEFAULT_CUE_MASS, Masses, Strike};
 
 /// The built-in study, `examples/study.toml`, as text.
-pub const BUILTIN_TOML: &str = include_str!("../examples/study.toml");
+pub const BUILTIN_TOML: &str = include_str!("../../examples/study.toml");
 /// The name under which errors in the built-in study are reported.
 pub const BUILTIN_NAME: &str = "built-in study (examples/study.toml)";
 
@@ -132,7 +134,7 @@ pub struct Spot {
 
 /// A validated shot study (module docs).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Scenario {
+pub struct StudyConfig {
     /// Where errors are reported from: the file name or [`BUILTIN_NAME`].
     pub source: String,
     /// The playing area.
@@ -217,23 +219,23 @@ struct RawNoise {
     b: Option<f64>,
 }
 
-impl Scenario {
+impl StudyConfig {
     /// The built-in study (`examples/study.toml`, compiled in).
-    pub fn builtin() -> Scenario {
-        Scenario::parse(BUILTIN_TOML, BUILTIN_NAME).expect("the built-in study is valid")
+    pub fn builtin() -> StudyConfig {
+        StudyConfig::parse(BUILTIN_TOML, BUILTIN_NAME).expect("the built-in study is valid")
     }
 
     /// Reads and validates a scenario file.
-    pub fn read(path: &std::path::Path) -> Result<Scenario, Error> {
+    pub fn read(path: &std::path::Path) -> Result<StudyConfig, Error> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
             path: path.display().to_string(),
             source,
         })?;
-        Scenario::parse(&text, &path.display().to_string())
+        StudyConfig::parse(&text, &path.display().to_string())
     }
 
     /// Parses and validates scenario text; errors name `source` as the file.
-    pub fn parse(text: &str, source: &str) -> Result<Scenario, Error> {
+    pub fn parse(text: &str, source: &str) -> Result<StudyConfig, Error> {
         let raw: RawFile = toml::from_str(text).map_err(|e| {
             let mut message = e.message().trim().to_owned();
             let mut line = None;
@@ -428,7 +430,7 @@ impl Scenario {
         };
         let noise_factor = non_negative("noise.factor", n.factor.unwrap_or(1.0))?;
 
-        Ok(Scenario {
+        Ok(StudyConfig {
             source: source.to_owned(),
             table,
             params,

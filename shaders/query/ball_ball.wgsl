@@ -1,9 +1,10 @@
-// The solver: the answer for one ball pair — when do the two balls first come into contact
-// while approaching, within the time their current motions last? WGSL twin of
-// src/solver.rs: the same functions in the same order with the same comments; the contract
-// and the method are documented there. Differences, all forced by WGSL: no NaN or ∞
-// (a missing root or time is NO_ROOT = −1, "no collision" has t = NEVER), structs instead
-// of tuples, and the precision constants come from the real_f32/real_f64 prelude.
+// The ball–ball query: the answer for one ball pair — when do the two balls first come
+// into contact while approaching, within the time their current motions last? WGSL twin
+// of src/query/ball_ball.rs: the same functions in the same order with the same comments;
+// the contract and the method are documented there. Differences, all forced by WGSL: no
+// NaN or ∞ (a missing root or time is NO_ROOT = −1, "no collision" has t = NEVER), structs
+// instead of tuples, methods as functions (`RelPath::at` is `rel_at`), and the precision
+// constants come from the real_f32/real_f64 prelude.
 
 // The most iterations of one root refinement.
 const MAX_ITER: u32 = 64u;
@@ -11,8 +12,28 @@ const MAX_ITER: u32 = 64u;
 const WALK_STEPS: u32 = 8u;
 // ROOT_RTOL (4 EPS) and APPROACH_BAND (64 EPS) are in the precision prelude: naga does not
 // constant-evaluate arithmetic on f64 constants.
-// What a missing root or time is reported as inside the algorithm.
-const NO_ROOT: real = -1.0;
+
+// The centre difference of a pair, ball 2 minus ball 1: C(t) = C + B t + A t².
+struct RelPath {
+    a: real2,
+    b: real2,
+    c: real2,
+}
+
+// The relative path of ball 2 seen from ball 1 (Rust: RelPath::between).
+fn rel_between(p1: BallPath, p2: BallPath) -> RelPath {
+    return RelPath(p2.a - p1.a, p2.b - p1.b, p2.c - p1.c);
+}
+
+// C(t), evaluated from the vectors (Rust: RelPath::at).
+fn rel_at(rel: RelPath, t: real) -> real2 {
+    return rel.c + t * (rel.b + t * rel.a);
+}
+
+// C'(t) = B + 2 t A, the relative velocity (Rust: RelPath::velocity_at).
+fn rel_velocity_at(rel: RelPath, t: real) -> real2 {
+    return rel.b + (2.0 * t) * rel.a;
+}
 
 // How a pair's answer came out (Rust: Status).
 const STATUS_NONE: u32 = 0u;
@@ -38,54 +59,6 @@ fn contact_overlap(horizon: real) -> Contact {
     return Contact(0.0, STATUS_OVERLAP, horizon);
 }
 
-// Real roots of a x² + b x + c, ascending: (count, r0, r1), missing roots −1.
-struct Roots2 {
-    n: u32,
-    r0: real,
-    r1: real,
-}
-
-// Stable formula; a = 0 falls back to the linear root; a double root is reported twice;
-// 0 x² + 0 x + c has no roots.
-fn quadratic_roots(a: real, b: real, c: real) -> Roots2 {
-    if a == 0.0 {
-        if b == 0.0 {
-            return Roots2(0u, NO_ROOT, NO_ROOT);
-        }
-        return Roots2(1u, -c / b, NO_ROOT);
-    }
-    let disc = b * b - 4.0 * a * c;
-    if disc < 0.0 {
-        return Roots2(0u, NO_ROOT, NO_ROOT);
-    }
-    var sign_b: real = 1.0;
-    if b < 0.0 {
-        sign_b = -1.0;
-    }
-    let q = -0.5 * (b + sign_b * sqrt(disc));
-    if q == 0.0 {
-        // b = 0 and disc = 0, so c = 0: a double root at 0
-        return Roots2(2u, 0.0, 0.0);
-    }
-    let r0 = q / a;
-    let r1 = c / q;
-    if r0 <= r1 {
-        return Roots2(2u, r0, r1);
-    }
-    return Roots2(2u, r1, r0);
-}
-
-// The smallest strictly positive root of a x² + b x + c, or −1 if it has none.
-fn smallest_positive_root(a: real, b: real, c: real) -> real {
-    let r = quadratic_roots(a, b, c);
-    if r.n >= 1u && r.r0 > 0.0 {
-        return r.r0;
-    }
-    if r.n == 2u && r.r1 > 0.0 {
-        return r.r1;
-    }
-    return NO_ROOT;
-}
 
 // f^(k)(t), f^(k+1)(t), f^(k+2)(t) for k = 0 or 1, where f(t) = |C(t)|² − 4R², evaluated
 // from the vectors: f = Ct·Ct − 4R², f' = 2 Ct·Vt, f'' = 2(Vt·Vt + 2 A·Ct), f''' = 12 A·Vt.

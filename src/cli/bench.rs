@@ -5,25 +5,48 @@
 //! (`next_collisions`), once to warm up and then `reps` times; the median wall time gives
 //! pairs/s. For the GPU the upload / kernel / readback split of the last run is kept.
 //! Every non-reference backend is compared with the CPU f64 answers under the corpus's
-//! tiers ([`crate::compare`]).
+//! tiers (`kisstime::compare`).
 
 use std::time::Instant;
 
+use kisstime::compare::{compare_pairs, next_disagreements};
+use kisstime::engine::{Backend, Engine, Precision};
+use kisstime::gpu::GpuTimings;
+use kisstime::io::{output_error, write_output};
+use kisstime::workload::{Workload, generate};
+use kisstime::{Batch, Error, Params};
 use serde::Serialize;
 
-use crate::batch::{self, Batch};
-use crate::compare::{compare_pairs, next_disagreements};
-use crate::engine::{Backend, Engine};
-use crate::error::Error;
-use crate::gpu::{GpuTimings, Precision};
-use crate::physics::Params;
-use crate::workload::{Scenario, generate};
+use super::args::{BenchArgs, BenchBackend};
+
+/// Runs `kisstime bench`: measures, then prints the report (text, or JSON with `--json`).
+pub fn run(args: &BenchArgs) -> Result<(), Error> {
+    let config = BenchConfig {
+        scenario: args.scenario.workload(),
+        tables: args.tables,
+        balls: args.balls as usize,
+        seed: args.seed,
+        cpu: args.backend != BenchBackend::Gpu,
+        gpu: (args.backend != BenchBackend::Cpu).then_some(args.precision.precision()),
+        reps: args.reps,
+    };
+    let report = run_bench(&config)?;
+    if args.backend == BenchBackend::Gpu && report.backends.is_empty() {
+        return Err(Error::GpuUnavailable(report.skipped.join("; ")));
+    }
+    let text = if args.json {
+        serde_json::to_string_pretty(&report).expect("the report serialises") + "\n"
+    } else {
+        report.to_text()
+    };
+    write_output(None, |w| w.write_all(text.as_bytes()).map_err(output_error))
+}
 
 /// What to measure.
 #[derive(Clone, Debug)]
 pub struct BenchConfig {
     /// The workload.
-    pub scenario: Scenario,
+    pub scenario: Workload,
     /// Tables in the batch.
     pub tables: usize,
     /// Balls per table.
@@ -153,11 +176,11 @@ pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, Error> {
         skipped: Vec::new(),
     };
     // the reference: CPU f64 answers (timed when the CPU is measured)
-    let reference = batch::pair_times(&batch, &params)?;
-    let reference_next = batch::next_collisions(&batch, &params)?;
+    let reference = kisstime::pair_times(&batch, &params)?;
+    let reference_next = kisstime::next_collisions(&batch, &params)?;
     if config.cpu {
-        let (pt, _) = timed(config.reps, || batch::pair_times(&batch, &params))?;
-        let (nt, _) = timed(config.reps, || batch::next_collisions(&batch, &params))?;
+        let (pt, _) = timed(config.reps, || kisstime::pair_times(&batch, &params))?;
+        let (nt, _) = timed(config.reps, || kisstime::next_collisions(&batch, &params))?;
         report.backends.push(BackendFigures {
             backend: "cpu".into(),
             precision: "f64".into(),

@@ -33,11 +33,11 @@ use std::io::{Read, Write};
 
 use npyz::WriterBuilder;
 
+use super::columns::{BALL_COLUMNS, BallRows};
 use crate::batch::{Batch, NextCollision};
 use crate::error::{Error, InputError};
-use crate::io::{BALL_COLUMNS, BallRows};
-use crate::physics::{Ball, MotionState};
-use crate::solver::Contact;
+use crate::model::{Ball, MotionState};
+use crate::query::ball_ball::Contact;
 
 /// The structured input dtype, as NumPy writes it.
 pub const BALL_DTYPE: &str = "[('table','<i8'), ('ball','<i8'), ('state','<i8'), \
@@ -388,7 +388,7 @@ fn make_ball(state: f64, numbers: [f64; 7]) -> Result<Ball, String> {
     if let Some(k) = numbers.iter().position(|v| !v.is_finite()) {
         return Err(format!(
             "{} is {}, numbers must be finite",
-            crate::io::BALL_NUMBER_COLUMNS[k],
+            Ball::NUMBER_NAMES[k],
             numbers[k]
         ));
     }
@@ -474,7 +474,7 @@ impl<W: Write> PairsNpy<W> {
     }
 
     /// Appends the answers `contacts` of the tables `tables` (positions in the batch), as
-    /// [`crate::batch::pair_times_of`] returns them.
+    /// [`crate::pair_times_of`] returns them.
     pub fn write_rows(
         &mut self,
         batch: &Batch,

@@ -1,8 +1,8 @@
-//! The solver: the answer for one ball pair — when do the two balls first come into
-//! contact while approaching, within the time their current motions last?
+//! The ball–ball query: the answer for one ball pair — when do the two balls first come
+//! into contact while approaching, within the time their current motions last?
 //!
 //! # Contract (rules 1–4; the ground-truth corpus follows them)
-//! With `C(t) = C + B t + A t²` the centre difference (see [`crate::physics`]),
+//! With `C(t) = C + B t + A t²` the centre difference (see [`RelPath`]),
 //! `f(t) = |C(t)|² − 4R²` and `H` the pair's horizon:
 //! 1. either ball pocketed, or neither ball translates: no collision ([`Status::None`]);
 //! 2. `d0 = |C| − 2R < −CONTACT_TOL`: the balls overlap, time 0 ([`Status::Overlap`]);
@@ -31,15 +31,20 @@
 //! never from the expanded quartic, whose constant term `|C|² − 4R²` cancels badly.
 //! The method only finds the *first* root; it never computes all four.
 //!
+//! For a pair, `C(t)` is the difference of the two paths (ball 2 minus ball 1, a
+//! [`RelPath`]): the balls touch when `|C(t)| = 2R`, i.e. at a root of the quartic
+//! `a t⁴ + b t³ + c t² + d t + e` whose coefficients [`RelPath::quartic`] gives (erratum 1
+//! restores the linear term `d`).
+//!
 //! # Twin
-//! `shaders/solver.wgsl` is this file in WGSL, function for function and in the same
-//! order. Both avoid NaN and ∞ inside the algorithm (WGSL may assume neither exists):
+//! `shaders/query/ball_ball.wgsl` is this file in WGSL, function for function and in the
+//! same order. Both avoid NaN and ∞ inside the algorithm (WGSL may assume neither exists):
 //! a missing root is `−1`, a time that never comes is `−1`, loops are bounded by
 //! [`MAX_ITER`], and only `sqrt` and arithmetic are used.
 
-use crate::physics::{
-    BallPath, PATH_MOVES, PATH_POCKETED, RelPath, dot, norm, norm1, pair_horizon, perp_dot,
-};
+use crate::model::{Vec2, dot, norm, norm1, perp_dot};
+use crate::motion::path::{BallPath, PATH_MOVES, PATH_POCKETED, pair_horizon};
+use crate::query::roots::{NO_ROOT, quadratic_roots, smallest_positive_root};
 
 /// Two centres closer than `2R` by at most this many metres (either way) touch.
 pub const CONTACT_TOL: f64 = 1e-12;
@@ -58,8 +63,55 @@ const APPROACH_BAND: f64 = 64.0 * f64::EPSILON;
 /// The slack of the prune test, relative to the path's length scale: far above the
 /// rounding of the projections, far below any answer's conditioning.
 const PRUNE_SLACK: f64 = 1e-9;
-/// What a missing root or time is reported as inside the algorithm.
-const NO_ROOT: f64 = -1.0;
+
+/// The centre difference of a pair, ball 2 minus ball 1: `C(t) = C + B t + A t²`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RelPath {
+    /// Relative half-acceleration `A = a₂ − a₁`.
+    pub a: Vec2,
+    /// Relative velocity at `t = 0`, `B = b₂ − b₁`.
+    pub b: Vec2,
+    /// Centre difference at `t = 0`, `C = c₂ − c₁`.
+    pub c: Vec2,
+}
+
+impl RelPath {
+    /// The relative path of ball 2 seen from ball 1.
+    pub fn between(p1: &BallPath, p2: &BallPath) -> RelPath {
+        RelPath {
+            a: p2.a - p1.a,
+            b: p2.b - p1.b,
+            c: p2.c - p1.c,
+        }
+    }
+
+    /// `C(t)`, evaluated from the vectors (never from the expanded quartic).
+    pub fn at(&self, t: f64) -> Vec2 {
+        self.c + t * (self.b + t * self.a)
+    }
+
+    /// `C'(t) = B + 2 t A`, the relative velocity.
+    pub fn velocity_at(&self, t: f64) -> Vec2 {
+        self.b + (2.0 * t) * self.a
+    }
+
+    /// The coefficients `[a, b, c, d, e]` of `|C(t)|² − (2R)²` expanded in powers of `t`,
+    /// highest first (erratum 1):
+    /// `a = |A|²`, `b = 2 A·B`, `c = |B|² + 2 A·C`, `d = 2 B·C`, `e = |C|² − 4R²`.
+    ///
+    /// The solver never evaluates this form (cancellation in `e` costs accuracy, see
+    /// `shared/notes/numerics.md`); it is here for inspection and tests.
+    pub fn quartic(&self, radius: f64) -> [f64; 5] {
+        let (a, b, c) = (self.a, self.b, self.c);
+        [
+            dot(a, a),
+            2.0 * dot(a, b),
+            dot(b, b) + 2.0 * dot(a, c),
+            2.0 * dot(b, c),
+            dot(c, c) - 4.0 * radius * radius,
+        ]
+    }
+}
 
 /// How a pair's answer came out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -134,46 +186,6 @@ impl Contact {
             horizon,
         }
     }
-}
-
-/// Real roots of `a x² + b x + c`, ascending: `(count, r0, r1)`, missing roots `−1`.
-///
-/// The stable formula (`q = −½(b + sign(b)√disc)`, roots `q/a` and `c/q`) keeps both
-/// roots accurate when `b² ≫ |ac|`, and `a = 0` falls back to the linear root, so a
-/// vanishing leading coefficient needs no special case in the callers. A double root is
-/// reported twice. `0 x² + 0 x + c` has no roots (also for `c = 0`).
-pub fn quadratic_roots(a: f64, b: f64, c: f64) -> (u32, f64, f64) {
-    if a == 0.0 {
-        if b == 0.0 {
-            return (0, NO_ROOT, NO_ROOT);
-        }
-        return (1, -c / b, NO_ROOT);
-    }
-    let disc = b * b - 4.0 * a * c;
-    if disc < 0.0 {
-        return (0, NO_ROOT, NO_ROOT);
-    }
-    let sign_b = if b < 0.0 { -1.0 } else { 1.0 };
-    let q = -0.5 * (b + sign_b * disc.sqrt());
-    if q == 0.0 {
-        // b = 0 and disc = 0, so c = 0: a double root at 0
-        return (2, 0.0, 0.0);
-    }
-    let r0 = q / a;
-    let r1 = c / q;
-    if r0 <= r1 { (2, r0, r1) } else { (2, r1, r0) }
-}
-
-/// The smallest strictly positive root of `a x² + b x + c`, or `−1` if it has none.
-pub fn smallest_positive_root(a: f64, b: f64, c: f64) -> f64 {
-    let (n, r0, r1) = quadratic_roots(a, b, c);
-    if n >= 1 && r0 > 0.0 {
-        return r0;
-    }
-    if n == 2 && r1 > 0.0 {
-        return r1;
-    }
-    NO_ROOT
 }
 
 /// `f^(k)(t)`, `f^(k+1)(t)` and `f^(k+2)(t)` for `k = 0` or `k = 1`, where
@@ -523,7 +535,6 @@ pub fn pair_contact(p1: &BallPath, p2: &BallPath, radius: f64) -> Contact {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::Vec2;
 
     const R: f64 = 0.028575;
 
@@ -533,33 +544,6 @@ mod tests {
             b: Vec2::new(b.0, b.1),
             c: Vec2::new(c.0, c.1),
         }
-    }
-
-    #[test]
-    fn quadratic_roots_edge_cases() {
-        assert_eq!(quadratic_roots(1.0, -3.0, 2.0), (2, 1.0, 2.0));
-        assert_eq!(quadratic_roots(0.0, 2.0, -4.0), (1, 2.0, NO_ROOT));
-        assert_eq!(quadratic_roots(0.0, 0.0, 1.0).0, 0);
-        assert_eq!(quadratic_roots(0.0, 0.0, 0.0).0, 0);
-        assert_eq!(quadratic_roots(1.0, 0.0, 1.0).0, 0);
-        assert_eq!(quadratic_roots(1.0, 0.0, 0.0), (2, 0.0, 0.0));
-        // b² ≫ 4ac: the small root keeps full relative accuracy
-        let (n, r0, r1) = quadratic_roots(1.0, -1e8, 1.0);
-        assert_eq!(n, 2);
-        assert!((r0 - 1e-8).abs() < 1e-22, "{r0}");
-        assert!((r1 - 1e8).abs() < 1e-6);
-        // a tiny leading coefficient: one root near −c/b, the other far away
-        let (n, r0, r1) = quadratic_roots(1e-300, 2.0, -4.0);
-        assert_eq!(n, 2);
-        assert!(r0 < -1e299 && (r1 - 2.0).abs() < 1e-15);
-    }
-
-    #[test]
-    fn smallest_positive_root_skips_negative_and_missing() {
-        assert_eq!(smallest_positive_root(1.0, -3.0, 2.0), 1.0);
-        assert_eq!(smallest_positive_root(1.0, 1.0, -2.0), 1.0);
-        assert_eq!(smallest_positive_root(1.0, 3.0, 2.0), NO_ROOT);
-        assert_eq!(smallest_positive_root(1.0, 0.0, 1.0), NO_ROOT);
     }
 
     #[test]
@@ -635,5 +619,25 @@ mod tests {
         };
         let m = first_contact(&moved, R, 1.0);
         assert!((m.t - c.t).abs() < 1e-12);
+    }
+
+    #[test]
+    fn quartic_matches_vector_form() {
+        let rel = RelPath {
+            a: Vec2::new(0.3, -0.2),
+            b: Vec2::new(-1.5, 0.7),
+            c: Vec2::new(0.4, 0.1),
+        };
+        let r = 0.028575;
+        let q = rel.quartic(r);
+        for t in [0.0, 0.1, 0.7, 2.5] {
+            let poly = (((q[0] * t + q[1]) * t + q[2]) * t + q[3]) * t + q[4];
+            let ct = rel.at(t);
+            let direct = dot(ct, ct) - 4.0 * r * r;
+            assert!(
+                (poly - direct).abs() < 1e-12 * (1.0 + direct.abs()),
+                "t={t}"
+            );
+        }
     }
 }

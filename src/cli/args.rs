@@ -1,0 +1,310 @@
+//! The command line's arguments (clap): the subcommands and their flags.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use kisstime::Params;
+use kisstime::engine::{Backend, Precision, default_precision};
+use kisstime::model::{
+    DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS,
+};
+use kisstime::workload::Workload;
+
+#[derive(Parser)]
+#[command(
+    name = "kisstime",
+    version,
+    about = "When do two billiard balls collide? Exact first-contact times for every ball pair \
+             of many tables at once.",
+    long_about = None
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Answer every ball pair of every table: when do they first touch while approaching?
+    ///
+    /// INPUT is CSV with the header `table,ball,state,x,y,vx,vy,wx,wy,wz` (SI units; state is
+    /// stationary, spinning, sliding, rolling or pocketed; rows of one table need not be
+    /// adjacent). The output is CSV `table,i,j,t,status,horizon`, one row per pair with
+    /// i < j the ball ids, in ascending table then ball id order; `t` is the first contact
+    /// time in seconds (`inf` for none), `status` is hit, none or overlap, and `horizon` is
+    /// the time until the first of the two balls changes its motion state. The output is
+    /// streamed: a few million pairs are held at a time, whatever the batch size.
+    ///
+    /// Files whose name ends in .npy are NumPy arrays instead of CSV, input and output
+    /// (layouts in the README and `kisstime::io::npy`). Ctrl-C leaves no output file behind.
+    Pairs(RunArgs),
+    /// Each table's next collision: the earliest pair in contact, as an event loop asks
+    /// after every event.
+    ///
+    /// INPUT as for `pairs`. The output is CSV `table,t,i,j,status`, one row per table in
+    /// ascending id order: `t` the time in seconds, (i, j) the ball ids, status hit or
+    /// overlap; `inf`, empty ids and `none` when no pair of the table collides. Ties: the
+    /// smallest time, then the smallest (i, j). Files ending in .npy are NumPy arrays, as
+    /// for `pairs`.
+    Next(RunArgs),
+    /// Measure each backend on a built-in workload generated in memory: pairs/s per pair
+    /// and for the next collision, the GPU's upload / kernel / readback split, and whether
+    /// the backends agree (pairs outside the precision's tier against the CPU f64).
+    Bench(BenchArgs),
+    /// Write a built-in workload as an input file, so that the CLI, other tools and other
+    /// simulators can be timed on identical data.
+    Gen(GenArgs),
+    /// Monte Carlo shot study: re-play one intended shot under cue noise many times and
+    /// count what the cue ball touches first (each object ball, a cushion, nothing).
+    ///
+    /// SCENARIO is a TOML file (table, balls, intended shot, noise; see
+    /// examples/study.toml); without it the built-in study runs. Prints per outcome the
+    /// count and fraction with a 95% confidence interval, and for the intended ball the time
+    /// to contact and the cut angle. The same seed gives the same outcomes on every backend
+    /// and thread count.
+    Shots(ShotsArgs),
+}
+
+#[derive(Args)]
+pub struct RunArgs {
+    /// Input file: CSV, or a NumPy .npy array when the name ends in .npy.
+    pub input: PathBuf,
+    /// Write the output here instead of standard output (atomically: nothing is left under
+    /// this name if the run fails or is interrupted); a name ending in .npy writes NumPy.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Where to compute: `cpu` (Rayon, f64), `gpu` (wgpu; an error when no GPU is usable),
+    /// `auto` (the GPU when one works, else the CPU, saying why on stderr).
+    #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
+    pub backend: BackendArg,
+    /// Floating-point precision: `f64` (CPU, and GPUs that offer SHADER_F64) or `f32`
+    /// (GPU only). Default: f64 on the CPU, f32 on the GPU and auto.
+    #[arg(long, value_enum)]
+    pub precision: Option<PrecisionArg>,
+    /// Print the backend and adapter used on stderr.
+    #[arg(short, long)]
+    pub verbose: bool,
+    /// Worker threads for the CPU backend (default: one per core). Results do not depend
+    /// on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    #[command(flatten)]
+    pub physics: PhysicsArgs,
+}
+
+#[derive(Args)]
+pub struct GenArgs {
+    /// The workload: `rack` (the break: a 15-ball rack and the cue ball), `midshot` (one
+    /// sliding and two rolling balls, the rest still), `spread` (every ball moving at
+    /// random), `worst` (every ball moving towards every other: every pair fully solved).
+    #[arg(long, value_enum, default_value_t = WorkloadArg::Midshot)]
+    pub scenario: WorkloadArg,
+    /// Number of tables.
+    #[arg(long, default_value_t = 10_000)]
+    pub tables: usize,
+    /// Balls per table, 2 to 64 (the rack always has 16).
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u16).range(2..=64))]
+    pub balls: u16,
+    /// Random seed: the same seed gives the same file on every machine.
+    #[arg(long, default_value_t = 42)]
+    pub seed: u64,
+    /// The file to write: CSV, or a NumPy .npy array when the name ends in .npy.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+#[derive(Args)]
+pub struct ShotsArgs {
+    /// The study (TOML, see examples/study.toml). Default: the built-in study.
+    pub scenario: Option<PathBuf>,
+    /// Number of noisy samples.
+    #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..))]
+    pub samples: u64,
+    /// Random seed: sample i's noise depends on (seed, i) only.
+    #[arg(long, default_value_t = 42)]
+    pub seed: u64,
+    /// Where to compute the ball contacts (as for `pairs`).
+    #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
+    pub backend: BackendArg,
+    /// Floating-point precision of the contacts (as for `pairs`).
+    #[arg(long, value_enum)]
+    pub precision: Option<PrecisionArg>,
+    /// Multiply every noise standard deviation by this factor (replaces the file's
+    /// `noise.factor`; 0 replays the intended shot exactly).
+    #[arg(long, allow_negative_numbers = true)]
+    pub noise: Option<f64>,
+    /// Standard deviation of the cue speed in m/s (replaces the scaled value).
+    #[arg(long, allow_negative_numbers = true)]
+    pub sigma_v0: Option<f64>,
+    /// Standard deviation of the aim azimuth in degrees (replaces the scaled value).
+    #[arg(long, allow_negative_numbers = true)]
+    pub sigma_phi: Option<f64>,
+    /// Standard deviation of the cue elevation in degrees (replaces the scaled value).
+    #[arg(long, allow_negative_numbers = true)]
+    pub sigma_theta: Option<f64>,
+    /// Standard deviation of the sideways tip offset in metres (replaces the scaled value).
+    #[arg(long, allow_negative_numbers = true)]
+    pub sigma_a: Option<f64>,
+    /// Standard deviation of the vertical tip offset in metres (replaces the scaled value).
+    #[arg(long, allow_negative_numbers = true)]
+    pub sigma_b: Option<f64>,
+    /// Write one CSV row per sample here (atomically).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Draw the study as a PNG here: the table, the spread of the first contacts, and the
+    /// cut angles on the intended ball.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Print the backend and adapter used on stderr.
+    #[arg(short, long)]
+    pub verbose: bool,
+    /// Worker threads for the CPU backend (default: one per core). Results do not depend
+    /// on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Number of tables.
+    #[arg(long, default_value_t = 10_000)]
+    pub tables: usize,
+    /// Balls per table, 2 to 64 (the rack always has 16).
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u16).range(2..=64))]
+    pub balls: u16,
+    /// The workload (see `kisstime gen --help`).
+    #[arg(long, value_enum, default_value_t = WorkloadArg::Midshot)]
+    pub scenario: WorkloadArg,
+    /// Which backends to measure; `all` is the CPU and, when one is usable, the GPU.
+    #[arg(long, value_enum, default_value_t = BenchBackend::All)]
+    pub backend: BenchBackend,
+    /// The GPU's precision (the CPU computes in f64).
+    #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
+    pub precision: PrecisionArg,
+    /// Random seed of the workload.
+    #[arg(long, default_value_t = 42)]
+    pub seed: u64,
+    /// Measured runs per operation, after one warm-up; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    pub reps: usize,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Worker threads for the CPU backend (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Backends to benchmark.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BenchBackend {
+    /// The CPU only.
+    Cpu,
+    /// The GPU only (the CPU still computes the reference answers, untimed).
+    Gpu,
+    /// Both.
+    All,
+}
+
+/// A built-in workload.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum WorkloadArg {
+    /// The break.
+    Rack,
+    /// A few balls moving, the rest still.
+    Midshot,
+    /// Every ball moving at random.
+    Spread,
+    /// Every ball moving towards every other.
+    Worst,
+}
+
+impl WorkloadArg {
+    pub fn workload(self) -> Workload {
+        match self {
+            WorkloadArg::Rack => Workload::Rack,
+            WorkloadArg::Midshot => Workload::Midshot,
+            WorkloadArg::Spread => Workload::Spread,
+            WorkloadArg::Worst => Workload::Worst,
+        }
+    }
+}
+
+/// The compute backend.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum BackendArg {
+    /// Rayon on all cores, f64: the reference.
+    Cpu,
+    /// The GPU through wgpu.
+    Gpu,
+    /// The GPU when one works, else the CPU.
+    Auto,
+}
+
+/// The floating-point precision.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum PrecisionArg {
+    /// IEEE single precision.
+    F32,
+    /// IEEE double precision.
+    F64,
+}
+
+#[derive(Args)]
+pub struct PhysicsArgs {
+    /// Ball radius R in metres.
+    #[arg(long, default_value_t = DEFAULT_RADIUS, allow_negative_numbers = true)]
+    pub radius: f64,
+    /// Sliding friction coefficient.
+    #[arg(long, default_value_t = DEFAULT_MU_S, allow_negative_numbers = true)]
+    pub mu_s: f64,
+    /// Rolling friction coefficient.
+    #[arg(long, default_value_t = DEFAULT_MU_R, allow_negative_numbers = true)]
+    pub mu_r: f64,
+    /// Spinning friction coefficient in metres [default: 0.444 × radius]. Spin about the
+    /// vertical axis never moves a ball, so it does not change collision times.
+    #[arg(long, allow_negative_numbers = true)]
+    pub mu_sp: Option<f64>,
+    /// Gravitational acceleration in m/s².
+    #[arg(long, default_value_t = DEFAULT_G, allow_negative_numbers = true)]
+    pub g: f64,
+}
+
+impl PhysicsArgs {
+    pub fn params(&self) -> Params {
+        Params {
+            radius: self.radius,
+            mu_s: self.mu_s,
+            mu_r: self.mu_r,
+            mu_sp: self.mu_sp.unwrap_or(DEFAULT_MU_SP_PER_RADIUS * self.radius),
+            g: self.g,
+        }
+    }
+}
+
+impl BackendArg {
+    /// The library's backend.
+    pub fn backend(self) -> Backend {
+        match self {
+            BackendArg::Cpu => Backend::Cpu,
+            BackendArg::Gpu => Backend::Gpu,
+            BackendArg::Auto => Backend::Auto,
+        }
+    }
+}
+
+impl PrecisionArg {
+    /// The library's precision.
+    pub fn precision(self) -> Precision {
+        match self {
+            PrecisionArg::F32 => Precision::F32,
+            PrecisionArg::F64 => Precision::F64,
+        }
+    }
+}
+
+/// The precision for `backend` when `--precision` is `arg` (the engine's default when it
+/// is not given).
+pub fn precision_for(arg: Option<PrecisionArg>, backend: Backend) -> Precision {
+    arg.map_or_else(|| default_precision(backend), PrecisionArg::precision)
+}

@@ -1,0 +1,12 @@
+//! The command line, built only with the `cli` feature: argument parsing ([`args`]), the
+//! commands ([`commands`] for `pairs`, `next`, `gen`; [`shots`]; [`bench`]), progress bars
+//! ([`progress`]) and the presentation of results ([`report`], [`plot`]). Everything it
+//! computes comes from the library.
+
+pub mod args;
+pub mod bench;
+pub mod commands;
+pub mod plot;
+pub mod progress;
+pub mod report;
+pub mod shots;

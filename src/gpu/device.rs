@@ -1,0 +1,168 @@
+//! The adapter and the device, and how their failures are noticed.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+
+use crate::error::Error;
+use crate::model::Precision;
+
+/// What a GPU computation can be asked about itself.
+#[derive(Clone, Debug)]
+pub struct AdapterSummary {
+    /// The adapter's name, e.g. "NVIDIA H100 80GB HBM3" or "llvmpipe (LLVM 15.0.6, 256 bits)".
+    pub name: String,
+    /// Its backend (Vulkan, Metal, Dx12).
+    pub backend: String,
+    /// Its device type (discrete, integrated, CPU, …).
+    pub device_type: String,
+    /// Its driver and driver info.
+    pub driver: String,
+}
+
+impl std::fmt::Display for AdapterSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} ({}, {}, driver {})",
+            self.name, self.backend, self.device_type, self.driver
+        )
+    }
+}
+
+/// A GPU failure as this crate's error.
+pub(super) fn gpu_error(what: impl std::fmt::Display) -> Error {
+    Error::Gpu(what.to_string())
+}
+
+/// Picks the adapter: the one whose name contains `WGPU_ADAPTER_NAME` (case-insensitive)
+/// when that variable is set, else wgpu's choice for high performance. Never panics.
+fn pick_adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter, Error> {
+    if let Ok(wanted) = std::env::var("WGPU_ADAPTER_NAME") {
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+        return adapters
+            .into_iter()
+            .find(|a| {
+                a.get_info()
+                    .name
+                    .to_lowercase()
+                    .contains(&wanted.to_lowercase())
+            })
+            .ok_or_else(|| {
+                Error::GpuUnavailable(format!(
+                    "no GPU adapter matches WGPU_ADAPTER_NAME={wanted:?} (adapters found: {})",
+                    if names.is_empty() {
+                        "none".to_owned()
+                    } else {
+                        names.join(", ")
+                    }
+                ))
+            });
+    }
+    let options = wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::from_env()
+            .unwrap_or(wgpu::PowerPreference::HighPerformance),
+        force_fallback_adapter: false,
+        compatible_surface: None,
+        ..Default::default()
+    };
+    pollster::block_on(instance.request_adapter(&options)).map_err(|e| {
+        Error::GpuUnavailable(format!(
+            "no GPU adapter found ({e}); install a Vulkan driver, e.g. Mesa's lavapipe \
+             (Debian: libvulkan1 mesa-vulkan-drivers)"
+        ))
+    })
+}
+
+/// What [`open`] gives: the device and what the engine needs to know about it.
+pub(super) struct Opened {
+    pub(super) device: wgpu::Device,
+    pub(super) queue: wgpu::Queue,
+    pub(super) adapter: AdapterSummary,
+    pub(super) limits: wgpu::Limits,
+    pub(super) watch: DeviceWatch,
+}
+
+/// Opens the adapter (see [`pick_adapter`]) and a device on it with the features that
+/// `precision` needs and the adapter's own limits.
+pub(super) fn open(precision: Precision) -> Result<Opened, Error> {
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pick_adapter(&instance)?;
+    let info = adapter.get_info();
+    let summary = AdapterSummary {
+        name: info.name.clone(),
+        backend: format!("{:?}", info.backend),
+        device_type: format!("{:?}", info.device_type),
+        driver: format!("{} {}", info.driver, info.driver_info)
+            .trim()
+            .to_owned(),
+    };
+    let mut features = wgpu::Features::empty();
+    if precision == Precision::F64 {
+        if !adapter.features().contains(wgpu::Features::SHADER_F64) {
+            return Err(Error::GpuUnavailable(format!(
+                "the GPU adapter {} does not offer SHADER_F64, so it cannot compute in f64 \
+                 (use --precision f32, or the CPU backend)",
+                summary.name
+            )));
+        }
+        features |= wgpu::Features::SHADER_F64;
+    }
+    let adapter_limits = adapter.limits();
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("kisstime"),
+        required_features: features,
+        required_limits: adapter_limits.clone(),
+        ..Default::default()
+    }))
+    .map_err(|e| gpu_error(format!("cannot open the GPU device {}: {e}", summary.name)))?;
+    let watch = DeviceWatch::install(&device);
+    Ok(Opened {
+        device,
+        queue,
+        adapter: summary,
+        limits: adapter_limits,
+        watch,
+    })
+}
+
+/// Notices a lost device, and errors that the device raises outside any error scope
+/// (wgpu's default handler would panic).
+pub(super) struct DeviceWatch {
+    lost: Arc<AtomicBool>,
+    uncaptured: Arc<Mutex<Option<String>>>,
+}
+
+impl DeviceWatch {
+    /// Installs the callbacks on `device`.
+    fn install(device: &wgpu::Device) -> DeviceWatch {
+        let lost = Arc::new(AtomicBool::new(false));
+        {
+            let lost = lost.clone();
+            device.set_device_lost_callback(move |_, _| lost.store(true, Ordering::SeqCst));
+        }
+        // wgpu's default handler panics; keep the first error instead and report it
+        let uncaptured = Arc::new(Mutex::new(None));
+        {
+            let uncaptured = uncaptured.clone();
+            device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+                if let Ok(mut slot) = uncaptured.lock() {
+                    slot.get_or_insert_with(|| e.to_string());
+                }
+            }));
+        }
+        DeviceWatch { lost, uncaptured }
+    }
+
+    /// A lost device, or an error the device recorded outside any error scope since the
+    /// last call (reported once).
+    pub(super) fn fault(&self) -> Option<Error> {
+        if self.lost.load(Ordering::SeqCst) {
+            return Some(gpu_error("the GPU device was lost"));
+        }
+        let mut slot = self.uncaptured.lock().ok()?;
+        slot.take()
+            .map(|e| gpu_error(format!("the GPU device failed: {e}")))
+    }
+}

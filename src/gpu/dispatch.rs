@@ -1,0 +1,264 @@
+//! Chunking, and one chunk's upload, dispatch and readback; kernel-only timing.
+
+use std::ops::Range;
+
+use super::device::gpu_error;
+use super::{GpuEngine, Precision};
+use crate::batch::Batch;
+use crate::error::Error;
+use crate::model::Params;
+
+/// Which kernel a call runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kernel {
+    /// `pair_times`: every pair's answer.
+    PairTimes,
+    /// `next_collisions`: each table's next collision.
+    NextCollisions,
+}
+
+impl GpuEngine {
+    /// Cuts the tables `tables` of the batch into chunks of whole tables within the limits.
+    pub(super) fn plan_chunks(
+        &self,
+        batch: &Batch,
+        tables: Range<usize>,
+    ) -> Result<Vec<Range<usize>>, Error> {
+        let mut chunks = Vec::new();
+        let mut first = tables.start;
+        while first < tables.end {
+            let (mut balls, mut pairs, mut end) = (0, 0, first);
+            while end < tables.end && end - first < self.limits.tables {
+                let nb = batch.balls(end).len();
+                let np = batch.pair_range(end).len();
+                if balls + nb > self.limits.balls || pairs + np > self.limits.pairs {
+                    break;
+                }
+                balls += nb;
+                pairs += np;
+                end += 1;
+            }
+            if end == first {
+                return Err(gpu_error(format!(
+                    "table {} has {} balls, more than one GPU dispatch can hold",
+                    batch.table_id(first),
+                    batch.balls(first).len()
+                )));
+            }
+            chunks.push(first..end);
+            first = end;
+        }
+        Ok(chunks)
+    }
+
+    /// Runs `kernel` on one chunk and returns the raw `(t, code)` results.
+    pub(super) fn run_chunk(
+        &mut self,
+        batch: &Batch,
+        tables: Range<usize>,
+        kernel: Kernel,
+        params: &Params,
+    ) -> Result<(Vec<f64>, Vec<u32>), Error> {
+        if let Some(e) = self.watch.fault() {
+            return Err(e);
+        }
+        let clock = std::time::Instant::now();
+        let n_tables = tables.len();
+        self.fill_host(batch, tables);
+        let n_balls = self.host.ball_state.len();
+        let n_pairs = self.host.table_start[n_tables][1] as usize;
+        let n_out = match kernel {
+            Kernel::PairTimes => n_pairs,
+            Kernel::NextCollisions => n_tables,
+        };
+        self.ensure_buffers(n_tables, n_balls, n_out);
+        #[cfg_attr(not(feature = "testing"), allow(unused_mut))]
+        let mut row_len = (n_tables as u32).min(self.max_groups_per_dim).max(1);
+        #[cfg(feature = "testing")]
+        self.apply_pending_fault(&mut row_len);
+        let rows = (n_tables as u32)
+            .div_ceil(row_len.min(self.max_groups_per_dim))
+            .max(1);
+        let mut uniform = Vec::with_capacity(64);
+        for v in [params.radius, params.mu_s, params.mu_r, params.g] {
+            match self.precision {
+                Precision::F32 => uniform.extend_from_slice(&(v as f32).to_le_bytes()),
+                Precision::F64 => uniform.extend_from_slice(&v.to_le_bytes()),
+            }
+        }
+        uniform.extend_from_slice(&(n_tables as u32).to_le_bytes());
+        uniform.extend_from_slice(&row_len.to_le_bytes());
+        uniform.resize(64, 0);
+        let bufs = self.bufs.as_ref().expect("buffers were just ensured");
+        let q = &self.queue;
+        q.write_buffer(&bufs.uniform, 0, &uniform);
+        q.write_buffer(
+            &bufs.table_start,
+            0,
+            bytemuck::cast_slice(&self.host.table_start),
+        );
+        q.write_buffer(
+            &bufs.ball_state,
+            0,
+            bytemuck::cast_slice(&self.host.ball_state),
+        );
+        q.write_buffer(&bufs.ball_pv, 0, &self.host.ball_pv);
+        q.write_buffer(&bufs.ball_w, 0, &self.host.ball_w);
+        self.timings.upload += clock.elapsed().as_secs_f64();
+
+        let clock = std::time::Instant::now();
+        let real = self.precision.real_size() as u64;
+        let bytes_t = (real * n_out as u64).max(4);
+        let bytes_code = (4 * n_out as u64).max(4);
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("kisstime"),
+            });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("kisstime"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(match kernel {
+                Kernel::PairTimes => &self.pipelines.pairs,
+                Kernel::NextCollisions => &self.pipelines.next,
+            });
+            pass.set_bind_group(0, &bufs.bind, &[]);
+            pass.dispatch_workgroups(row_len, rows, 1);
+        }
+        encoder.copy_buffer_to_buffer(&bufs.out_t, 0, &bufs.read_t, 0, bytes_t);
+        encoder.copy_buffer_to_buffer(&bufs.out_code, 0, &bufs.read_code, 0, bytes_code);
+        self.queue.submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        for (which, buf, bytes) in [(0, &bufs.read_t, bytes_t), (1, &bufs.read_code, bytes_code)] {
+            let tx = tx.clone();
+            buf.slice(..bytes)
+                .map_async(wgpu::MapMode::Read, move |r| drop(tx.send((which, r))));
+        }
+        drop(tx);
+        let polled = self.device.poll(wgpu::PollType::wait_indefinitely());
+        let oom = pollster::block_on(oom.pop());
+        let invalid = pollster::block_on(scope.pop());
+        // every map callback has run once the poll returned; leave no buffer mapped
+        let mut mapped = [false, false];
+        let mut map_error = None;
+        for (which, r) in rx.try_iter() {
+            match r {
+                Ok(()) => mapped[which] = true,
+                Err(e) => map_error = Some(e),
+            }
+        }
+        let failure = if let Some(e) = oom.or(invalid) {
+            Some(gpu_error(format!("the GPU dispatch failed: {e}")))
+        } else if let Err(e) = polled {
+            Some(gpu_error(format!("waiting for the GPU failed: {e}")))
+        } else if let Some(e) = map_error {
+            Some(gpu_error(format!(
+                "reading results back from the GPU failed: {e}"
+            )))
+        } else if !(mapped[0] && mapped[1]) {
+            Some(gpu_error("the GPU results never became readable"))
+        } else {
+            self.watch.fault()
+        };
+        if let Some(e) = failure {
+            for (buf, was_mapped) in [(&bufs.read_t, mapped[0]), (&bufs.read_code, mapped[1])] {
+                if was_mapped {
+                    buf.unmap();
+                }
+            }
+            return Err(e);
+        }
+        self.timings.kernel += clock.elapsed().as_secs_f64();
+
+        let clock = std::time::Instant::now();
+        let t: Vec<f64> = {
+            let view = bufs
+                .read_t
+                .slice(..bytes_t)
+                .get_mapped_range()
+                .map_err(|e| gpu_error(format!("reading results back from the GPU failed: {e}")))?;
+            match self.precision {
+                Precision::F32 => view
+                    .chunks_exact(4)
+                    .take(n_out)
+                    .map(|c| f32::from_le_bytes(c.try_into().unwrap()) as f64)
+                    .collect(),
+                Precision::F64 => view
+                    .chunks_exact(8)
+                    .take(n_out)
+                    .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+                    .collect(),
+            }
+        };
+        let code: Vec<u32> = {
+            let view = bufs
+                .read_code
+                .slice(..bytes_code)
+                .get_mapped_range()
+                .map_err(|e| gpu_error(format!("reading results back from the GPU failed: {e}")))?;
+            view.chunks_exact(4)
+                .take(n_out)
+                .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
+                .collect()
+        };
+        bufs.read_t.unmap();
+        bufs.read_code.unmap();
+        self.timings.readback += clock.elapsed().as_secs_f64();
+        Ok((t, code))
+    }
+
+    /// Kernel-only timing for benchmarks: uploads `batch` (which must fit one chunk), runs
+    /// `kernel` once to warm up, then submits it `iters` times back to back with the data
+    /// resident and returns the wall time from the first submit until the last finished.
+    pub fn time_kernel(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+        kernel: Kernel,
+        iters: u64,
+    ) -> Result<std::time::Duration, Error> {
+        let chunks = self.plan_chunks(batch, 0..batch.num_tables())?;
+        if chunks.len() != 1 {
+            return Err(gpu_error(format!(
+                "time_kernel needs a batch that fits one chunk, this one needs {}",
+                chunks.len()
+            )));
+        }
+        let n_tables = batch.num_tables() as u32;
+        self.run_chunk(batch, chunks[0].clone(), kernel, params)?;
+        let row_len = n_tables.min(self.max_groups_per_dim).max(1);
+        let rows = n_tables.div_ceil(row_len).max(1);
+        let bufs = self.bufs.as_ref().expect("run_chunk made the buffers");
+        let pipeline = match kernel {
+            Kernel::PairTimes => &self.pipelines.pairs,
+            Kernel::NextCollisions => &self.pipelines.next,
+        };
+        let start = std::time::Instant::now();
+        for _ in 0..iters {
+            let mut encoder = self
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: None,
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bufs.bind, &[]);
+                pass.dispatch_workgroups(row_len, rows, 1);
+            }
+            self.queue.submit([encoder.finish()]);
+        }
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| gpu_error(format!("waiting for the GPU failed: {e}")))?;
+        if let Some(e) = self.watch.fault() {
+            return Err(e);
+        }
+        Ok(start.elapsed())
+    }
+}

@@ -1,0 +1,237 @@
+//! The GPU backend: the wgpu host code. [`GpuEngine`] owns the device, the two compute
+//! pipelines (`pair_times`, `next_collisions` in `shaders/kernels.wgsl`) and the buffers,
+//! and reuses them across calls; buffers grow when a batch needs more.
+//!
+//! Where things are:
+//! - [`shader`]: the WGSL source, assembled from the twins in `shaders/`;
+//! - `device`: the adapter and device, and how their failures are noticed;
+//! - `pipelines`: the bind-group layout and the two compute pipelines;
+//! - `buffers`: the device buffers and the host arrays laid out as the shader reads them;
+//! - `dispatch`: chunking, one chunk's upload, dispatch and readback, kernel timing;
+//! - here: [`GpuEngine`]'s public calls, which turn the raw results into answers.
+//!
+//! # Accuracy care on the host
+//! Positions are made table-local in f64 before they are narrowed to the shader's
+//! precision: each table's origin is the centre of its balls' bounding box, so an f32
+//! coordinate is rounded to at most ~6e-8 m on a 9-ft table wherever the table is
+//! (at ±1000 m raw f32 coordinates would be rounded to 6e-5 m). Times need no such care:
+//! they count from now. Horizons are computed on the host in f64.
+//!
+//! # Chunking
+//! A batch is cut into chunks of whole tables that fit the buffers and the adapter's
+//! limits (binding size, workgroups per dimension: the dispatch is 2-D, one workgroup per
+//! table); each chunk is uploaded, dispatched and read back in turn.
+
+use std::ops::Range;
+
+use crate::batch::{Batch, NextCollision, pair_of_index, pairs};
+use crate::cpu::kernels::table_paths;
+use crate::error::Error;
+use crate::model::{Params, Precision};
+use crate::motion::path::pair_horizon;
+use crate::query::ball_ball::{Contact, Status};
+
+mod buffers;
+mod device;
+mod dispatch;
+#[cfg(feature = "testing")]
+mod fault;
+mod pipelines;
+pub mod shader;
+
+pub use device::AdapterSummary;
+pub use dispatch::Kernel;
+#[cfg(feature = "testing")]
+pub use fault::Fault;
+pub use shader::shader_source;
+
+/// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the
+/// `testing` feature).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ChunkLimits {
+    /// Tables per chunk.
+    pub tables: usize,
+    /// Balls per chunk.
+    pub balls: usize,
+    /// Pairs per chunk.
+    pub pairs: usize,
+}
+
+/// Timings of the last call, for benchmarks: upload, kernel and readback in seconds
+/// (wall clock on the host, summed over chunks).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GpuTimings {
+    /// Building the host arrays and writing them to the device.
+    pub upload: f64,
+    /// The dispatch until the results are ready to map.
+    pub kernel: f64,
+    /// Mapping and converting the results.
+    pub readback: f64,
+}
+
+/// The GPU engine: device, pipelines and buffers, reused across calls.
+pub struct GpuEngine {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    adapter: AdapterSummary,
+    precision: Precision,
+    pipelines: pipelines::Pipelines,
+    bufs: Option<buffers::Buffers>,
+    host: buffers::HostArrays,
+    limits: ChunkLimits,
+    max_groups_per_dim: u32,
+    watch: device::DeviceWatch,
+    /// A fault waiting for its dispatch: the fault, and how many dispatches run first.
+    #[cfg(feature = "testing")]
+    pending_fault: Option<(Fault, u32)>,
+    timings: GpuTimings,
+}
+
+impl GpuEngine {
+    /// Opens the GPU: adapter, device, pipelines for `precision`.
+    ///
+    /// Errors: [`Error::GpuUnavailable`] when there is no usable adapter, or when f64 is
+    /// asked for and the adapter lacks `SHADER_F64`; [`Error::Gpu`] when the device or the
+    /// shader fails to build.
+    pub fn new(precision: Precision) -> Result<GpuEngine, Error> {
+        let opened = device::open(precision)?;
+        let pipelines = pipelines::Pipelines::build(&opened.device, precision, &opened.adapter)?;
+        let adapter_limits = &opened.limits;
+        let binding = (adapter_limits.max_storage_buffer_binding_size as usize)
+            .min(adapter_limits.max_buffer_size as usize);
+        let real = precision.real_size();
+        let limits = ChunkLimits {
+            tables: (1 << 20).min(binding / 8 - 1),
+            balls: (1 << 22).min(binding / (4 * real)),
+            pairs: (1 << 24).min(binding / real),
+        };
+        Ok(GpuEngine {
+            max_groups_per_dim: adapter_limits.max_compute_workgroups_per_dimension,
+            device: opened.device,
+            queue: opened.queue,
+            adapter: opened.adapter,
+            precision,
+            pipelines,
+            bufs: None,
+            host: buffers::HostArrays::default(),
+            limits,
+            watch: opened.watch,
+            #[cfg(feature = "testing")]
+            pending_fault: None,
+            timings: GpuTimings::default(),
+        })
+    }
+
+    /// The adapter in use.
+    pub fn adapter(&self) -> &AdapterSummary {
+        &self.adapter
+    }
+
+    /// The precision the shaders compute in.
+    pub fn precision(&self) -> Precision {
+        self.precision
+    }
+
+    /// The chunk limits in force.
+    pub fn chunk_limits(&self) -> ChunkLimits {
+        self.limits
+    }
+
+    /// Upload, kernel and readback times of the last call.
+    pub fn timings(&self) -> GpuTimings {
+        self.timings
+    }
+
+    /// The answer for every pair of every table, in pair order, as
+    /// [`crate::pair_times`] gives it (times in the shader's precision; horizons in f64).
+    pub fn pair_times(&mut self, batch: &Batch, params: &Params) -> Result<Vec<Contact>, Error> {
+        self.pair_times_of(batch, params, 0..batch.num_tables())
+    }
+
+    /// The answers for the pairs of the tables `tables` only, as
+    /// [`crate::pair_times_of`] gives them.
+    pub fn pair_times_of(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+        tables: Range<usize>,
+    ) -> Result<Vec<Contact>, Error> {
+        params.validate()?;
+        self.timings = GpuTimings::default();
+        let n_pairs = batch.pairs_of_tables(tables.clone()).len();
+        crate::limits::check_memory(
+            &format!("answering {n_pairs} pairs at once"),
+            (n_pairs as u64).saturating_mul(crate::limits::BYTES_PER_PAIR),
+        )?;
+        let mut out = Vec::with_capacity(n_pairs);
+        let mut paths = Vec::new();
+        for chunk in self.plan_chunks(batch, tables)? {
+            let (t, code) = self.run_chunk(batch, chunk.clone(), Kernel::PairTimes, params)?;
+            let mut at = 0;
+            for k in chunk {
+                table_paths(batch.balls(k), params, &mut paths);
+                for (i, j) in pairs(paths.len()) {
+                    let horizon = pair_horizon(&paths[i], &paths[j]);
+                    out.push(decode_contact(t[at], code[at], horizon));
+                    at += 1;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// The next collision of every table, in table order, as [`crate::next_collisions`]
+    /// gives it (same tie rule; times in the shader's precision).
+    pub fn next_collisions(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+    ) -> Result<Vec<NextCollision>, Error> {
+        self.next_collisions_of(batch, params, 0..batch.num_tables())
+    }
+
+    /// The next collision of the tables `tables` only, as
+    /// [`crate::next_collisions_of`] gives it.
+    pub fn next_collisions_of(
+        &mut self,
+        batch: &Batch,
+        params: &Params,
+        tables: Range<usize>,
+    ) -> Result<Vec<NextCollision>, Error> {
+        params.validate()?;
+        self.timings = GpuTimings::default();
+        let mut out = Vec::with_capacity(tables.len());
+        for chunk in self.plan_chunks(batch, tables)? {
+            let (t, code) = self.run_chunk(batch, chunk.clone(), Kernel::NextCollisions, params)?;
+            for (local, k) in chunk.enumerate() {
+                let status = decode_status(code[local] & 3);
+                let ids = batch.ball_ids(k);
+                let mut next = NextCollision::none(batch.table_id(k));
+                if status != Status::None {
+                    let (i, j) = pair_of_index(ids.len(), (code[local] >> 2) as usize);
+                    next.t = t[local];
+                    next.pair = Some((ids[i], ids[j]));
+                    next.status = status;
+                }
+                out.push(next);
+            }
+        }
+        Ok(out)
+    }
+}
+
+fn decode_status(code: u32) -> Status {
+    match code {
+        1 => Status::Hit,
+        2 => Status::Overlap,
+        _ => Status::None,
+    }
+}
+
+fn decode_contact(t: f64, code: u32, horizon: f64) -> Contact {
+    match decode_status(code) {
+        Status::None => Contact::none(horizon),
+        Status::Hit => Contact::hit(t, horizon),
+        Status::Overlap => Contact::overlap(horizon),
+    }
+}

@@ -1,0 +1,62 @@
+//! The WGSL source of the kernels, assembled from the twins in `shaders/`.
+//!
+//! The shader is the concatenation of a precision prelude (`shaders/real_f32.wgsl` or
+//! `shaders/real_f64.wgsl`, which define `real` and the precision constants) and the WGSL
+//! twins of the Rust modules, vocabulary first, in the order their Rust twins import each
+//! other:
+//!
+//! | WGSL | Rust twin |
+//! |---|---|
+//! | `shaders/model/vec2.wgsl` | `src/model/vec2.rs` |
+//! | `shaders/model/ball.wgsl` | `src/model/ball.rs` |
+//! | `shaders/model/params.wgsl` | `src/model/params.rs` |
+//! | `shaders/motion/path.wgsl` | `src/motion/path.rs` |
+//! | `shaders/query/roots.wgsl` | `src/query/roots.rs` |
+//! | `shaders/query/ball_ball.wgsl` | `src/query/ball_ball.rs` |
+//! | `shaders/kernels.wgsl` | `src/cpu/kernels.rs` (the per-table loops) |
+//!
+//! f64 needs the adapter's `SHADER_F64` feature; without it, asking for f64 is an error.
+
+use crate::model::Precision;
+
+/// The twins in the order they are concatenated (after the prelude): each file uses only
+/// what the files before it define.
+pub const SHADER_FILES: [(&str, &str); 7] = [
+    (
+        "model/vec2.wgsl",
+        include_str!("../../shaders/model/vec2.wgsl"),
+    ),
+    (
+        "model/ball.wgsl",
+        include_str!("../../shaders/model/ball.wgsl"),
+    ),
+    (
+        "model/params.wgsl",
+        include_str!("../../shaders/model/params.wgsl"),
+    ),
+    (
+        "motion/path.wgsl",
+        include_str!("../../shaders/motion/path.wgsl"),
+    ),
+    (
+        "query/roots.wgsl",
+        include_str!("../../shaders/query/roots.wgsl"),
+    ),
+    (
+        "query/ball_ball.wgsl",
+        include_str!("../../shaders/query/ball_ball.wgsl"),
+    ),
+    ("kernels.wgsl", include_str!("../../shaders/kernels.wgsl")),
+];
+
+/// The full WGSL source for `precision`: the prelude, then [`SHADER_FILES`].
+pub fn shader_source(precision: Precision) -> String {
+    let prelude = match precision {
+        Precision::F32 => include_str!("../../shaders/real_f32.wgsl"),
+        Precision::F64 => include_str!("../../shaders/real_f64.wgsl"),
+    };
+    std::iter::once(prelude)
+        .chain(SHADER_FILES.iter().map(|(_, text)| *text))
+        .collect::<Vec<_>>()
+        .join("\n")
+}

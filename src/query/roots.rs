@@ -1,0 +1,89 @@
+//! Roots of quadratics: the building block of every "when does X happen" query.
+//!
+//! Both routines avoid NaN and ∞ (WGSL may assume neither exists): a missing root is
+//! [`NO_ROOT`] (`−1`). The GPU twin of this file is `shaders/query/roots.wgsl`.
+
+/// What a missing root or time is reported as inside the algorithms.
+pub const NO_ROOT: f64 = -1.0;
+
+/// Real roots of `a x² + b x + c`, ascending: `(count, r0, r1)`, missing roots `−1`.
+///
+/// The stable formula (`q = −½(b + sign(b)√disc)`, roots `q/a` and `c/q`) keeps both
+/// roots accurate when `b² ≫ |ac|`, and `a = 0` falls back to the linear root, so a
+/// vanishing leading coefficient needs no special case in the callers. A double root is
+/// reported twice. `0 x² + 0 x + c` has no roots (also for `c = 0`).
+pub fn quadratic_roots(a: f64, b: f64, c: f64) -> (u32, f64, f64) {
+    if a == 0.0 {
+        if b == 0.0 {
+            return (0, NO_ROOT, NO_ROOT);
+        }
+        return (1, -c / b, NO_ROOT);
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return (0, NO_ROOT, NO_ROOT);
+    }
+    let sign_b = if b < 0.0 { -1.0 } else { 1.0 };
+    let q = -0.5 * (b + sign_b * disc.sqrt());
+    if q == 0.0 {
+        // b = 0 and disc = 0, so c = 0: a double root at 0
+        return (2, 0.0, 0.0);
+    }
+    let r0 = q / a;
+    let r1 = c / q;
+    if r0 <= r1 { (2, r0, r1) } else { (2, r1, r0) }
+}
+
+/// The smallest strictly positive root of `a x² + b x + c`, or `−1` if it has none.
+pub fn smallest_positive_root(a: f64, b: f64, c: f64) -> f64 {
+    let (n, r0, r1) = quadratic_roots(a, b, c);
+    if n >= 1 && r0 > 0.0 {
+        return r0;
+    }
+    if n == 2 && r1 > 0.0 {
+        return r1;
+    }
+    NO_ROOT
+}
+
+/// The smallest `t > 0` at which `qa t² + qb t + qc` crosses zero upwards (or touches it),
+/// or `None`.
+pub fn first_upcrossing(qa: f64, qb: f64, qc: f64) -> Option<f64> {
+    let (n, r0, r1) = quadratic_roots(qa, qb, qc);
+    [r0, r1]
+        .into_iter()
+        .take(n as usize)
+        .find(|&t| t > 0.0 && 2.0 * qa * t + qb >= 0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadratic_roots_edge_cases() {
+        assert_eq!(quadratic_roots(1.0, -3.0, 2.0), (2, 1.0, 2.0));
+        assert_eq!(quadratic_roots(0.0, 2.0, -4.0), (1, 2.0, NO_ROOT));
+        assert_eq!(quadratic_roots(0.0, 0.0, 1.0).0, 0);
+        assert_eq!(quadratic_roots(0.0, 0.0, 0.0).0, 0);
+        assert_eq!(quadratic_roots(1.0, 0.0, 1.0).0, 0);
+        assert_eq!(quadratic_roots(1.0, 0.0, 0.0), (2, 0.0, 0.0));
+        // b² ≫ 4ac: the small root keeps full relative accuracy
+        let (n, r0, r1) = quadratic_roots(1.0, -1e8, 1.0);
+        assert_eq!(n, 2);
+        assert!((r0 - 1e-8).abs() < 1e-22, "{r0}");
+        assert!((r1 - 1e8).abs() < 1e-6);
+        // a tiny leading coefficient: one root near −c/b, the other far away
+        let (n, r0, r1) = quadratic_roots(1e-300, 2.0, -4.0);
+        assert_eq!(n, 2);
+        assert!(r0 < -1e299 && (r1 - 2.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn smallest_positive_root_skips_negative_and_missing() {
+        assert_eq!(smallest_positive_root(1.0, -3.0, 2.0), 1.0);
+        assert_eq!(smallest_positive_root(1.0, 1.0, -2.0), 1.0);
+        assert_eq!(smallest_positive_root(1.0, 3.0, 2.0), NO_ROOT);
+        assert_eq!(smallest_positive_root(1.0, 0.0, 1.0), NO_ROOT);
+    }
+}

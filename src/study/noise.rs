@@ -1,0 +1,42 @@
+//! The cue noise: sample `i`'s strike, drawn from a PCG generator seeded by `(seed, i)`
+//! only, so results do not depend on the backend, the thread count or the chunking.
+
+use rand::SeedableRng;
+use rand_distr::{Distribution, StandardNormal};
+use rand_pcg::Pcg64Mcg;
+
+use super::config::{Noise, StudyConfig};
+use crate::resolve::stick_ball::Strike;
+
+/// The noisy strike of sample `i`: the intended strike plus `sigma` times five standard
+/// normals (drawn in the order `v0, phi, theta, a, b`), with the offsets' σ (metres) divided by R, then clamped into the
+/// physical range ([`Strike::clamped`]).
+pub fn noisy_strike(config: &StudyConfig, sigma: &Noise, seed: u64, i: u64) -> Strike {
+    let mut rng = Pcg64Mcg::seed_from_u64(mix(seed, i));
+    let mut z = [0.0f64; 5];
+    for v in &mut z {
+        *v = StandardNormal.sample(&mut rng);
+    }
+    let s = config.shot;
+    let r = config.params.radius;
+    Strike {
+        v0: s.v0 + sigma.v0 * z[0],
+        phi: s.phi + sigma.phi * z[1],
+        theta: s.theta + sigma.theta * z[2],
+        a: s.a + sigma.a / r * z[3],
+        b: s.b + sigma.b / r * z[4],
+    }
+    .clamped()
+}
+
+/// SplitMix64's finaliser.
+fn splitmix(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// One 64-bit seed from the study's seed and the sample index.
+fn mix(seed: u64, i: u64) -> u64 {
+    splitmix(splitmix(seed).wrapping_add(i.wrapping_mul(0x9e37_79b9_7f4a_7c15)))
+}

@@ -1,0 +1,293 @@
+//! The WGSL twins stay honest: for each Rust file with a WGSL twin, the functions they
+//! share appear in the same order, and every function that only one of them has is on that
+//! pair's documented exception list below (with the reason). A function added to one twin
+//! and not the other, or moved in one of them, fails this test.
+//!
+//! Rust methods are matched to WGSL functions by the names in `RENAMED` (WGSL has no
+//! methods: `RelPath::at` is `rel_at`). Functions in a Rust file's `#[cfg(test)]` module
+//! are not part of the twin.
+
+use std::path::Path;
+
+/// A Rust file, its WGSL twin, and the functions only one of them has (with why).
+struct Twin {
+    rust: &'static str,
+    wgsl: &'static str,
+    rust_only: &'static [(&'static str, &'static str)],
+    wgsl_only: &'static [(&'static str, &'static str)],
+}
+
+/// Rust functions (mostly methods) and the differently named WGSL functions that are their
+/// twins.
+const RENAMED: &[(&str, &str)] = &[
+    ("table_paths", "cache_paths"),
+    ("RelPath::between", "rel_between"),
+    ("RelPath::at", "rel_at"),
+    ("RelPath::velocity_at", "rel_velocity_at"),
+    ("Contact::none", "contact_none"),
+    ("Contact::hit", "contact_hit"),
+    ("Contact::overlap", "contact_overlap"),
+];
+
+const HOST_ONLY: &str = "host side only: the shader gets its inputs already checked";
+const TEXT: &str = "names and parsing for files and messages; the shader has codes";
+
+const TWINS: &[Twin] = &[
+    Twin {
+        rust: "src/model/vec2.rs",
+        wgsl: "shaders/model/vec2.wgsl",
+        rust_only: &[
+            ("Vec2::new", "WGSL's vec2 constructor"),
+            ("dot", "the WGSL builtin `dot`"),
+            ("add", "WGSL's vector operators"),
+            ("sub", "WGSL's vector operators"),
+            ("neg", "WGSL's vector operators"),
+            ("mul", "WGSL's vector operators"),
+        ],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/model/ball.rs",
+        wgsl: "shaders/model/ball.wgsl",
+        rust_only: &[
+            ("MotionState::name", TEXT),
+            ("MotionState::translates", HOST_ONLY),
+            ("fmt", TEXT),
+            ("from_str", TEXT),
+            ("Ball::at_rest", HOST_ONLY),
+            ("Ball::rolling", HOST_ONLY),
+            ("Ball::from_numbers", HOST_ONLY),
+            ("Ball::numbers", HOST_ONLY),
+        ],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/model/params.rs",
+        wgsl: "shaders/model/params.wgsl",
+        rust_only: &[("default", HOST_ONLY), ("Params::validate", HOST_ONLY)],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/motion/path.rs",
+        wgsl: "shaders/motion/path.wgsl",
+        rust_only: &[
+            (
+                "BallPath::at",
+                "the shader evaluates relative paths only (rel_at)",
+            ),
+            (
+                "BallPath::velocity_at",
+                "the shader evaluates relative paths only (rel_velocity_at)",
+            ),
+        ],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/query/roots.rs",
+        wgsl: "shaders/query/roots.wgsl",
+        rust_only: &[(
+            "first_upcrossing",
+            "used by the cushion query, which has no shader yet",
+        )],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/query/ball_ball.rs",
+        wgsl: "shaders/query/ball_ball.wgsl",
+        rust_only: &[
+            (
+                "RelPath::quartic",
+                "for inspection and tests; the solver never uses it",
+            ),
+            ("Status::name", TEXT),
+            ("Status::is_contact", HOST_ONLY),
+            ("fmt", TEXT),
+        ],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/cpu/kernels.rs",
+        wgsl: "shaders/kernels.wgsl",
+        rust_only: &[
+            (
+                "pair_times_of",
+                "the host cuts batches into chunks (src/gpu)",
+            ),
+            ("table_next", "inlined in the entry point next_collisions"),
+            (
+                "next_collisions_of",
+                "the host cuts batches into chunks (src/gpu)",
+            ),
+        ],
+        wgsl_only: &[
+            ("load_path", "reads a path from the storage buffers"),
+            ("this_table", "the workgroup's table from its id"),
+            ("path_of", "a path from workgroup memory or storage"),
+            (
+                "pair_of_index",
+                "Rust twin in src/batch/pairs.rs (the host decodes with it)",
+            ),
+            (
+                "comes_first",
+                "the tie rule as a comparison (Rust: NextCollision::consider)",
+            ),
+        ],
+    },
+];
+
+fn read(path: &str) -> String {
+    let full = Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
+    std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{}: {e}", full.display()))
+}
+
+/// The name after `fn ` on a line, if the line declares a function.
+fn fn_name(line: &str) -> Option<&str> {
+    let t = line.trim_start();
+    let rest = [
+        "pub fn ",
+        "pub(crate) fn ",
+        "pub(super) fn ",
+        "fn ",
+        "const fn ",
+        "pub const fn ",
+    ]
+    .iter()
+    .find_map(|p| t.strip_prefix(p))?;
+    let end = rest.find(|c: char| !(c.is_alphanumeric() || c == '_'))?;
+    Some(&rest[..end])
+}
+
+/// The Rust file's functions in order, methods as `Type::name` for inherent impls (trait
+/// methods by their bare name), without its test module.
+fn rust_functions(text: &str) -> Vec<String> {
+    let text = text.split("#[cfg(test)]\nmod tests").next().unwrap_or(text);
+    let mut out = Vec::new();
+    let mut inherent: Option<String> = None;
+    for line in text.lines() {
+        if let Some(rest) = line.strip_prefix("impl ") {
+            // `impl Type {` is inherent; `impl Trait for Type {` is not
+            inherent = (!rest.contains(" for ") && !rest.starts_with('<'))
+                .then(|| rest.trim_end_matches(" {").trim().to_owned());
+            continue;
+        }
+        if line.starts_with('}') {
+            inherent = None;
+            continue;
+        }
+        if let Some(name) = fn_name(line) {
+            let in_impl = line.starts_with("    ");
+            out.push(match (&inherent, in_impl) {
+                (Some(ty), true) => format!("{ty}::{name}"),
+                _ => name.to_owned(),
+            });
+        }
+    }
+    out
+}
+
+/// The WGSL file's functions in order.
+fn wgsl_functions(text: &str) -> Vec<String> {
+    text.lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .filter_map(fn_name)
+        .map(str::to_owned)
+        .collect()
+}
+
+/// The WGSL name of a Rust function.
+fn as_wgsl(name: &str) -> String {
+    RENAMED
+        .iter()
+        .find(|(r, _)| *r == name)
+        .map_or_else(|| name.to_owned(), |(_, w)| (*w).to_owned())
+}
+
+#[test]
+fn twins_share_their_functions_in_the_same_order() {
+    let mut problems = Vec::new();
+    for twin in TWINS {
+        let rust: Vec<String> = rust_functions(&read(twin.rust));
+        let wgsl: Vec<String> = wgsl_functions(&read(twin.wgsl));
+        let rust_as_wgsl: Vec<String> = rust.iter().map(|n| as_wgsl(n)).collect();
+        for (r, w) in rust.iter().zip(&rust_as_wgsl) {
+            if !wgsl.contains(w) && !twin.rust_only.iter().any(|(n, _)| n == r) {
+                problems.push(format!(
+                    "{} has `{r}` but {} has no `{w}` (add it, or list it in rust_only with why)",
+                    twin.rust, twin.wgsl
+                ));
+            }
+        }
+        for w in &wgsl {
+            if !rust_as_wgsl.contains(w) && !twin.wgsl_only.iter().any(|(n, _)| n == w) {
+                problems.push(format!(
+                    "{} has `{w}` but {} has no twin of it (add it, or list it in wgsl_only)",
+                    twin.wgsl, twin.rust
+                ));
+            }
+        }
+        // the exception lists must not go stale
+        for (n, _) in twin.rust_only {
+            if !rust.iter().any(|r| r == n) {
+                problems.push(format!(
+                    "{}: rust_only lists `{n}`, which is gone",
+                    twin.rust
+                ));
+            }
+        }
+        for (n, _) in twin.wgsl_only {
+            if !wgsl.iter().any(|w| w == n) {
+                problems.push(format!(
+                    "{}: wgsl_only lists `{n}`, which is gone",
+                    twin.wgsl
+                ));
+            }
+        }
+        let shared_rust: Vec<&String> = rust_as_wgsl.iter().filter(|n| wgsl.contains(n)).collect();
+        let shared_wgsl: Vec<&String> = wgsl.iter().filter(|n| rust_as_wgsl.contains(n)).collect();
+        if shared_rust != shared_wgsl {
+            problems.push(format!(
+                "{} and {} list their shared functions in different orders:\n  rust: {shared_rust:?}\n  wgsl: {shared_wgsl:?}",
+                twin.rust, twin.wgsl
+            ));
+        }
+        assert!(
+            !shared_wgsl.is_empty() || wgsl.is_empty(),
+            "{}: nothing shared",
+            twin.wgsl
+        );
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn every_shader_file_has_a_twin_entry() {
+    let shader = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut found = Vec::new();
+    let mut dirs = vec![shader.clone()];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "wgsl") {
+                let rel = path.strip_prefix(shader.parent().unwrap()).unwrap();
+                found.push(rel.to_string_lossy().replace('\\', "/"));
+            }
+        }
+    }
+    for file in found {
+        let prelude = file.starts_with("shaders/real_");
+        assert!(
+            prelude || TWINS.iter().any(|t| t.wgsl == file),
+            "{file} has no entry in tests/twins.rs"
+        );
+    }
+}
+
+#[test]
+fn the_parser_sees_methods_and_skips_tests() {
+    let text = "pub fn a() {}\nimpl X {\n    pub fn b(&self) {}\n}\nimpl Y for X {\n    fn c() {}\n}\n#[cfg(test)]\nmod tests {\n    fn d() {}\n}\n";
+    assert_eq!(rust_functions(text), ["a", "X::b", "c"]);
+    let wgsl = "// fn not_this()\nfn e(x: u32) -> u32 {\n    return x;\n}\n@compute @workgroup_size(64)\nfn f() {}\n";
+    assert_eq!(wgsl_functions(wgsl), ["e", "f"]);
+}
