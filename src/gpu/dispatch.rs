@@ -17,6 +17,18 @@ pub enum Kernel {
     NextCollisions,
 }
 
+/// The dispatch grid and result sizes of one chunk.
+struct Grid {
+    /// Results: one per pair or one per table.
+    n_out: usize,
+    /// Workgroups per row and rows (one workgroup per table).
+    row_len: u32,
+    rows: u32,
+    /// Bytes of the times and of the codes to read back.
+    bytes_t: u64,
+    bytes_code: u64,
+}
+
 impl GpuEngine {
     /// Cuts the tables `tables` of the batch into chunks of whole tables within the limits.
     pub(super) fn plan_chunks(
@@ -51,7 +63,8 @@ impl GpuEngine {
         Ok(chunks)
     }
 
-    /// Runs `kernel` on one chunk and returns the raw `(t, code)` results.
+    /// Runs `kernel` on one chunk and returns the raw `(t, code)` results: upload, dispatch
+    /// and wait, read back (each step timed into [`GpuEngine::timings`]).
     pub(super) fn run_chunk(
         &mut self,
         batch: &Batch,
@@ -63,6 +76,28 @@ impl GpuEngine {
             return Err(e);
         }
         let clock = std::time::Instant::now();
+        let grid = self.upload(batch, tables, kernel, params);
+        self.timings.upload += clock.elapsed().as_secs_f64();
+
+        let clock = std::time::Instant::now();
+        self.dispatch_and_map(kernel, &grid)?;
+        self.timings.kernel += clock.elapsed().as_secs_f64();
+
+        let clock = std::time::Instant::now();
+        let results = self.read_results(&grid);
+        self.timings.readback += clock.elapsed().as_secs_f64();
+        results
+    }
+
+    /// Lays out the chunk's tables, makes sure the buffers hold them, and writes them and
+    /// the uniforms to the device.
+    fn upload(
+        &mut self,
+        batch: &Batch,
+        tables: Range<usize>,
+        kernel: Kernel,
+        params: &Params,
+    ) -> Grid {
         let n_tables = tables.len();
         self.fill_host(batch, tables);
         let n_balls = self.host.ball_state.len();
@@ -72,6 +107,7 @@ impl GpuEngine {
             Kernel::NextCollisions => n_tables,
         };
         self.ensure_buffers(n_tables, n_balls, n_out);
+        // one workgroup per table, in rows of at most the adapter's limit
         #[cfg_attr(not(feature = "testing"), allow(unused_mut))]
         let mut row_len = (n_tables as u32).min(self.max_groups_per_dim).max(1);
         #[cfg(feature = "testing")]
@@ -79,6 +115,7 @@ impl GpuEngine {
         let rows = (n_tables as u32)
             .div_ceil(row_len.min(self.max_groups_per_dim))
             .max(1);
+        // the uniforms, as `Uniforms` in shaders/kernels.wgsl
         let mut uniform = Vec::with_capacity(64);
         for v in [params.radius, params.mu_s, params.mu_r, params.g] {
             match self.precision {
@@ -104,12 +141,21 @@ impl GpuEngine {
         );
         q.write_buffer(&bufs.ball_pv, 0, &self.host.ball_pv);
         q.write_buffer(&bufs.ball_w, 0, &self.host.ball_w);
-        self.timings.upload += clock.elapsed().as_secs_f64();
-
-        let clock = std::time::Instant::now();
         let real = self.precision.real_size() as u64;
-        let bytes_t = (real * n_out as u64).max(4);
-        let bytes_code = (4 * n_out as u64).max(4);
+        Grid {
+            n_out,
+            row_len,
+            rows,
+            bytes_t: (real * n_out as u64).max(4),
+            bytes_code: (4 * n_out as u64).max(4),
+        }
+    }
+
+    /// Dispatches `kernel` over `grid`, copies the results to the readback buffers, maps
+    /// them and waits. Any failure (validation, out of memory, a lost device, a failed map)
+    /// is an error, and no buffer is left mapped then.
+    fn dispatch_and_map(&self, kernel: Kernel, grid: &Grid) -> Result<(), Error> {
+        let bufs = self.bufs.as_ref().expect("upload made the buffers");
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let mut encoder = self
@@ -122,13 +168,11 @@ impl GpuEngine {
                 label: Some("kisstime"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(match kernel {
-                Kernel::PairTimes => &self.pipelines.pairs,
-                Kernel::NextCollisions => &self.pipelines.next,
-            });
+            pass.set_pipeline(self.pipeline(kernel));
             pass.set_bind_group(0, &bufs.bind, &[]);
-            pass.dispatch_workgroups(row_len, rows, 1);
+            pass.dispatch_workgroups(grid.row_len, grid.rows, 1);
         }
+        let (bytes_t, bytes_code) = (grid.bytes_t, grid.bytes_code);
         encoder.copy_buffer_to_buffer(&bufs.out_t, 0, &bufs.read_t, 0, bytes_t);
         encoder.copy_buffer_to_buffer(&bufs.out_code, 0, &bufs.read_code, 0, bytes_code);
         self.queue.submit([encoder.finish()]);
@@ -172,15 +216,20 @@ impl GpuEngine {
             }
             return Err(e);
         }
-        self.timings.kernel += clock.elapsed().as_secs_f64();
+        Ok(())
+    }
 
-        let clock = std::time::Instant::now();
+    /// Converts the grid's mapped results to f64 times and codes, and unmaps the buffers.
+    fn read_results(&self, grid: &Grid) -> Result<(Vec<f64>, Vec<u32>), Error> {
+        let n_out = grid.n_out;
+        let bufs = self.bufs.as_ref().expect("upload made the buffers");
+        let read_error = |e| gpu_error(format!("reading results back from the GPU failed: {e}"));
         let t: Vec<f64> = {
             let view = bufs
                 .read_t
-                .slice(..bytes_t)
+                .slice(..grid.bytes_t)
                 .get_mapped_range()
-                .map_err(|e| gpu_error(format!("reading results back from the GPU failed: {e}")))?;
+                .map_err(read_error)?;
             match self.precision {
                 Precision::F32 => view
                     .chunks_exact(4)
@@ -197,9 +246,9 @@ impl GpuEngine {
         let code: Vec<u32> = {
             let view = bufs
                 .read_code
-                .slice(..bytes_code)
+                .slice(..grid.bytes_code)
                 .get_mapped_range()
-                .map_err(|e| gpu_error(format!("reading results back from the GPU failed: {e}")))?;
+                .map_err(read_error)?;
             view.chunks_exact(4)
                 .take(n_out)
                 .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
@@ -207,8 +256,15 @@ impl GpuEngine {
         };
         bufs.read_t.unmap();
         bufs.read_code.unmap();
-        self.timings.readback += clock.elapsed().as_secs_f64();
         Ok((t, code))
+    }
+
+    /// The pipeline of `kernel`.
+    fn pipeline(&self, kernel: Kernel) -> &wgpu::ComputePipeline {
+        match kernel {
+            Kernel::PairTimes => &self.pipelines.pairs,
+            Kernel::NextCollisions => &self.pipelines.next,
+        }
     }
 
     /// Kernel-only timing for benchmarks: uploads `batch` (which must fit one chunk), runs
@@ -233,10 +289,7 @@ impl GpuEngine {
         let row_len = n_tables.min(self.max_groups_per_dim).max(1);
         let rows = n_tables.div_ceil(row_len).max(1);
         let bufs = self.bufs.as_ref().expect("run_chunk made the buffers");
-        let pipeline = match kernel {
-            Kernel::PairTimes => &self.pipelines.pairs,
-            Kernel::NextCollisions => &self.pipelines.next,
-        };
+        let pipeline = self.pipeline(kernel);
         let start = std::time::Instant::now();
         for _ in 0..iters {
             let mut encoder = self
