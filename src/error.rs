@@ -138,3 +138,48 @@ impl fmt::Display for InputError {
 }
 
 impl std::error::Error for InputError {}
+
+/// What went wrong in the simulator ([`crate::simulate`]) or its inputs (tables, balls,
+/// strikes, reference-set files), naming the offending item. Nothing there panics on user
+/// data; it returns one of these, which converts into [`Error::Input`].
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// A parameter out of range (its name and value).
+    #[error("parameter {name} = {value} is out of range")]
+    Param {
+        /// The field's name.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A table description that cannot be used.
+    #[error("table: {0}")]
+    Table(String),
+    /// A ball that cannot be simulated (index and reason).
+    #[error("ball {index}: {reason}")]
+    Ball {
+        /// The ball's index in the table.
+        index: usize,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A cue strike that cannot be resolved.
+    #[error("strike: {0}")]
+    Strike(String),
+    /// A shot-set file that cannot be read (file, line, reason).
+    #[error("{file}:{line}: {reason}")]
+    File {
+        /// The file's path.
+        file: String,
+        /// The 1-based line (0 when the whole file is concerned).
+        line: usize,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+impl From<SimError> for Error {
+    fn from(e: SimError) -> Error {
+        Error::Input(InputError::new(e.to_string()))
+    }
+}

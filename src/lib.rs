@@ -14,8 +14,11 @@
 //!   the precision;
 //! - [`motion`]: a ball's path between events, and its state after some time on it;
 //! - [`query`]: when does something happen — [`query::roots`], [`query::ball_ball`] (the
-//!   pair solver), [`query::ball_cushion`];
-//! - [`resolve`]: what an event does — the cue strike ([`resolve::stick_ball`]);
+//!   pair solver), [`query::ball_cushion`], [`query::ball_pocket`];
+//! - [`resolve`]: what an event does — the cue strike, ball–ball, ball–cushion and
+//!   ball–pocket collisions, the motion transitions;
+//! - [`simulate`]: the event loop — whole shots from the strike to rest, pooltool 0.6.0's
+//!   physics (CPU, f64);
 //! - [`batch`]: the flat batch layout, the pair order and the next-collision tie rule;
 //! - [`cpu`]: the Rayon drivers [`pair_times`] and [`next_collisions`] (f64, the
 //!   reference);
@@ -24,7 +27,8 @@
 //! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback, and the defaults;
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
 //! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files;
-//! - [`study`]: Monte Carlo shot studies (configuration, noise, the driver, statistics);
+//! - [`study`]: Monte Carlo shot studies (configuration, noise, the driver, statistics;
+//!   today on their own first-contact model);
 //! - [`workload`]: reproducible built-in workloads; [`limits`], [`error`].
 //!
 //! The `kisstime` command line (`src/main.rs`, `src/cli/`) is a thin layer over these,
@@ -62,6 +66,7 @@ pub mod model;
 pub mod motion;
 pub mod query;
 pub mod resolve;
+pub mod simulate;
 pub mod study;
 pub mod workload;
 

@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 
 /// The library's top-level modules, lowest first.
 const LAYERS: &[&str] = &[
-    "error", "model", "motion", "query", "resolve", "limits", "batch", "cpu", "gpu", "engine",
-    "compare", "io", "workload", "study",
+    "error", "model", "motion", "query", "resolve", "limits", "simulate", "batch", "cpu", "gpu",
+    "engine", "compare", "io", "workload", "study",
 ];
 
 /// Every `.rs` file under `dir`.

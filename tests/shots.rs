@@ -4,8 +4,8 @@
 mod common;
 
 use kisstime::model::{MotionState, Params};
-use kisstime::motion::{contact_velocity, end_of_motion};
-use kisstime::resolve::{Masses, Strike, cue_strike};
+use kisstime::study::cue_ball::{contact_velocity, end_of_motion};
+use kisstime::study::strike::{Masses, Strike, cue_strike};
 use kisstime::study::{BUILTIN_TOML, Noise, StudyConfig};
 use kisstime::study::{Outcome, Sample, grazes, noisy_strike, run_study, simulate_one};
 use kisstime::{Backend, Engine, Error, Precision};
@@ -135,7 +135,7 @@ fn follow_at_two_fifths_rolls_at_once_and_sliding_ends_in_rolling() {
     let u = contact_velocity(&rolling, p.radius);
     assert!(u.x.hypot(u.y) < 1e-12, "{u:?}");
     // the closed-form sliding spin agrees with the rolling spin at the transition
-    let slid = kisstime::motion::evolve(&ball, &p, t);
+    let slid = kisstime::study::cue_ball::evolve(&ball, &p, t);
     assert!((slid.wx - rolling.wx).abs() < 1e-9 && (slid.wy - rolling.wy).abs() < 1e-9);
     let (still, _) = end_of_motion(&rolling, &p);
     assert!(!still.state.translates());
@@ -146,7 +146,7 @@ fn follow_at_two_fifths_rolls_at_once_and_sliding_ends_in_rolling() {
 
 /// What the fixed-step integration found: outcome and time.
 fn integrate(scenario: &StudyConfig, s: &Strike, dt: f64) -> (Outcome, f64) {
-    use kisstime::model::Cushion;
+    use kisstime::study::rectangle::Cushion;
     let p = scenario.params;
     let r = p.radius;
     let start = scenario.cue_spot();

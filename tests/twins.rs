@@ -31,6 +31,8 @@ const RENAMED: &[(&str, &str)] = &[
 
 const HOST_ONLY: &str = "host side only: the shader gets its inputs already checked";
 const TEXT: &str = "names and parsing for files and messages; the shader has codes";
+const SIM_FIRST: &str =
+    "the simulator's (CPU, f64 first); its WGSL twin comes with the GPU event loop";
 
 const TWINS: &[Twin] = &[
     Twin {
@@ -85,10 +87,13 @@ const TWINS: &[Twin] = &[
     Twin {
         rust: "src/query/roots.rs",
         wgsl: "shaders/query/roots.wgsl",
-        rust_only: &[(
-            "first_upcrossing",
-            "used by the cushion query, which has no shader yet",
-        )],
+        rust_only: &[
+            (
+                "first_upcrossing",
+                "used by the study's rectangle cushions, which have no shader",
+            ),
+            ("smallest_kiss_root", SIM_FIRST),
+        ],
         wgsl_only: &[],
     },
     Twin {
@@ -99,6 +104,7 @@ const TWINS: &[Twin] = &[
                 "RelPath::quartic",
                 "for inspection and tests; the solver never uses it",
             ),
+            ("ball_ball_time", SIM_FIRST),
             ("Status::name", TEXT),
             ("Status::is_contact", HOST_ONLY),
             ("fmt", TEXT),

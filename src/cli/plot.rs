@@ -14,8 +14,9 @@ use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
 use kisstime::Error;
-use kisstime::motion::{ball_path, end_of_motion};
-use kisstime::resolve::cue_strike;
+use kisstime::motion::ball_path;
+use kisstime::study::cue_ball::end_of_motion;
+use kisstime::study::strike::cue_strike;
 use kisstime::study::{Class, Outcome, Sample, StudyConfig, Summary, simulate_one};
 
 /// Picture size in pixels.

@@ -1,6 +1,7 @@
 //! Reading and writing batches and answers, in CSV ([`mod@csv`]) or NumPy `.npy`
 //! ([`npy`]), chosen by the file name ([`Format`]); outputs are written atomically
-//! ([`atomic`]).
+//! ([`atomic`]). Tables from JSON ([`table_json`]); the full-shot reference set's files
+//! ([`shot_set`]).
 //!
 //! # Input
 //! Header `table,ball,state,x,y,vx,vy,wx,wy,wz` ([`BALL_COLUMNS`]), one row a ball:
@@ -27,6 +28,8 @@ pub mod atomic;
 mod columns;
 pub mod csv;
 pub mod npy;
+pub mod shot_set;
+pub mod table_json;
 
 pub use self::atomic::{output_error, remove_unfinished_outputs, write_output};
 pub use self::columns::{BALL_COLUMNS, BALL_NUMBER_COLUMNS, NEXT_COLUMNS, PAIR_COLUMNS};

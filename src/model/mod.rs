@@ -1,17 +1,28 @@
-//! The vocabulary: vectors, physical parameters, balls and their motion states, the table,
-//! and the precision a computation runs in. Everything else builds on these; this module
+//! The vocabulary: vectors, physical parameters, balls and their states, the table, and
+//! the precision a computation runs in. Everything else builds on these; this module
 //! imports nothing from the rest of the crate but [`crate::error`].
+//!
+//! Two views of a ball: [`Ball`] (2-D position and velocity, 3-D spin: what the collision
+//! kernels and their WGSL twins read) and [`BallState`] (pooltool's full 3-D state, what the
+//! simulator evolves and resolves). [`Params`] are the kernels' parameters,
+//! [`SimParams`] the simulator's (ball, cue, resolver).
 
 pub mod ball;
+pub mod ball_state;
 pub mod params;
 pub mod precision;
+pub mod sim_params;
 pub mod table;
 pub mod vec2;
+pub mod vec3;
 
 pub use ball::{Ball, MotionState, UnknownState};
+pub use ball_state::BallState;
 pub use params::{
     DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS, Params,
 };
 pub use precision::Precision;
-pub use table::{Cushion, Table};
+pub use sim_params::{BallParams, CueParams, ResolverParams, SimParams};
+pub use table::{CircularCushion, LinearCushion, Pocket, PocketTableSpecs, Table};
 pub use vec2::{Vec2, dot, norm, norm1, perp_dot};
+pub use vec3::Vec3;

@@ -42,8 +42,12 @@
 //! a missing root is `−1`, a time that never comes is `−1`, loops are bounded by
 //! [`MAX_ITER`], and only `sqrt` and arithmetic are used.
 
+use crate::model::MotionState;
+use crate::model::ball_state::BallState;
+use crate::model::sim_params::BallParams;
 use crate::model::{Vec2, dot, norm, norm1, perp_dot};
 use crate::motion::path::{BallPath, PATH_MOVES, PATH_POCKETED, pair_horizon};
+use crate::motion::trajectory::trajectory;
 use crate::query::roots::{NO_ROOT, quadratic_roots, smallest_positive_root};
 
 /// Two centres closer than `2R` by at most this many metres (either way) touch.
@@ -532,9 +536,47 @@ pub fn pair_contact(p1: &BallPath, p2: &BallPath, radius: f64) -> Contact {
     first_contact(&RelPath::between(p1, p2), radius, h)
 }
 
+/// τ until balls 1 and 2 first touch (`|Δp(τ)| = 2R`), or `∞`.
+///
+/// Rules, in pooltool's order: either ball pocketed → `∞`; neither translating → `∞`;
+/// centres closer than 2R (3D, strictly) → `0`, "now" (Q3); otherwise the first entry
+/// into contact of the relative path `Δp(τ) = Δa τ² + Δb τ + Δc`.
+///
+/// Method: the crate's exact solver ([`crate::query::ball_ball::first_contact`]) on the relative
+/// path, within the pair's horizon (the earlier of the two balls' transitions, widened
+/// as [`crate::motion::trajectory::horizon_margin`] says). pooltool solves the expanded quartic with
+/// Algorithm 1010 and its root filter (§4.2); the smallest positive root it keeps is this
+/// first entry. Deviation (Q5): where pooltool's quartic has a leading coefficient of
+/// exactly 0 (bit-identical accelerations) it reports "now" and later raises in
+/// make_kiss; here the path is solved as it is (lower degree).
+pub fn ball_ball_time(b1: &BallState, b2: &BallState, p: &BallParams) -> f64 {
+    if b1.s == MotionState::Pocketed || b2.s == MotionState::Pocketed {
+        return f64::INFINITY;
+    }
+    if !b1.translating() && !b2.translating() {
+        return f64::INFINITY;
+    }
+    if (b2.r - b1.r).norm() < 2.0 * p.r {
+        return 0.0;
+    }
+    let (p1, p2) = (trajectory(b1, p), trajectory(b2, p));
+    let rel = RelPath {
+        a: p2.a - p1.a,
+        b: p2.b - p1.b,
+        c: p2.c - p1.c,
+    };
+    let h = p1.horizon.min(p2.horizon);
+    let contact = first_contact(&rel, p.r, h);
+    match contact.status {
+        Status::None => f64::INFINITY,
+        Status::Hit | Status::Overlap => contact.t,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::vec3::Vec3;
 
     const R: f64 = 0.028575;
 
@@ -639,5 +681,51 @@ mod tests {
                 "t={t}"
             );
         }
+    }
+
+    fn rolling_state(x: f64, y: f64, vx: f64, vy: f64) -> BallState {
+        let r = BallParams::default().r;
+        BallState {
+            v: Vec3::new(vx, vy, 0.0),
+            w: Vec3::new(-vy / r, vx / r, 0.0),
+            s: MotionState::Rolling,
+            ..BallState::at_rest(x, y, r)
+        }
+    }
+
+    #[test]
+    fn head_on_hit_time() {
+        let p = BallParams::default();
+        let cue = rolling_state(0.5, 0.5, 0.0, 1.0);
+        let obj = BallState::at_rest(0.5, 1.0, p.r);
+        let t = ball_ball_time(&cue, &obj, &p);
+        // gap 0.5 − 2R travelled at 1 m/s decelerating at μ_r g
+        let gap = 0.5 - 2.0 * p.r;
+        let k = 0.5 * 0.01 * 9.81;
+        let expect = (1.0 - (1.0 - 4.0 * k * gap).sqrt()) / (2.0 * k);
+        assert!((t - expect).abs() < 1e-12, "{t} {expect}");
+        assert_eq!(ball_ball_time(&obj, &cue, &p), t);
+    }
+
+    #[test]
+    fn rules_before_the_solver() {
+        let p = BallParams::default();
+        let a = BallState::at_rest(0.5, 0.5, p.r);
+        let b = BallState::at_rest(0.5, 0.5 + 1.9 * p.r, p.r);
+        assert_eq!(
+            ball_ball_time(&a, &b, &p),
+            f64::INFINITY,
+            "still overlap ignored"
+        );
+        let moving = rolling_state(0.5, 0.5, 1.0, 0.0);
+        assert_eq!(ball_ball_time(&moving, &b, &p), 0.0, "overlap is now");
+        let gone = BallState {
+            s: MotionState::Pocketed,
+            ..b
+        };
+        assert_eq!(ball_ball_time(&moving, &gone, &p), f64::INFINITY);
+        // moving apart: never
+        let away = rolling_state(0.5, 0.5 + 2.0 * p.r + 1e-6, 0.0, 1.0);
+        assert_eq!(ball_ball_time(&a, &away, &p), f64::INFINITY);
     }
 }

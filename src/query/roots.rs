@@ -56,6 +56,36 @@ pub fn first_upcrossing(qa: f64, qb: f64, qc: f64) -> Option<f64> {
         .find(|&t| t > 0.0 && 2.0 * qa * t + qb >= 0.0)
 }
 
+/// The make_kiss root choice shared by the ball–ball and circular-cushion spacers (spec
+/// §5.1, §5.3): of the roots of `A τ² + B τ + C = 0` whose imaginary part is below 1e-3 of
+/// their real part, the one with the smallest |τ|.
+///
+/// That is: the root of `A τ² + B τ + C` with the smallest |τ| among the "real" ones (a complex
+/// pair counts, by its real part, when `|Im|/|Re| < 1e-3`), or `None` (`A = 0`, or no
+/// root passes). Real roots use the stable formula `q = −½(B + sign(B)√Δ)`, `q/A`, `C/q`.
+pub fn smallest_kiss_root(a: f64, b: f64, c: f64) -> Option<f64> {
+    if a == 0.0 || !(a.is_finite() && b.is_finite() && c.is_finite()) {
+        return None;
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        let re = -b / (2.0 * a);
+        let im = (-disc).sqrt() / (2.0 * a);
+        return if re != 0.0 && (im / re).abs() < 1e-3 {
+            Some(re)
+        } else {
+            None
+        };
+    }
+    let sign = if b < 0.0 { -1.0 } else { 1.0 };
+    let q = -0.5 * (b + sign * disc.sqrt());
+    if q == 0.0 {
+        return Some(0.0);
+    }
+    let (r1, r2) = (q / a, c / q);
+    Some(if r1.abs() <= r2.abs() { r1 } else { r2 })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -85,5 +115,18 @@ mod tests {
         assert_eq!(smallest_positive_root(1.0, 1.0, -2.0), 1.0);
         assert_eq!(smallest_positive_root(1.0, 3.0, 2.0), NO_ROOT);
         assert_eq!(smallest_positive_root(1.0, 0.0, 1.0), NO_ROOT);
+    }
+
+    #[test]
+    fn picks_the_root_nearest_zero() {
+        // (τ + 1e-6)(τ − 3) = τ² − (3 − 1e-6) τ − 3e-6
+        let t = smallest_kiss_root(1.0, -(3.0 - 1e-6), -3e-6).unwrap();
+        assert!((t + 1e-6).abs() < 1e-20, "{t}");
+        assert_eq!(smallest_kiss_root(0.0, 1.0, 1.0), None);
+        // a clearly complex pair is refused
+        assert_eq!(smallest_kiss_root(1.0, 0.0, 1.0), None);
+        // a nearly double complex pair counts by its real part
+        let t = smallest_kiss_root(1.0, -2.0, 1.0 + 1e-10).unwrap();
+        assert_eq!(t, 1.0);
     }
 }

@@ -1,152 +1,172 @@
-//! The cue strike: what the stick does to the cue ball.
+//! The cue strike, pooltool's `instantaneous_point` model with squirt (spec §5.6;
+//! `physics/resolve/stick_ball/instantaneous_point/__init__.py: cue_strike`,
+//! `.../stick_ball/squirt.py: get_squirt_angle`).
 //!
-//! Leckie & Greenspan's instantaneous point-contact model ("An event-based pool physics
-//! simulator", Advances in Computer Games 2005), as pooltool implements it
-//! (`pooltool/physics/resolve/stick_ball/instantaneous_point`, with `english_throttle = 1`
-//! and without squirt). The cue of mass `M` moving at `V0`, aimed at azimuth `φ` and
-//! elevated by `θ`, hits the ball (mass `m`, radius `R`) at the point `(a R, c, b R)` of
-//! the ball frame: `a` sideways (positive to the shooter's left), `b` up,
-//! `c = √(R² − a²R² − b²R²)` behind the centre. The ball leaves with
-//!
-//! `v = 2 V0 / (1 + m/M + 5/(2R²) · (a² + b² cos²θ + c² sin²θ − 2 b c cosθ sinθ))`
-//!
-//! (a, b in metres here) along the horizontal direction `φ` (the vertical part `v sinθ` is
-//! dropped: the ball stays on the cloth), and spin
-//! `ω = 5 v / (2 R²) · (−c sinθ + b cosθ, a sinθ, −a cosθ)` in the ball frame (`x`: the
-//! shooter's left, `y`: backwards, `z`: up), rotated into the table frame.
+//! (a, b) is the contact point in the cue frame as a fraction of R (a: side, +1 leftmost;
+//! b: +1 top); the tip radius is not used (Q11). The ball leaves sliding with
+//! `v = 2V0/(1 + m/M + T/(I/m))` horizontally along φ (the vertical part `v sinθ` is
+//! dropped), spin from the contact offset, and the velocity (not the spin) turned by the
+//! squirt angle.
 
-use crate::model::{Ball, MotionState, Vec2, norm};
-use crate::motion::evolve::contact_velocity;
+use crate::error::SimError;
+use crate::model::MotionState;
+use crate::model::ball_state::BallState;
+use crate::model::sim_params::{BallParams, CueParams};
+use crate::model::vec3::Vec3;
+use std::f64::consts::FRAC_PI_2;
 
-/// pooltool's default ball mass in kg (`BallParams.m`).
-pub const DEFAULT_BALL_MASS: f64 = 0.170097;
-/// pooltool's default cue mass in kg (`CueSpecs.M`, a 20-oz cue).
-pub const DEFAULT_CUE_MASS: f64 = 0.567;
-
-/// How the cue strikes the cue ball (pooltool's `Cue` state, and the parameters that the
-/// computational pool tournaments' noise model perturbs).
+/// A cue strike: pooltool's `Cue.set_state(V0, phi, theta, a, b)` arguments.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Strike {
-    /// Cue speed at impact, m/s.
+pub struct CueStrike {
+    /// Cue speed in m/s.
     pub v0: f64,
-    /// Azimuth of the cue in degrees: the direction the ball is sent, counterclockwise
-    /// from the table's +x axis.
+    /// Aim direction in degrees, counter-clockwise from +x.
     pub phi: f64,
-    /// Elevation of the cue above the cloth in degrees.
+    /// Cue elevation in degrees.
     pub theta: f64,
-    /// Horizontal offset of the contact point from the ball's centre, as a fraction of R,
-    /// positive to the shooter's left.
+    /// Side offset of the contact point, fraction of R.
     pub a: f64,
-    /// Vertical offset of the contact point from the ball's centre, as a fraction of R,
-    /// positive up (follow), negative down (draw).
+    /// Vertical offset of the contact point, fraction of R.
     pub b: f64,
 }
 
-/// The masses that the strike depends on, in kg.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Masses {
-    /// Ball mass `m`.
-    pub ball: f64,
-    /// Cue mass `M`.
-    pub cue: f64,
-}
-
-impl Default for Masses {
-    fn default() -> Self {
-        Masses {
-            ball: DEFAULT_BALL_MASS,
-            cue: DEFAULT_CUE_MASS,
+impl CueStrike {
+    /// Checks the strike: every number finite, V0 ≥ 0, a² + b² ≤ 1 (pooltool gives NaN
+    /// beyond, Q11).
+    pub fn validate(&self) -> Result<(), SimError> {
+        let s = self;
+        if ![s.v0, s.phi, s.theta, s.a, s.b]
+            .iter()
+            .all(|x| x.is_finite())
+        {
+            return Err(SimError::Strike(format!("non-finite number in {s:?}")));
         }
+        if s.v0 < 0.0 {
+            return Err(SimError::Strike(format!("V0 = {} < 0", s.v0)));
+        }
+        if s.a * s.a + s.b * s.b > 1.0 {
+            return Err(SimError::Strike(format!(
+                "a² + b² > 1 (a = {}, b = {})",
+                s.a, s.b
+            )));
+        }
+        Ok(())
     }
 }
 
-/// The cue ball at `(x, y)` right after the strike (module docs): `Sliding`, or `Rolling`
-/// when its contact point happens to be at rest, or `Stationary` for `v0 = 0`.
-///
-/// The strike is assumed valid: `a² + b² ≤ 1` (see [`Strike::clamped`]).
-pub fn cue_strike(x: f64, y: f64, s: &Strike, radius: f64, masses: &Masses) -> Ball {
-    let r = radius;
-    let (phi, theta) = (s.phi.to_radians(), s.theta.to_radians());
-    let (a, b) = (s.a * r, s.b * r);
-    let c = (r * r - a * a - b * b).max(0.0).sqrt();
+/// The squirt angle `α = −throttle·atan2(2.5 a √(1−a²), 1 + m/m_e + 2.5(1−a²))`.
+pub fn squirt_angle(a: f64, p: &BallParams, cue: &CueParams) -> f64 {
+    let ratio = p.m / cue.end_mass;
+    let num = 2.5 * a * (1.0 - a * a).sqrt();
+    let den = 1.0 + ratio + 2.5 * (1.0 - a * a);
+    -cue.squirt_throttle * num.atan2(den)
+}
+
+/// Speed and ball-frame spin of the strike (§5.6 steps 1–3): `(v, ω_B)`.
+fn strike_ball_frame(s: &CueStrike, p: &BallParams, cue: &CueParams) -> (f64, Vec3) {
+    let theta = s.theta.to_radians();
     let (st, ct) = theta.sin_cos();
-    let temp = a * a + (b * ct).powi(2) + (c * st).powi(2) - 2.0 * b * c * ct * st;
-    let k = 5.0 / (2.0 * r * r);
-    let v = 2.0 * s.v0 / (1.0 + masses.ball / masses.cue + k * temp);
-    // spin in the ball frame: x the shooter's left, y backwards, z up
-    let wb = [
-        k * v * (-c * st + b * ct),
-        k * v * (a * st),
-        k * v * (-a * ct),
-    ];
-    let speed = v * ct;
-    let (sp, cp) = phi.sin_cos();
-    let left = Vec2::new(-sp, cp);
-    let back = Vec2::new(-cp, -sp);
-    let w = wb[0] * left + wb[1] * back;
-    let mut ball = Ball {
-        state: MotionState::Sliding,
-        x,
-        y,
-        vx: speed * cp,
-        vy: speed * sp,
-        wx: w.x,
-        wy: w.y,
-        wz: wb[2],
-    };
-    if speed == 0.0 {
-        ball.state = MotionState::Stationary;
-        ball.vx = 0.0;
-        ball.vy = 0.0;
-        ball.wx = 0.0;
-        ball.wy = 0.0;
-        if ball.wz != 0.0 {
-            ball.state = MotionState::Spinning;
-        }
-    } else if norm(contact_velocity(&ball, radius)) == 0.0 {
-        ball.state = MotionState::Rolling;
-    }
-    ball
+    let c_cue = (1.0 - s.a * s.a - s.b * s.b).sqrt();
+    let (a_b, c_b, b_b) = (s.a, ct * c_cue - st * s.b, st * c_cue + ct * s.b);
+    let (qa, qc, qb) = (p.r * a_b, p.r * c_b, p.r * b_b);
+    let i_m = 0.4 * p.r * p.r;
+    let t = qa * qa + (qb * ct).powi(2) + (qc * st).powi(2) - 2.0 * qb * qc * ct * st;
+    let v = 2.0 * s.v0 / (1.0 + p.m / cue.mass + t / i_m);
+    let w = (v / i_m) * Vec3::new(-qc * st + qb * ct, qa * st, -qa * ct);
+    (v, w)
 }
 
-impl Strike {
-    /// The strike moved into its physical range: `v0 ≥ 0`, `0 ≤ θ ≤ 90°`, and the contact
-    /// point on the ball (`a² + b² ≤ 1`, scaled onto the rim when outside). Noisy draws
-    /// can leave the range when the intended shot sits at its edge.
-    pub fn clamped(self) -> Strike {
-        let mut s = self;
-        s.v0 = s.v0.max(0.0);
-        s.theta = s.theta.clamp(0.0, 90.0);
-        let rho = (s.a * s.a + s.b * s.b).sqrt();
-        if rho > 1.0 {
-            s.a /= rho;
-            s.b /= rho;
-        }
-        s
+/// The cue ball right after the strike (§5.6): position kept, labelled sliding.
+pub fn cue_strike(ball: &BallState, s: &CueStrike, p: &BallParams, cue: &CueParams) -> BallState {
+    let (v, w_b) = strike_ball_frame(s, p, cue);
+    let theta = s.theta.to_radians();
+    let rot = s.phi.to_radians() + FRAC_PI_2;
+    let v_b = Vec3::new(0.0, -v * theta.cos(), 0.0);
+    let v_t = v_b.rotate_z(rot).rotate_z(squirt_angle(s.a, p, cue));
+    let w_t = cue.english_throttle * w_b.rotate_z(rot);
+    BallState {
+        v: v_t,
+        w: w_t,
+        s: MotionState::Sliding,
+        ..*ball
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::Params;
+
+    fn close(got: f64, want: f64) -> bool {
+        (got - want).abs() <= 1e-12 * want.abs().max(1.0)
+    }
+
+    fn strike(v0: f64, phi: f64, theta: f64, a: f64, b: f64) -> BallState {
+        let p = BallParams::default();
+        let s = CueStrike {
+            v0,
+            phi,
+            theta,
+            a,
+            b,
+        };
+        cue_strike(
+            &BallState::at_rest(0.5, 0.5, p.r),
+            &s,
+            &p,
+            &CueParams::default(),
+        )
+    }
+
+    /// Spec §8, test vector A.
+    #[test]
+    fn vector_a() {
+        let out = strike(2.0, 90.0, 0.0, 0.2, 0.3);
+        for (got, want) in [
+            (out.v.x, 0.036101103935539),
+            (out.v.y, 2.461281732245495),
+            (out.w.x, -64.60751906408932),
+            (out.w.z, -43.07167937605954),
+        ] {
+            assert!(close(got, want), "{got} vs {want}");
+        }
+        assert!(out.w.y.abs() < 1e-13 && out.v.z == 0.0);
+        assert_eq!(out.s, MotionState::Sliding);
+    }
+
+    /// Spec §8, test vector B.
+    #[test]
+    fn vector_b() {
+        let out = strike(3.0, 30.0, 15.0, -0.3, -0.2);
+        for (got, want) in [
+            (out.v.x, 3.049638595493054),
+            (out.v.y, 1.849236710711011),
+            (out.w.x, 54.02582837347929),
+            (out.w.y, -43.4105104920309),
+            (out.w.z, 93.6091068547008),
+        ] {
+            assert!(close(got, want), "{got} vs {want}");
+        }
+    }
 
     #[test]
-    fn centre_hit_gives_no_spin_and_velocity_along_phi() {
-        let p = Params::default();
-        let s = Strike {
-            v0: 2.0,
-            phi: 30.0,
+    fn bad_strikes_are_refused() {
+        let ok = CueStrike {
+            v0: 1.0,
+            phi: 0.0,
             theta: 0.0,
             a: 0.0,
             b: 0.0,
         };
-        let ball = cue_strike(0.5, 0.5, &s, p.radius, &Masses::default());
-        let m = Masses::default();
-        let v = 2.0 * 2.0 / (1.0 + m.ball / m.cue);
-        assert!((ball.vx - v * 30f64.to_radians().cos()).abs() < 1e-12);
-        assert!((ball.vy - v * 30f64.to_radians().sin()).abs() < 1e-12);
-        assert!(ball.wx.abs() < 1e-9 && ball.wy.abs() < 1e-9 && ball.wz == 0.0);
-        assert_eq!(ball.state, MotionState::Sliding);
+        assert!(ok.validate().is_ok());
+        assert!(
+            CueStrike {
+                a: 0.8,
+                b: 0.8,
+                ..ok
+            }
+            .validate()
+            .is_err()
+        );
+        assert!(CueStrike { v0: f64::NAN, ..ok }.validate().is_err());
     }
 }

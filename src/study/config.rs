@@ -47,13 +47,13 @@
 
 use serde::Deserialize;
 
+use super::rectangle::Rectangle;
+use super::strike::{DEFAULT_BALL_MASS, DEFAULT_CUE_MASS, Masses, Strike};
 use crate::error::{Error, InputError};
 use crate::model::{
     Ball, DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS, Params,
-    Table,
 };
 use crate::query::ball_ball::CONTACT_TOL;
-use crate::resolve::stick_ball::{DEFAULT_BALL_MASS, DEFAULT_CUE_MASS, Masses, Strike};
 
 /// The built-in study, `examples/study.toml`, as text.
 pub const BUILTIN_TOML: &str = include_str!("../../examples/study.toml");
@@ -138,7 +138,7 @@ pub struct StudyConfig {
     /// Where errors are reported from: the file name or [`BUILTIN_NAME`].
     pub source: String,
     /// The playing area.
-    pub table: Table,
+    pub table: Rectangle,
     /// Ball radius and friction.
     pub params: Params,
     /// Ball and cue mass.
@@ -314,7 +314,7 @@ impl StudyConfig {
             cue: positive("physics.cue_mass", ph.cue_mass.unwrap_or(DEFAULT_CUE_MASS))?,
         };
 
-        let table = Table {
+        let table = Rectangle {
             length: positive("table.length", raw.table.length)?,
             width: positive("table.width", raw.table.width)?,
         };

@@ -6,7 +6,7 @@ use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 
 use super::config::{Noise, StudyConfig};
-use crate::resolve::stick_ball::Strike;
+use super::strike::Strike;
 
 /// The noisy strike of sample `i`: the intended strike plus `sigma` times five standard
 /// normals (drawn in the order `v0, phi, theta, a, b`), with the offsets' σ (metres) divided by R, then clamped into the

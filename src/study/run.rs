@@ -10,14 +10,16 @@
 //! nothing is resolved after the first contact.
 
 use super::config::{Noise, StudyConfig};
+use super::cue_ball::end_of_motion;
 use super::noise::noisy_strike;
+use super::rectangle::{Cushion, cushion_time};
+use super::strike::{Strike, cue_strike};
 use crate::batch::Batch;
 use crate::engine::Engine;
 use crate::error::Error;
-use crate::model::{Ball, Cushion, Vec2, dot, norm};
-use crate::motion::{ball_path, end_of_motion};
-use crate::query::{cushion_time, pair_contact};
-use crate::resolve::stick_ball::{Strike, cue_strike};
+use crate::model::{Ball, Vec2, dot, norm};
+use crate::motion::ball_path;
+use crate::query::pair_contact;
 
 /// Samples handed to the engine at a time (memory stays bounded whatever the sample count).
 pub const CHUNK: usize = 65_536;

@@ -1,0 +1,96 @@
+//! pooltool's candidate-time caches as flat arrays (spec §3; `evolution/event_based/
+//! cache.py`): one slot per (ball pair), (ball, segment), (ball, jaw), (ball, pocket),
+//! holding an absolute time and an insertion stamp.
+//!
+//! pooltool keeps each category in a dict; `min` over a dict returns, of equal times, the
+//! entry inserted first, and an invalidated entry is deleted and later re-inserted at the
+//! end. The stamp reproduces that order: it grows with every insertion, and of equal
+//! times the smaller stamp wins.
+
+/// One cached candidate: absolute time `t` (`∞` for never; NaN while missing) and the
+/// insertion stamp `seq`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slot {
+    /// Absolute time in s.
+    pub t: f64,
+    /// Insertion stamp (dict order).
+    pub seq: u64,
+}
+
+impl Slot {
+    /// A slot whose entry must be (re)computed.
+    pub const MISSING: Slot = Slot {
+        t: f64::NAN,
+        seq: 0,
+    };
+
+    /// Whether the entry must be (re)computed.
+    pub fn is_missing(&self) -> bool {
+        self.t.is_nan()
+    }
+}
+
+/// The slot with the smallest time, of equal times the one inserted first:
+/// `(index, time)`, or `None` for an empty list. Missing slots must have been filled.
+pub fn earliest(slots: &[Slot]) -> Option<(usize, f64)> {
+    let mut best: Option<(usize, Slot)> = None;
+    for (k, s) in slots.iter().enumerate() {
+        let better = match best {
+            None => true,
+            Some((_, b)) => s.t < b.t || (s.t == b.t && s.seq < b.seq),
+        };
+        if better {
+            best = Some((k, *s));
+        }
+    }
+    best.map(|(k, s)| (k, s.t))
+}
+
+/// The index of pair `(i, j)`, `i < j < n`, in `itertools.combinations` order.
+pub fn pair_index(i: usize, j: usize, n: usize) -> usize {
+    i * n - i * (i + 1) / 2 + (j - i - 1)
+}
+
+/// The pair `(i, j)` at combinations index `k` of `n` balls.
+pub fn pair_at(k: usize, n: usize) -> (usize, usize) {
+    let mut i = 0;
+    let mut start = 0;
+    while start + (n - i - 1) <= k {
+        start += n - i - 1;
+        i += 1;
+    }
+    (i, i + 1 + (k - start))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pair_order_is_combinations_order() {
+        let n = 5;
+        let mut k = 0;
+        for i in 0..n {
+            for j in i + 1..n {
+                assert_eq!(pair_index(i, j, n), k);
+                assert_eq!(pair_at(k, n), (i, j));
+                k += 1;
+            }
+        }
+    }
+
+    #[test]
+    fn ties_go_to_the_first_inserted() {
+        let slots = [
+            Slot { t: 2.0, seq: 5 },
+            Slot { t: 1.0, seq: 9 },
+            Slot { t: 1.0, seq: 3 },
+            Slot {
+                t: f64::INFINITY,
+                seq: 0,
+            },
+        ];
+        assert_eq!(earliest(&slots), Some((2, 1.0)));
+        assert_eq!(earliest(&[]), None);
+    }
+}

@@ -1,0 +1,789 @@
+//! The per-table event loop (spec §3; `evolution/event_based/simulate.py: simulate`,
+//! `_SimulationState.step`, `get_next_event`, `get_event_priority`; `cache.py`).
+//!
+//! Each step: gather one candidate per category (stick, transition, ball–ball, circular
+//! cushion, linear cushion, pocket) from the caches, filling missing entries from the
+//! current states first; take the earliest, breaking exact ties by (tier, −energy) and then
+//! category order; evolve every ball to its time; resolve it; re-stamp and re-cache only
+//! the balls involved. The caches are flat arrays allocated once per table ([`EventLoop`]);
+//! nothing is allocated per event, and the loop is bounded by [`Limits`].
+//!
+//! pooltool's quirks copied here because event sequences depend on them: Q1 (the spacer,
+//! in the resolvers), Q2 (the momentum fix), Q3 (overlap = now, in detection), Q9, Q10,
+//! Q13 (in the resolvers and evolution), Q14 (ties), Q17 (a transition's agent is stamped
+//! `t + (T − t)`).
+
+use crate::error::SimError;
+use crate::model::ball_state::{BallState, ball_energy};
+use crate::model::sim_params::SimParams;
+use crate::model::table::Table;
+#[cfg(test)]
+use crate::model::vec3::Vec3;
+use crate::motion::evolve::{TransitionKind, evolve, next_transition};
+use crate::query::ball_ball::ball_ball_time;
+use crate::query::ball_cushion::{ball_circular_cushion_time, ball_linear_cushion_time};
+use crate::query::ball_pocket::ball_pocket_time;
+use crate::resolve::ball_ball::resolve_ball_ball;
+use crate::resolve::ball_cushion::{resolve_circular_cushion, resolve_linear_cushion};
+use crate::resolve::ball_pocket::resolve_pocket;
+use crate::resolve::stick_ball::{CueStrike, cue_strike};
+use crate::resolve::transition::resolve_transition;
+use crate::simulate::cache::{Slot, earliest, pair_at, pair_index};
+use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
+
+/// The most balls one table may hold (the caches grow with its square).
+pub const MAX_BALLS: usize = 64;
+
+/// Bounds on one table's simulation. The defaults never cut a real shot (the reference
+/// set's longest has 1,108 events and lasts 17 s; pooltool has no bounds by default).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// The most events reported, the strike included.
+    pub max_events: usize,
+    /// The latest simulated time in s an event may have.
+    pub max_time: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_events: 200_000,
+            max_time: 3600.0,
+        }
+    }
+}
+
+/// Category order, which breaks ties of equal (tier, energy) (spec §3).
+const CATEGORIES: usize = 6;
+
+/// One category's earliest candidate.
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    t: f64,
+    tier: u32,
+    energy: f64,
+    event: Event,
+}
+
+/// The simulation state of one table: balls, caches, clock. Build it once per table
+/// ([`EventLoop::new`]), start a shot with [`EventLoop::reset`], then call
+/// [`EventLoop::step`] until it returns `None`.
+#[derive(Clone, Debug)]
+pub struct EventLoop<'a> {
+    table: &'a Table,
+    params: SimParams,
+    limits: Limits,
+    balls: Vec<BallState>,
+    transitions: Vec<(f64, TransitionKind)>,
+    pairs: Vec<Slot>,
+    linear: Vec<Slot>,
+    circular: Vec<Slot>,
+    pockets: Vec<Slot>,
+    strike: Option<(usize, CueStrike)>,
+    stick: Slot,
+    seq: u64,
+    t: f64,
+    n_events: usize,
+    cut: Option<Cut>,
+    done: bool,
+}
+
+impl<'a> EventLoop<'a> {
+    /// A loop for up to `n_balls` balls on `table` (validates the parameters).
+    pub fn new(
+        table: &'a Table,
+        params: SimParams,
+        limits: Limits,
+        n_balls: usize,
+    ) -> Result<Self, SimError> {
+        params.validate()?;
+        if n_balls > MAX_BALLS {
+            return Err(SimError::Ball {
+                index: n_balls,
+                reason: format!("at most {MAX_BALLS} balls per table"),
+            });
+        }
+        let n = n_balls;
+        Ok(EventLoop {
+            table,
+            params,
+            limits,
+            balls: Vec::with_capacity(n),
+            transitions: Vec::with_capacity(n),
+            pairs: Vec::with_capacity(n * n.saturating_sub(1) / 2),
+            linear: Vec::with_capacity(n * table.linear.len()),
+            circular: Vec::with_capacity(n * table.circular.len()),
+            pockets: Vec::with_capacity(n * table.pockets.len()),
+            strike: None,
+            stick: Slot::MISSING,
+            seq: 0,
+            t: 0.0,
+            n_events: 0,
+            cut: None,
+            done: false,
+        })
+    }
+
+    /// Starts a shot: the balls (in pooltool's ball order, reference time 0) and the cue
+    /// strike on ball `strike.0`, if any. The strike happens at t = 0 only if every ball
+    /// is at rest (zero energy) and V0 > 0, as in pooltool. Errors on a bad ball or strike
+    /// or too many balls; nothing is allocated beyond the capacity given to `new` unless
+    /// more balls come.
+    pub fn reset(
+        &mut self,
+        balls: &[BallState],
+        strike: Option<(usize, CueStrike)>,
+    ) -> Result<(), SimError> {
+        check_balls(balls)?;
+        if let Some((cue, s)) = strike {
+            s.validate()?;
+            if cue >= balls.len() {
+                return Err(SimError::Strike(format!(
+                    "cue ball index {cue} out of range"
+                )));
+            }
+        }
+        let n = balls.len();
+        self.balls.clear();
+        self.balls
+            .extend(balls.iter().map(|b| BallState { t: 0.0, ..*b }));
+        self.transitions.clear();
+        for b in &self.balls {
+            let next = next_transition(b, &self.params.ball);
+            let entry = next.map_or((f64::INFINITY, TransitionKind::SlidingRolling), |x| x);
+            self.transitions.push(entry);
+        }
+        let reset = |v: &mut Vec<Slot>, len: usize| {
+            v.clear();
+            v.resize(len, Slot::MISSING);
+        };
+        reset(&mut self.pairs, n * n.saturating_sub(1) / 2);
+        reset(&mut self.linear, n * self.table.linear.len());
+        reset(&mut self.circular, n * self.table.circular.len());
+        reset(&mut self.pockets, n * self.table.pockets.len());
+        self.strike = strike;
+        self.stick = Slot::MISSING;
+        self.seq = 0;
+        self.t = 0.0;
+        self.n_events = 0;
+        self.cut = None;
+        self.done = false;
+        Ok(())
+    }
+
+    /// The balls' current states (at the time of the last event).
+    pub fn balls(&self) -> &[BallState] {
+        &self.balls
+    }
+
+    /// The current time: that of the last event.
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// How the simulation ended so far (meaningful once `step` returned `None`).
+    pub fn outcome(&self) -> Outcome {
+        Outcome {
+            n_events: self.n_events,
+            t_end: self.t,
+            cut: self.cut,
+        }
+    }
+
+    /// Runs one event: returns it, or `None` once every candidate is `∞` (every ball at
+    /// rest or pocketed) or a limit was reached (see [`EventLoop::outcome`]).
+    pub fn step(&mut self) -> Option<Event> {
+        if self.done {
+            return None;
+        }
+        if self.n_events >= self.limits.max_events {
+            return self.stop(Some(Cut::MaxEvents));
+        }
+        let cands = self.candidates();
+        let Some(winner) = choose(&cands) else {
+            return self.stop(None);
+        };
+        if winner.t == f64::INFINITY {
+            return self.stop(None);
+        }
+        if winner.t > self.limits.max_time {
+            return self.stop(Some(Cut::MaxTime));
+        }
+        let ev = winner.event;
+        self.advance(ev.t);
+        self.resolve(&ev);
+        self.n_events += 1;
+        Some(ev)
+    }
+
+    fn stop(&mut self, cut: Option<Cut>) -> Option<Event> {
+        self.done = true;
+        self.cut = cut;
+        None
+    }
+
+    /// Evolves every ball from the current time to `t_next` (closed forms, labels kept).
+    fn advance(&mut self, t_next: f64) {
+        let dt = t_next - self.t;
+        let p = &self.params.ball;
+        for b in &mut self.balls {
+            *b = evolve(b, dt, p);
+        }
+    }
+}
+
+/// Checks the balls a shot starts from: at most [`MAX_BALLS`], every number finite.
+fn check_balls(balls: &[BallState]) -> Result<(), SimError> {
+    if balls.len() > MAX_BALLS {
+        return Err(SimError::Ball {
+            index: balls.len(),
+            reason: format!("at most {MAX_BALLS} balls per table"),
+        });
+    }
+    for (index, b) in balls.iter().enumerate() {
+        if !(b.r.is_finite() && b.v.is_finite() && b.w.is_finite()) {
+            return Err(SimError::Ball {
+                index,
+                reason: "non-finite position, velocity or spin".to_owned(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The winner among the categories' candidates (spec §3): the earliest time; of exact
+/// ties the smallest (tier, −energy), then the earlier category.
+fn choose(cands: &[Option<Candidate>; CATEGORIES]) -> Option<Candidate> {
+    let mut best: Option<Candidate> = None;
+    for c in cands.iter().flatten() {
+        let better = match best {
+            None => true,
+            Some(b) => {
+                c.t < b.t
+                    || (c.t == b.t
+                        && (c.tier < b.tier || (c.tier == b.tier && c.energy > b.energy)))
+            }
+        };
+        if better {
+            best = Some(*c);
+        }
+    }
+    best
+}
+
+impl EventLoop<'_> {
+    /// One candidate per category, missing cache entries filled first.
+    fn candidates(&mut self) -> [Option<Candidate>; CATEGORIES] {
+        [
+            self.stick_candidate(),
+            self.transition_candidate(),
+            self.ball_ball_candidate(),
+            self.circular_candidate(),
+            self.linear_candidate(),
+            self.pocket_candidate(),
+        ]
+    }
+
+    fn energy(&self, i: usize) -> f64 {
+        ball_energy(&self.balls[i], &self.params.ball)
+    }
+
+    fn next_seq(&mut self) -> u64 {
+        self.seq += 1;
+        self.seq
+    }
+
+    /// The stick–ball candidate: time 0 at t = 0 with the system at rest and V0 > 0,
+    /// else ∞ (only offered at t = 0; tier 1, energy V0²).
+    fn stick_candidate(&mut self) -> Option<Candidate> {
+        let (cue, s) = self.strike?;
+        if self.t != 0.0 {
+            return None;
+        }
+        if self.stick.is_missing() {
+            let at_rest = (0..self.balls.len()).all(|i| self.energy(i) == 0.0);
+            let t = if at_rest && s.v0 > 0.0 {
+                0.0
+            } else {
+                f64::INFINITY
+            };
+            let seq = self.next_seq();
+            self.stick = Slot { t, seq };
+        }
+        let event = Event {
+            kind: EventKind::StickBall,
+            t: self.stick.t,
+            ball: cue as u32,
+            other: NO_AGENT,
+        };
+        Some(Candidate {
+            t: self.stick.t,
+            tier: 1,
+            energy: s.v0 * s.v0,
+            event,
+        })
+    }
+
+    /// The earliest transition (ties: ball order, as pooltool's dict keeps its keys).
+    fn transition_candidate(&mut self) -> Option<Candidate> {
+        let mut best: Option<usize> = None;
+        for (i, (t, _)) in self.transitions.iter().enumerate() {
+            if best.is_none_or(|b| *t < self.transitions[b].0) {
+                best = Some(i);
+            }
+        }
+        let i = best?;
+        let (t, kind) = self.transitions[i];
+        let kind = match kind {
+            TransitionKind::SlidingRolling => EventKind::SlidingRolling,
+            TransitionKind::RollingSpinning => EventKind::RollingSpinning,
+            TransitionKind::RollingStationary => EventKind::RollingStationary,
+            TransitionKind::SpinningStationary => EventKind::SpinningStationary,
+        };
+        let event = Event {
+            kind,
+            t,
+            ball: i as u32,
+            other: NO_AGENT,
+        };
+        Some(Candidate {
+            t,
+            tier: 2,
+            energy: self.energy(i),
+            event,
+        })
+    }
+}
+
+impl EventLoop<'_> {
+    /// Fills the missing pair entries (combinations order) as `t + τ`.
+    fn fill_pairs(&mut self) {
+        let n = self.balls.len();
+        for k in 0..self.pairs.len() {
+            if self.pairs[k].is_missing() {
+                let (i, j) = pair_at(k, n);
+                let tau = ball_ball_time(&self.balls[i], &self.balls[j], &self.params.ball);
+                let seq = self.next_seq();
+                self.pairs[k] = Slot {
+                    t: self.t + tau,
+                    seq,
+                };
+            }
+        }
+    }
+
+    /// The earliest ball–ball collision (tier 3, energy |v1 − v2|²).
+    fn ball_ball_candidate(&mut self) -> Option<Candidate> {
+        self.fill_pairs();
+        let (k, t) = earliest(&self.pairs)?;
+        let (i, j) = pair_at(k, self.balls.len());
+        let dv = self.balls[i].v - self.balls[j].v;
+        let event = Event {
+            kind: EventKind::BallBall,
+            t,
+            ball: i as u32,
+            other: j as u32,
+        };
+        Some(Candidate {
+            t,
+            tier: 3,
+            energy: dv.dot(dv),
+            event,
+        })
+    }
+
+    /// Fills the missing (ball, item) entries of one ball–table category (balls outer,
+    /// items inner, table order) with `time(ball, item)`.
+    fn fill_items(&mut self, which: Items) {
+        let n_items = match which {
+            Items::Linear => self.table.linear.len(),
+            Items::Circular => self.table.circular.len(),
+            Items::Pocket => self.table.pockets.len(),
+        };
+        for k in 0..n_items * self.balls.len() {
+            if !self.slots(which)[k].is_missing() {
+                continue;
+            }
+            let (i, m) = (k / n_items, k % n_items);
+            let (b, p, tb) = (&self.balls[i], &self.params.ball, self.table);
+            let tau = match which {
+                Items::Linear => ball_linear_cushion_time(b, &tb.linear[m], p),
+                Items::Circular => ball_circular_cushion_time(b, &tb.circular[m], p),
+                Items::Pocket => ball_pocket_time(b, &tb.pockets[m], p),
+            };
+            let slot = Slot {
+                t: self.t + tau,
+                seq: self.next_seq(),
+            };
+            self.slots_mut(which)[k] = slot;
+        }
+    }
+
+    fn slots(&self, which: Items) -> &[Slot] {
+        match which {
+            Items::Linear => &self.linear,
+            Items::Circular => &self.circular,
+            Items::Pocket => &self.pockets,
+        }
+    }
+
+    fn slots_mut(&mut self, which: Items) -> &mut [Slot] {
+        match which {
+            Items::Linear => &mut self.linear,
+            Items::Circular => &mut self.circular,
+            Items::Pocket => &mut self.pockets,
+        }
+    }
+
+    /// The earliest event of one ball–table category, `(kind, tier)` as given.
+    fn item_candidate(&mut self, which: Items, kind: EventKind, tier: u32) -> Option<Candidate> {
+        self.fill_items(which);
+        let (k, t) = earliest(self.slots(which))?;
+        let n_items = self.slots(which).len() / self.balls.len();
+        let (i, m) = (k / n_items, k % n_items);
+        let event = Event {
+            kind,
+            t,
+            ball: i as u32,
+            other: m as u32,
+        };
+        Some(Candidate {
+            t,
+            tier,
+            energy: self.energy(i),
+            event,
+        })
+    }
+
+    fn circular_candidate(&mut self) -> Option<Candidate> {
+        self.item_candidate(Items::Circular, EventKind::BallCircularCushion, 3)
+    }
+
+    fn linear_candidate(&mut self) -> Option<Candidate> {
+        self.item_candidate(Items::Linear, EventKind::BallLinearCushion, 3)
+    }
+
+    fn pocket_candidate(&mut self) -> Option<Candidate> {
+        self.item_candidate(Items::Pocket, EventKind::BallPocket, 2)
+    }
+}
+
+/// The three ball–table categories.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Items {
+    Linear,
+    Circular,
+    Pocket,
+}
+
+impl EventLoop<'_> {
+    /// Applies event `ev` (the balls already evolved to its time), then re-stamps,
+    /// re-caches the transitions of, and invalidates the entries of the balls involved.
+    fn resolve(&mut self, ev: &Event) {
+        let (p, rp, tb) = (&self.params.ball, &self.params.resolver, self.table);
+        let i = ev.ball as usize;
+        let m = ev.other as usize;
+        let b = self.balls[i];
+        // Q17: a transition's agent is stamped t + (T − t), a collision's T
+        let stamp = if ev.kind.is_transition() {
+            self.t + (ev.t - self.t)
+        } else {
+            ev.t
+        };
+        let new = match ev.kind {
+            EventKind::StickBall => {
+                let s = self.strike.map(|(_, s)| s);
+                s.map_or(b, |s| cue_strike(&b, &s, p, &self.params.cue))
+            }
+            EventKind::BallBall => {
+                let (n1, n2) = resolve_ball_ball(&b, &self.balls[m], p, rp);
+                self.balls[m] = BallState { t: stamp, ..n2 };
+                n1
+            }
+            EventKind::BallLinearCushion => resolve_linear_cushion(&b, &tb.linear[m], p, rp),
+            EventKind::BallCircularCushion => resolve_circular_cushion(&b, &tb.circular[m], p, rp),
+            EventKind::BallPocket => resolve_pocket(&b, &tb.pockets[m]),
+            _ => resolve_transition(&b, self.transitions[i].1),
+        };
+        self.balls[i] = BallState { t: stamp, ..new };
+        self.t = ev.t;
+        self.involve(i);
+        if ev.kind == EventKind::BallBall {
+            self.involve(m);
+        }
+    }
+
+    /// Ball `i` took part in the last event: its next transition is recomputed from its
+    /// new state and every cached entry that names it is deleted.
+    fn involve(&mut self, i: usize) {
+        let b = &self.balls[i];
+        let next = next_transition(b, &self.params.ball);
+        self.transitions[i] = next.map_or(
+            (f64::INFINITY, TransitionKind::SlidingRolling),
+            |(tau, k)| (b.t + tau, k),
+        );
+        let n = self.balls.len();
+        for j in 0..n {
+            if j != i {
+                let k = pair_index(i.min(j), i.max(j), n);
+                self.pairs[k] = Slot::MISSING;
+            }
+        }
+        for (slots, len) in [
+            (&mut self.linear, self.table.linear.len()),
+            (&mut self.circular, self.table.circular.len()),
+            (&mut self.pockets, self.table.pockets.len()),
+        ] {
+            slots[i * len..(i + 1) * len].fill(Slot::MISSING);
+        }
+        if self.strike.is_some_and(|(cue, _)| cue == i) {
+            self.stick = Slot::MISSING;
+        }
+    }
+}
+
+/// Simulates one shot from `balls` with `strike` on `table` to the end, calling
+/// `on_event` with every event and the balls' states right after it. Returns how the
+/// table ended. Convenience over [`EventLoop`] (one loop per call).
+pub fn simulate(
+    table: &Table,
+    params: SimParams,
+    limits: Limits,
+    balls: &[BallState],
+    strike: Option<(usize, CueStrike)>,
+    mut on_event: impl FnMut(&Event, &[BallState]),
+) -> Result<Outcome, SimError> {
+    let mut lp = EventLoop::new(table, params, limits, balls.len())?;
+    lp.reset(balls, strike)?;
+    while let Some(ev) = lp.step() {
+        on_event(&ev, lp.balls());
+    }
+    Ok(lp.outcome())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::MotionState;
+
+    fn run(
+        balls: &[BallState],
+        strike: CueStrike,
+        limits: Limits,
+    ) -> (Vec<Event>, Outcome, Vec<BallState>) {
+        let table = Table::nine_foot();
+        let mut lp = EventLoop::new(&table, SimParams::default(), limits, balls.len()).unwrap();
+        lp.reset(balls, Some((0, strike))).unwrap();
+        let mut events = Vec::new();
+        while let Some(e) = lp.step() {
+            events.push(e);
+        }
+        (events, lp.outcome(), lp.balls().to_vec())
+    }
+
+    fn straight(v0: f64, b: f64) -> CueStrike {
+        CueStrike {
+            v0,
+            phi: 90.0,
+            theta: 0.0,
+            a: 0.0,
+            b,
+        }
+    }
+
+    #[test]
+    fn stun_shot_into_a_ball_stops_the_cue_ball() {
+        let r = SimParams::default().ball.r;
+        let balls = [
+            BallState::at_rest(0.635, 0.6, r),
+            BallState::at_rest(0.635, 0.9, r),
+        ];
+        let (events, out, end) = run(&balls, straight(1.0, 0.0), Limits::default());
+        let kinds: Vec<_> = events.iter().map(|e| e.kind).collect();
+        assert_eq!(kinds[0], EventKind::StickBall);
+        // the cue ball (1.54 m/s) is still sliding when it meets the object ball
+        assert_eq!(
+            (kinds[1], events[1].ball, events[1].other),
+            (EventKind::BallBall, 0, 1)
+        );
+        // the object ball goes on to the foot rail (segment "9", index 5)
+        let rail = events
+            .iter()
+            .find(|e| e.kind == EventKind::BallLinearCushion)
+            .unwrap();
+        assert_eq!((rail.ball, rail.other), (1, 5));
+        assert!(out.cut.is_none());
+        assert!(
+            end.iter()
+                .all(|b| matches!(b.s, MotionState::Stationary | MotionState::Pocketed))
+        );
+        // times never decrease
+        assert!(events.windows(2).all(|w| w[0].t <= w[1].t));
+        assert_eq!(out.t_end, events.last().unwrap().t);
+    }
+
+    #[test]
+    fn a_shot_down_the_rail_is_pocketed() {
+        let r = SimParams::default().ball.r;
+        // along the left rail's centre line into the top-left corner pocket... aimed at it
+        let start = (0.3, 2.2);
+        let pocket = Table::nine_foot().pockets[2].center;
+        let phi = (pocket.y - start.1).atan2(pocket.x - start.0).to_degrees();
+        let strike = CueStrike {
+            v0: 2.0,
+            phi,
+            theta: 0.0,
+            a: 0.0,
+            b: 0.0,
+        };
+        let (events, _, end) = run(
+            &[BallState::at_rest(start.0, start.1, r)],
+            strike,
+            Limits::default(),
+        );
+        let last_collision = events
+            .iter()
+            .rev()
+            .find(|e| !e.kind.is_transition())
+            .unwrap();
+        assert_eq!(last_collision.kind, EventKind::BallPocket);
+        assert_eq!(end[0].s, MotionState::Pocketed);
+        assert_eq!(end[0].r.z, -0.08);
+    }
+
+    #[test]
+    fn limits_cut_a_table_and_say_so() {
+        let r = SimParams::default().ball.r;
+        let balls = [
+            BallState::at_rest(0.635, 0.6, r),
+            BallState::at_rest(0.635, 0.9, r),
+        ];
+        let few = Limits {
+            max_events: 3,
+            ..Limits::default()
+        };
+        let (events, out, _) = run(&balls, straight(2.0, 0.3), few);
+        assert_eq!((events.len(), out.cut), (3, Some(Cut::MaxEvents)));
+        let short = Limits {
+            max_time: 0.05,
+            ..Limits::default()
+        };
+        let (events, out, _) = run(&balls, straight(2.0, 0.3), short);
+        assert_eq!(out.cut, Some(Cut::MaxTime));
+        assert!(events.iter().all(|e| e.t <= 0.05));
+    }
+
+    #[test]
+    fn equal_transition_times_go_to_the_first_ball() {
+        // two identical rolling balls far apart: their transitions tie exactly
+        let r = SimParams::default().ball.r;
+        let roll = |x: f64| BallState {
+            v: Vec3::new(0.0, 0.5, 0.0),
+            w: Vec3::new(-0.5 / r, 0.0, 0.0),
+            s: MotionState::Rolling,
+            ..BallState::at_rest(x, 0.5, r)
+        };
+        let table = Table::nine_foot();
+        let mut lp = EventLoop::new(&table, SimParams::default(), Limits::default(), 2).unwrap();
+        lp.reset(&[roll(0.3), roll(0.9)], None).unwrap();
+        let first = lp.step().unwrap();
+        let second = lp.step().unwrap();
+        assert_eq!((first.kind, first.ball), (EventKind::RollingStationary, 0));
+        assert_eq!((second.ball, second.t), (1, first.t));
+        assert!(lp.step().is_none());
+    }
+
+    #[test]
+    fn bad_input_is_an_error_not_a_panic() {
+        let table = Table::nine_foot();
+        let r = SimParams::default().ball.r;
+        assert!(
+            EventLoop::new(
+                &table,
+                SimParams::default(),
+                Limits::default(),
+                MAX_BALLS + 1
+            )
+            .is_err()
+        );
+        let mut lp = EventLoop::new(&table, SimParams::default(), Limits::default(), 1).unwrap();
+        let nan = BallState::at_rest(f64::NAN, 0.5, r);
+        assert!(lp.reset(&[nan], None).is_err());
+        let ok = BallState::at_rest(0.5, 0.5, r);
+        assert!(lp.reset(&[ok], Some((3, straight(1.0, 0.0)))).is_err());
+        assert!(lp.reset(&[ok], Some((0, straight(1.0, 1.5)))).is_err());
+        let mut bad = SimParams::default();
+        bad.ball.g = 0.0;
+        assert!(EventLoop::new(&table, bad, Limits::default(), 1).is_err());
+    }
+
+    /// A small deterministic generator for the random-shot test.
+    struct XorShift(u64);
+
+    impl XorShift {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+
+        fn range(&mut self, lo: f64, hi: f64) -> f64 {
+            lo + (hi - lo) * self.next()
+        }
+    }
+
+    /// Random racks and strikes, touching pairs included: every table ends at rest,
+    /// uncut, with finite states.
+    #[test]
+    fn random_shots_end_at_rest() {
+        let p = SimParams::default();
+        let r = p.ball.r;
+        let table = Table::nine_foot();
+        let mut rng = XorShift(0x9e3779b97f4a7c15);
+        let mut lp = EventLoop::new(&table, p, Limits::default(), 12).unwrap();
+        for _ in 0..60 {
+            let mut balls: Vec<BallState> = Vec::new();
+            while balls.len() < 12 {
+                let (x, y) = if balls.is_empty() || rng.next() < 0.7 {
+                    (
+                        rng.range(r + 1e-3, 1.27 - r - 1e-3),
+                        rng.range(r + 1e-3, 2.54 - r - 1e-3),
+                    )
+                } else {
+                    // right beside an existing ball, a tiny gap away
+                    let o = balls[balls.len() - 1].r;
+                    let a = rng.range(0.0, 6.3);
+                    let d = 2.0 * r + 10f64.powf(rng.range(-9.0, -3.0));
+                    (o.x + d * a.cos(), o.y + d * a.sin())
+                };
+                let inside = x > r && x < 1.27 - r && y > r && y < 2.54 - r;
+                let clear = balls.iter().all(|b| (b.r.x - x).hypot(b.r.y - y) > 2.0 * r);
+                if inside && clear {
+                    balls.push(BallState::at_rest(x, y, r));
+                }
+            }
+            let strike = CueStrike {
+                v0: rng.range(0.5, 8.0),
+                phi: rng.range(0.0, 360.0),
+                theta: rng.range(0.0, 30.0),
+                a: rng.range(-0.5, 0.5),
+                b: rng.range(-0.5, 0.5),
+            };
+            lp.reset(&balls, Some((0, strike))).unwrap();
+            let mut n = 0;
+            while lp.step().is_some() {
+                n += 1;
+            }
+            assert!(n >= 1);
+            assert_eq!(lp.outcome().cut, None);
+            for b in lp.balls() {
+                assert!(b.r.is_finite() && b.v.is_finite() && b.w.is_finite());
+                assert!(matches!(
+                    b.s,
+                    MotionState::Stationary | MotionState::Pocketed
+                ));
+            }
+        }
+    }
+}
