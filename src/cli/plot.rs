@@ -36,7 +36,8 @@ const STOPPED: RGBColor = RGBColor(200, 200, 200);
 
 static FONTS: Once = Once::new();
 
-fn fonts() {
+/// Registers the compiled-in fonts (once).
+pub(super) fn fonts() {
     FONTS.call_once(|| {
         // the bytes are a valid font: failure would only mean missing text
         let _ = register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular());
@@ -44,7 +45,8 @@ fn fonts() {
     });
 }
 
-fn plot_error(e: impl std::fmt::Display) -> Error {
+/// A drawing failure as an I/O error of the picture.
+pub(super) fn plot_error(e: impl std::fmt::Display) -> Error {
     Error::Io {
         path: String::new(),
         source: std::io::Error::other(format!("drawing the picture: {e}")),
@@ -62,7 +64,7 @@ fn colour(outcome: Outcome, intended: i64) -> RGBColor {
 }
 
 /// A circle as a polygon in data coordinates.
-fn circle(x: f64, y: f64, r: f64) -> Vec<(f64, f64)> {
+pub(super) fn circle(x: f64, y: f64, r: f64) -> Vec<(f64, f64)> {
     (0..64)
         .map(|k| {
             let a = k as f64 / 64.0 * std::f64::consts::TAU;
@@ -123,13 +125,19 @@ pub fn render_png(
         draw(&root, scenario, samples, summary).map_err(plot_error)?;
         root.present().map_err(plot_error)?;
     }
+    encode_png(&rgb, SIZE)
+}
+
+/// RGB pixels of a `size` picture as PNG bytes.
+pub(super) fn encode_png(rgb: &[u8], size: (u32, u32)) -> Result<Vec<u8>, Error> {
+    let (w, h) = size;
     let mut png = Vec::new();
     {
         let mut enc = png::Encoder::new(&mut png, w, h);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
         let mut writer = enc.write_header().map_err(plot_error)?;
-        writer.write_image_data(&rgb).map_err(plot_error)?;
+        writer.write_image_data(rgb).map_err(plot_error)?;
     }
     Ok(png)
 }

@@ -1,8 +1,9 @@
-//! Atomic output files: a temporary file in the same folder, renamed over the requested
-//! name only when complete; and the clean-up an interrupted run needs.
+//! Output files: atomic for regular files (a temporary file in the same folder, renamed
+//! over the requested name only when complete), straight through for devices and FIFOs,
+//! links followed; and the clean-up an interrupted run needs.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::Error;
 
@@ -14,17 +15,24 @@ pub fn output_error(source: std::io::Error) -> Error {
     }
 }
 
-/// Writes the output of a command: to `path` atomically when given, else to standard
+/// Writes the output of a command: to `path` when given, else (and for `-`) to standard
 /// output. `body` writes through the writer it is handed and reports write failures with
 /// [`output_error`]; they come back naming the output.
 ///
-/// To a file, the content goes to a temporary file in the same folder, renamed over `path`
-/// only when `body` succeeded and the data reached the disk. On any error nothing is left
-/// under `path` (an earlier file there is kept as it was) and the temporary file is removed.
+/// Nothing the user did not name is touched:
+/// - a symbolic link is followed to what it points at (the link itself stays), to any
+///   depth;
+/// - a regular file, or a path that does not exist yet, is written atomically: the content
+///   goes to a temporary file beside it, renamed over it only when `body` succeeded and the
+///   data reached the disk. On any error nothing is left under that name (an earlier file
+///   there is kept as it was) and the temporary file is removed;
+/// - anything else that exists — a character device such as `/dev/null` or `/dev/stdout`,
+///   a FIFO, a socket — is written straight through, never replaced.
 pub fn write_output(
     path: Option<&Path>,
     body: impl FnOnce(&mut dyn Write) -> Result<(), Error>,
 ) -> Result<(), Error> {
+    let path = path.filter(|p| p.as_os_str() != "-");
     let name = path.map_or_else(|| "standard output".to_owned(), |p| p.display().to_string());
     let named = |e: Error| match e {
         Error::Io { path, source } if path.is_empty() => Error::Io {
@@ -43,7 +51,25 @@ pub fn write_output(
         body(&mut w).map_err(named)?;
         return w.flush().map_err(io);
     };
-    let dir = match path.parent() {
+    // what the path reaches, links followed
+    let target = match std::fs::metadata(path) {
+        Ok(meta) if meta.is_file() => std::fs::canonicalize(path).map_err(io)?,
+        Ok(meta) if !meta.is_dir() => {
+            // a device, a FIFO, a socket (also `/dev/stdout`): write through
+            let file = std::fs::OpenOptions::new()
+                .write(true)
+                .open(path)
+                .map_err(io)?;
+            let mut w = std::io::BufWriter::new(file);
+            body(&mut w).map_err(named)?;
+            return w.flush().map_err(io);
+        }
+        // a folder: the rename below fails and says so
+        Ok(_) => path.to_path_buf(),
+        // nothing there yet, or a link to nothing yet: create what it names
+        Err(_) => resolve_links(path).map_err(io)?,
+    };
+    let dir = match target.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
@@ -58,9 +84,34 @@ pub fn write_output(
     body(&mut w).map_err(named)?;
     let tmp = w.into_inner().map_err(|e| io(e.into_error()))?;
     tmp.as_file().sync_all().map_err(io)?;
-    tmp.persist(path).map_err(|e| io(e.error))?;
+    tmp.persist(&target).map_err(|e| io(e.error))?;
     drop(pending);
     Ok(())
+}
+
+/// The most symbolic links followed for one output path (as the kernel's `ELOOP` limit).
+const MAX_LINKS: usize = 40;
+
+/// `path` with the symbolic links it names followed, to any depth, for a path that does not
+/// exist yet: a link to a missing file resolves to that file (the output is created there,
+/// the link stays). A relative link is relative to the link's folder.
+fn resolve_links(path: &Path) -> std::io::Result<PathBuf> {
+    let mut current = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match std::fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let to = std::fs::read_link(&current)?;
+                current = match current.parent() {
+                    Some(dir) if to.is_relative() => dir.join(to),
+                    _ => to,
+                };
+            }
+            _ => return Ok(current),
+        }
+    }
+    Err(std::io::Error::other(format!(
+        "more than {MAX_LINKS} symbolic links in a row"
+    )))
 }
 
 /// Temporary files of [`write_output`] not yet renamed into place.
