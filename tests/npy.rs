@@ -295,3 +295,49 @@ fn files_saved_by_numpy_read() {
         assert!((next[0].t - 0.477).abs() < 1e-3, "{}", next[0].t);
     }
 }
+
+/// An `.npy` file with the header `descr` (a NumPy dtype description) and `rows` rows of
+/// `row_bytes` zero bytes, as `numpy.save` lays it out (version 1.0, header padded to 64).
+fn npy_with_descr(descr: &str, rows: usize, row_bytes: usize) -> Vec<u8> {
+    let mut header = format!("{{'descr': {descr}, 'fortran_order': False, 'shape': ({rows},), }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    bytes.resize(bytes.len() + rows * row_bytes, 0);
+    bytes
+}
+
+#[test]
+fn structured_arrays_with_other_names_or_widths_are_refused_in_plain_words() {
+    // a misnamed field: what is needed first, then what the file has
+    let misnamed = "[('tbl', '<i8'), ('ball', '<i8'), ('state', '<i8'), ('x', '<f8'), \
+                    ('y', '<f8'), ('vx', '<f8'), ('vy', '<f8'), ('wx', '<f8'), ('wy', '<f8'), \
+                    ('wz', '<f8')]";
+    let msg = npy_error(&npy_with_descr(misnamed, 2, 80));
+    assert!(
+        msg.contains("must be table, ball, state, x, y, vx, vy, wx, wy, wz in this order")
+            && msg.contains("this file has tbl, ball"),
+        "{msg}"
+    );
+    assert!(!msg.contains("), ]"), "{msg}");
+    // int32 ids and float32 numbers: named in words, with the fix
+    let narrow = "[('table', '<i4'), ('ball', '<i4'), ('state', '<i4'), ('x', '<f4'), \
+                  ('y', '<f4'), ('vx', '<f4'), ('vy', '<f4'), ('wx', '<f4'), ('wy', '<f4'), \
+                  ('wz', '<f4')]";
+    let msg = npy_error(&npy_with_descr(narrow, 2, 40));
+    assert!(
+        msg.contains("field 'table' is int32 ('<i4')") && msg.contains("int64 ('<i8')"),
+        "{msg}"
+    );
+    // a float32 plain array
+    let bytes = plain_array_npy(&[1, 10], &[0f32; 10]);
+    let msg = npy_error(&bytes);
+    assert!(
+        msg.contains("float32 ('<f4')") && msg.contains("float64"),
+        "{msg}"
+    );
+}

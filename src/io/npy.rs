@@ -136,11 +136,12 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
             Error::TooLarge(m) => Error::TooLarge(format!("{file}: {m}")),
             other => other,
         })?;
-    match dtype {
-        npyz::DType::Record(_) => {
+    match &dtype {
+        npyz::DType::Record(fields) => {
             if shape.len() != 1 {
                 return Err(bad(format!("{}; found shape {shape:?}", expected())));
             }
+            check_record_fields(fields).map_err(bad)?;
             let data = npy
                 .data::<BallRecord>()
                 .map_err(|e| bad(format!("{}; found {}: {e}", expected(), dtype.descr())))?;
@@ -151,7 +152,14 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
                 rows.push(r.table, r.ball, ball, row)?;
             }
         }
-        npyz::DType::Plain(_) => {
+        npyz::DType::Plain(ty) => {
+            if ty.to_string() != "<f8" {
+                return Err(bad(format!(
+                    "a plain array must be float64 ('<f8'); this one is {} ('{ty}'): save \
+                     a.astype(numpy.float64)",
+                    dtype_words(&ty.to_string())
+                )));
+            }
             if shape.len() != 2 || shape[1] != BALL_COLUMNS.len() as u64 {
                 return Err(bad(format!(
                     "{}; found {} of shape {shape:?}",
@@ -194,6 +202,65 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
         }
     }
     rows.into_batch("row", |e, row| e.in_file(file).at_row(row))
+}
+
+/// The type string each field of the structured input must have: int64 ids and state,
+/// float64 numbers.
+fn field_type(name: &str) -> &'static str {
+    if matches!(name, "table" | "ball" | "state") {
+        "<i8"
+    } else {
+        "<f8"
+    }
+}
+
+/// Checks a structured array's fields against [`BALL_COLUMNS`] — names in order, then each
+/// field's type — and says in plain words what is wrong and how to fix it.
+fn check_record_fields(fields: &[npyz::Field]) -> Result<(), String> {
+    let names: Vec<&str> = fields.iter().map(|f| f.name.as_str()).collect();
+    if names != BALL_COLUMNS {
+        return Err(format!(
+            "the fields must be {} in this order; this file has {}",
+            BALL_COLUMNS.join(", "),
+            names.join(", ")
+        ));
+    }
+    for f in fields {
+        let want = field_type(&f.name);
+        let got = match &f.dtype {
+            npyz::DType::Plain(ty) => ty.to_string(),
+            other => other.descr(),
+        };
+        if got != want {
+            return Err(format!(
+                "field '{}' is {} ('{got}'); kisstime reads int64 ('<i8') for table, ball and \
+                 state and float64 ('<f8') for x, y, vx, vy, wx, wy, wz: convert with \
+                 a.astype(BALL) (the dtype in the README)",
+                f.name,
+                dtype_words(&got)
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A NumPy type string in words (`<f4` → `float32`), for messages.
+fn dtype_words(ty: &str) -> String {
+    let code = ty.trim_start_matches(['<', '>', '|', '=']);
+    let (kind, bytes) = code.split_at(code.len().min(1));
+    let bits = bytes.parse::<u32>().map(|b| 8 * b).unwrap_or(0);
+    let order = if ty.starts_with('>') {
+        ", big-endian"
+    } else {
+        ""
+    };
+    match kind {
+        "f" => format!("float{bits}{order}"),
+        "i" => format!("int{bits}{order}"),
+        "u" => format!("uint{bits}{order}"),
+        "b" => "bool".to_owned(),
+        _ => format!("type {ty}"),
+    }
 }
 
 /// The deepest bracket nesting a header may have. NumPy's headers for the arrays read here
