@@ -521,3 +521,34 @@ fn thread_count_does_not_change_the_output() {
         );
     }
 }
+
+#[test]
+fn absurd_speeds_and_spins_are_refused_naming_the_ball() {
+    // 1e160 m/s once answered `none` with an infinite horizon (its square overflows)
+    for (vx, wz, what) in [
+        ("1e160", "0", "vx is 1e160"),
+        ("1e150", "0", "vx is 1e150"),
+        ("2", "1e9", "wz is 1e9"),
+    ] {
+        let content = format!(
+            "{HEADER_IN}\n0,0,stationary,1,0.5,0,0,0,0,0\n0,1,sliding,0.5,0.5,{vx},0,0,0,{wz}\n"
+        );
+        assert_bad_input(
+            "absurd.csv",
+            &content,
+            &["table 0", "ball 1", what, "physical range"],
+        );
+    }
+    // the largest accepted values still answer
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(
+        dir.path(),
+        "fast.csv",
+        &format!(
+            "{HEADER_IN}\n0,0,stationary,1,0.5,0,0,0,0,0\n0,1,sliding,0.5,0.5,1000,0,0,0,1e5\n"
+        ),
+    );
+    let run = kisstime(&["pairs", s(&input)]);
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+    assert!(run.stdout_text().contains(",hit,"), "{}", run.stdout_text());
+}

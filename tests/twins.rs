@@ -59,6 +59,7 @@ const TWINS: &[Twin] = &[
             ("Ball::at_rest", HOST_ONLY),
             ("Ball::rolling", HOST_ONLY),
             ("Ball::from_numbers", HOST_ONLY),
+            ("Ball::check_numbers", HOST_ONLY),
             ("Ball::numbers", HOST_ONLY),
         ],
         wgsl_only: &[],

@@ -14,7 +14,8 @@ impl Batch {
     /// Errors name the row (`InputError::row`, 0-based, in the order given), the table and
     /// the ball: columns of different lengths, a table with fewer than two balls or more
     /// than [`crate::limits::MAX_TABLE_BALLS`], a ball id twice in a table (the later row
-    /// is reported), a number that is NaN or infinite; [`Error::TooLarge`] when sorting
+    /// is reported), a number that is NaN or infinite or beyond the physical range
+    /// ([`Ball::check_numbers`]); [`Error::TooLarge`] when sorting
     /// needs more memory than is available.
     pub fn from_columns(
         tables: Vec<i64>,
@@ -134,16 +135,12 @@ impl Batch {
             }
             for row in first..end {
                 let ball = &batch.balls[row];
-                if let Some(k) = ball.numbers().iter().position(|v| !v.is_finite()) {
+                if let Err((_, why)) = ball.check_numbers() {
                     return Err((
                         row,
-                        InputError::new(format!(
-                            "{} is {}, numbers must be finite",
-                            Ball::NUMBER_NAMES[k],
-                            ball.numbers()[k]
-                        ))
-                        .at_table(table)
-                        .at_ball(batch.ball_ids[row]),
+                        InputError::new(why)
+                            .at_table(table)
+                            .at_ball(batch.ball_ids[row]),
                     ));
                 }
             }

@@ -75,8 +75,8 @@ impl Batch {
     /// Appends a table of `(ball id, ball)`; balls are stored sorted by id.
     ///
     /// Errors (nothing is appended then): a table id already in the batch, fewer than two
-    /// balls, two balls with the same id, a number that is NaN or infinite. The error
-    /// names the table and ball.
+    /// balls, two balls with the same id, a number that is NaN or infinite or beyond the
+    /// physical range ([`Ball::check_numbers`]). The error names the table and ball.
     pub fn push_table(
         &mut self,
         table: i64,
@@ -109,15 +109,8 @@ impl Batch {
             }
         }
         for (id, ball) in &table_balls {
-            if let Some(k) = ball.numbers().iter().position(|v| !v.is_finite()) {
-                return Err(InputError::new(format!(
-                    "{} is {}, numbers must be finite",
-                    Ball::NUMBER_NAMES[k],
-                    ball.numbers()[k]
-                ))
-                .at_table(table)
-                .at_ball(*id)
-                .into());
+            if let Err((_, why)) = ball.check_numbers() {
+                return Err(InputError::new(why).at_table(table).at_ball(*id).into());
             }
         }
         let n = table_balls.len();

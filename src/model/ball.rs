@@ -153,6 +153,43 @@ impl Ball {
         }
     }
 
+    /// The largest position coordinate accepted, in m (a table 10 km from the origin).
+    pub const MAX_POSITION: f64 = 1e4;
+    /// The largest velocity component accepted, in m/s (the hardest break is about 12 m/s).
+    pub const MAX_SPEED: f64 = 1e3;
+    /// The largest angular-velocity component accepted, in rad/s (a hard massé spins a few
+    /// hundred).
+    pub const MAX_SPIN: f64 = 1e5;
+
+    /// Checks the ball's numbers: every one finite and within the physical range the crate
+    /// answers for ([`Ball::MAX_POSITION`], [`Ball::MAX_SPEED`], [`Ball::MAX_SPIN`]; far
+    /// beyond any real shot, and far below where squares of them overflow). On failure, the
+    /// index of the first offending number (in [`Ball::NUMBER_NAMES`] order) and why.
+    pub fn check_numbers(&self) -> Result<(), (usize, String)> {
+        let numbers = self.numbers();
+        for (k, &v) in numbers.iter().enumerate() {
+            let name = Ball::NUMBER_NAMES[k];
+            if !v.is_finite() {
+                return Err((k, format!("{name} is {v}, numbers must be finite")));
+            }
+            let (limit, what, unit) = match k {
+                0 | 1 => (Ball::MAX_POSITION, "position", "m"),
+                2 | 3 => (Ball::MAX_SPEED, "velocity", "m/s"),
+                _ => (Ball::MAX_SPIN, "angular velocity", "rad/s"),
+            };
+            if v.abs() > limit {
+                return Err((
+                    k,
+                    format!(
+                        "{name} is {v:e}: beyond the physical range answered for \
+                         (|{what}| at most {limit:e} {unit})"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// The ball's numbers, in file order (`x, y, vx, vy, wx, wy, wz`).
     pub fn numbers(&self) -> [f64; 7] {
         [self.x, self.y, self.vx, self.vy, self.wx, self.wy, self.wz]
