@@ -130,6 +130,10 @@ fn gpu_matches_cpu_on_random_batches(precision: Precision) {
             scenario.name()
         );
         let next_cpu = kisstime::next_collisions(&batch, &params).unwrap();
+        // the horizon is the host's f64 on both
+        for (c, g) in next_cpu.iter().zip(&next_gpu) {
+            assert_eq!(c.horizon, g.horizon, "table {}", c.table);
+        }
         let unexplained =
             next_disagreements(&batch, &params, precision, &cpu, &next_cpu, &next_gpu);
         assert_eq!(

@@ -58,6 +58,7 @@ const TWINS: &[Twin] = &[
             ("from_str", TEXT),
             ("Ball::at_rest", HOST_ONLY),
             ("Ball::rolling", HOST_ONLY),
+            ("Ball::sliding", HOST_ONLY),
             ("Ball::from_numbers", HOST_ONLY),
             ("Ball::check_numbers", HOST_ONLY),
             ("Ball::numbers", HOST_ONLY),

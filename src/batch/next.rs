@@ -20,6 +20,10 @@ pub struct NextCollision {
     pub pair: Option<(i64, i64)>,
     /// [`Status::Hit`], [`Status::Overlap`], or [`Status::None`].
     pub status: Status,
+    /// The table's horizon: the time until the first of its balls changes motion state
+    /// (the smallest pair horizon; `∞` when no ball moves). An event loop needs it beside
+    /// the next collision: whichever comes first is the table's next event.
+    pub horizon: f64,
 }
 
 impl NextCollision {
@@ -30,12 +34,14 @@ impl NextCollision {
             t: f64::INFINITY,
             pair: None,
             status: Status::None,
+            horizon: f64::INFINITY,
         }
     }
 
-    /// Takes `c`, the answer for balls `i`, `j`, if it comes first under the tie rule;
-    /// pairs must be considered in pair order.
+    /// Takes `c`, the answer for balls `i`, `j`, if it comes first under the tie rule, and
+    /// its horizon into the table's; pairs must be considered in pair order.
     pub fn consider(&mut self, c: Contact, i: i64, j: i64) {
+        self.horizon = self.horizon.min(c.horizon);
         if c.status.is_contact() && (self.pair.is_none() || c.t < self.t) {
             self.t = c.t;
             self.pair = Some((i, j));

@@ -141,4 +141,23 @@ mod tests {
             );
         }
     }
+
+    #[test]
+    fn next_collisions_carry_the_tables_horizon() {
+        use crate::workload::{Workload, generate};
+        let p = Params::default();
+        let batch = generate(Workload::Midshot, 50, 8, 3, &p);
+        let next = next_collisions(&batch, &p).unwrap();
+        for (k, n) in next.iter().enumerate() {
+            let soonest = batch
+                .balls(k)
+                .iter()
+                .map(|b| ball_path(b, &p).tmax)
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(n.horizon, soonest, "table {k}");
+            assert!(n.horizon.is_finite(), "midshot tables have moving balls");
+        }
+        let pairs = pair_times(&batch, &p).unwrap();
+        assert_eq!(crate::batch::next_from_pairs(&batch, &pairs), next);
+    }
 }

@@ -201,12 +201,16 @@ impl GpuEngine {
         params.validate()?;
         self.timings = GpuTimings::default();
         let mut out = Vec::with_capacity(tables.len());
+        let mut paths = Vec::new();
         for chunk in self.plan_chunks(batch, tables)? {
             let (t, code) = self.run_chunk(batch, chunk.clone(), Kernel::NextCollisions, params)?;
             for (local, k) in chunk.enumerate() {
                 let status = decode_status(code[local] & 3);
                 let ids = batch.ball_ids(k);
                 let mut next = NextCollision::none(batch.table_id(k));
+                // the horizon on the host, in f64, as for per-pair answers
+                table_paths(batch.balls(k), params, &mut paths);
+                next.horizon = paths.iter().map(|p| p.tmax).fold(f64::INFINITY, f64::min);
                 if status != Status::None {
                     let (i, j) = pair_of_index(ids.len(), (code[local] >> 2) as usize);
                     next.t = t[local];

@@ -138,6 +138,22 @@ impl Ball {
         }
     }
 
+    /// A ball sliding from `(x, y)` with velocity `(vx, vy)` and angular velocity
+    /// `spin = [wx, wy, wz]` (a stun shot has no spin; its contact point slips at `v`).
+    pub fn sliding(x: f64, y: f64, vx: f64, vy: f64, spin: [f64; 3]) -> Ball {
+        let [wx, wy, wz] = spin;
+        Ball {
+            state: MotionState::Sliding,
+            x,
+            y,
+            vx,
+            vy,
+            wx,
+            wy,
+            wz,
+        }
+    }
+
     /// A ball from its state and its numbers in file order (`x, y, vx, vy, wx, wy, wz`).
     pub fn from_numbers(state: MotionState, v: [f64; 7]) -> Ball {
         let [x, y, vx, vy, wx, wy, wz] = v;
@@ -207,5 +223,18 @@ mod tests {
         }
         assert!("Rolling".parse::<MotionState>().is_err());
         assert!("".parse::<MotionState>().is_err());
+    }
+
+    #[test]
+    fn sliding_and_rolling_constructors() {
+        let r = 0.028575;
+        let roll = Ball::rolling(0.1, 0.2, 2.0, 0.0, r);
+        assert_eq!((roll.wx, roll.wy), (0.0, 2.0 / r), "wy = vx / R");
+        let stun = Ball::sliding(0.1, 0.2, 2.0, 0.0, [0.0; 3]);
+        assert_eq!(stun.state, MotionState::Sliding);
+        assert_eq!(stun.numbers(), [0.1, 0.2, 2.0, 0.0, 0.0, 0.0, 0.0]);
+        assert!(stun.check_numbers().is_ok());
+        let wild = Ball::sliding(0.1, 0.2, 2.0, 0.0, [0.0, 0.0, 1e6]);
+        assert_eq!(wild.check_numbers().unwrap_err().0, 6);
     }
 }
