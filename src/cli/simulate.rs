@@ -10,7 +10,7 @@ use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
 use kisstime::io::write_output;
 use kisstime::model::PocketTableSpecs;
 use kisstime::simulate::{
-    BatchError, BatchOptions, Limits, SimError, SimParams, Table, batch_input, simulate_batch,
+    BatchError, BatchOptions, Limits, SimError, SimParams, Table, simulate_batch,
 };
 use kisstime::{Batch, Error, InputError};
 
@@ -213,7 +213,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                     None => None,
                 };
                 let bar = Progress::new("simulating", n as u64, "tables", n >= SHOW_TABLES);
-                let input = batch_input(&batch, &strikes, params.ball.r);
+                let input = batch.sim_input(&strikes, params.ball.r);
                 let result = simulate_batch(&table, params, &options, n, input, |chunk| {
                     for run in chunk.iter() {
                         let ids = TableIds {

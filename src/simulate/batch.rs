@@ -45,7 +45,6 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::batch::Batch;
 use crate::error::SimError;
 use crate::model::MotionState;
 use crate::model::ball_state::BallState;
@@ -359,48 +358,6 @@ fn run_tables(
     Ok(out)
 }
 
-/// The `input` of [`simulate_batch`] for a [`Batch`]: table `k`'s balls in ascending
-/// ball-id order ([`BallState::from_ball`] with radius `radius`) and `strikes[k]` (ball
-/// index within the table and strike; an empty `strikes` means no strike anywhere).
-///
-/// ```
-/// use kisstime::{Ball, Batch};
-/// use kisstime::simulate::{BatchOptions, CueStrike, SimParams, Table, batch_input, simulate_batch};
-///
-/// let mut batch = Batch::new();
-/// batch.push_table(7, [(0, Ball::at_rest(0.635, 0.6)), (1, Ball::at_rest(0.635, 1.905))])?;
-/// let strikes = [Some((0, CueStrike { v0: 1.5, phi: 90.0, theta: 0.0, a: 0.0, b: 0.0 }))];
-/// let p = SimParams::default();
-/// let input = batch_input(&batch, &strikes, p.ball.r);
-/// let mut options = BatchOptions::default();
-/// options.record_events = false;
-/// let stats = simulate_batch(&Table::nine_foot(), p, &options, batch.num_tables(), input, |chunk| {
-///     // the object ball was hit: it moved
-///     assert_ne!(chunk.get(0).unwrap().balls[1].r.y, 1.905);
-///     Ok::<(), std::convert::Infallible>(())
-/// })
-/// .unwrap();
-/// assert!(stats.events > 3);
-/// # Ok::<(), kisstime::Error>(())
-/// ```
-pub fn batch_input<'a>(
-    batch: &'a Batch,
-    strikes: &'a [Option<(usize, CueStrike)>],
-    radius: f64,
-) -> impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync + 'a
-{
-    move |k, balls| {
-        balls.clear();
-        balls.extend(
-            batch
-                .balls(k)
-                .iter()
-                .map(|b| BallState::from_ball(b, radius)),
-        );
-        Ok(strikes.get(k).copied().flatten())
-    }
-}
-
 /// The index of the pocket a pocketed ball sits in (its centre is the pocket's, as the
 /// pocket resolution leaves it), if any.
 pub fn pocket_of(table: &Table, b: &BallState) -> Option<usize> {
@@ -416,6 +373,7 @@ pub fn pocket_of(table: &Table, b: &BallState) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::batch::Batch;
     use crate::model::Ball;
     use crate::simulate::events::Cut;
 
@@ -451,7 +409,7 @@ mod tests {
     ) -> (Vec<EventRecord>, Vec<BallState>, Vec<Outcome>, usize) {
         let p = SimParams::default();
         let (mut ev, mut balls, mut outs, mut chunks) = (Vec::new(), Vec::new(), Vec::new(), 0);
-        let input = batch_input(batch, strikes, p.ball.r);
+        let input = batch.sim_input(strikes, p.ball.r);
         simulate_batch(
             &Table::nine_foot(),
             p,
@@ -552,7 +510,7 @@ mod tests {
             p,
             &BatchOptions::default(),
             4,
-            batch_input(&bad, &[], p.ball.r),
+            bad.sim_input(&[], p.ball.r),
             |_| Ok::<(), ()>(()),
         )
         .unwrap_err();

@@ -64,7 +64,7 @@ pub use crate::model::{BallParams, BallState, CueParams, ResolverParams, SimPara
 pub use crate::resolve::stick_ball::CueStrike;
 pub use batch::{
     BatchError, BatchOptions, BatchStats, Chunk, DEFAULT_CHUNK_TABLES, EventRecord, TableRun,
-    batch_input, pocket_of, simulate_batch,
+    pocket_of, simulate_batch,
 };
 pub use check::{LAYOUT_TOLERANCE, check_layout};
 pub use event_loop::{EventLoop, Limits, MAX_BALLS, simulate};
