@@ -145,7 +145,7 @@ fn out_err(path: Option<&Path>) -> impl Fn(std::io::Error) -> Error + '_ {
 }
 
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
-    if !(args.max_time > 0.0) {
+    if args.max_time.is_nan() || args.max_time <= 0.0 {
         return Err(InputError::new(format!(
             "--max-time {} must be greater than 0",
             args.max_time

@@ -187,13 +187,14 @@ impl<'w> Rows<'w> {
     }
 
     fn finish(self) -> std::io::Result<()> {
-        if let Some(n) = self.promised {
-            if self.format == Format::Npy && n != self.rows {
-                return Err(std::io::Error::other(format!(
-                    "{} rows written, {n} promised",
-                    self.rows
-                )));
-            }
+        if let Some(n) = self.promised
+            && self.format == Format::Npy
+            && n != self.rows
+        {
+            return Err(std::io::Error::other(format!(
+                "{} rows written, {n} promised",
+                self.rows
+            )));
         }
         if let Some(spool) = self.spool {
             let mut file = spool.into_inner().map_err(|e| e.into_error())?;

@@ -336,13 +336,13 @@ fn run_tables(
         if options.check_layout {
             check_layout(table, radius, buf).map_err(fail)?;
         }
-        if let Some((cue, _)) = strike {
-            if buf.get(cue).is_some_and(|b| b.s == MotionState::Pocketed) {
-                return Err(fail(SimError::Ball {
-                    index: cue,
-                    reason: "the strike's ball is pocketed".to_owned(),
-                }));
-            }
+        if let Some((cue, _)) = strike
+            && buf.get(cue).is_some_and(|b| b.s == MotionState::Pocketed)
+        {
+            return Err(fail(SimError::Ball {
+                index: cue,
+                reason: "the strike's ball is pocketed".to_owned(),
+            }));
         }
         lp.reset(buf, strike).map_err(fail)?;
         while let Some(ev) = lp.step() {
@@ -418,10 +418,8 @@ mod tests {
             input,
             |c: &Chunk| {
                 chunks += 1;
-                let mut next = c.tables().start;
-                for t in c.iter() {
+                for (next, t) in (c.tables().start..).zip(c.iter()) {
                     assert_eq!(t.table, next);
-                    next += 1;
                     ev.extend_from_slice(t.events);
                     balls.extend_from_slice(t.balls);
                     outs.push(t.outcome);
