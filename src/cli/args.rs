@@ -70,8 +70,9 @@ pub enum Command {
     /// ascending id, which decides exact ties as pooltool's ball order does). --strikes
     /// gives at most one cue strike a table, applied at t = 0 (`table,ball,V0,phi,theta,a,b`,
     /// pooltool's Cue.set_state conventions). Outputs (CSV, or .npy by name, written
-    /// atomically and streamed): -o every event (`table,k,t,type,agent_a,agent_b,ball,state,
-    /// x,y,vx,vy,wx,wy,wz`, one row per involved ball), --final every ball's final state
+    /// atomically and streamed): -o every event, one row per involved ball
+    /// (`table,k,t,type,agent_a,agent_b,ball,state,x,y,vx,vy,wx,wy,wz`), --final every
+    /// ball's final state
     /// (`table,ball,state,x,y,vx,vy,wx,wy,wz,pocket`), --outcomes one row a table
     /// (`table,events,t_end,cut`). Without -o and --final the final states go to standard
     /// output. A summary line on stderr gives tables/s and events/s.
