@@ -55,9 +55,10 @@ use crate::simulate::check::check_layout;
 use crate::simulate::event_loop::{EventLoop, Limits, MAX_BALLS};
 use crate::simulate::events::{Event, EventKind, Outcome};
 
-/// Tables per chunk by default: a few thousand, enough to keep every core busy, small
-/// enough that a chunk of breaks (~1,000 events each) holds a few hundred MB at most.
-pub const DEFAULT_CHUNK_TABLES: usize = 2048;
+/// Tables per chunk by default: enough to keep every core busy (128 tasks of 8 tables),
+/// few enough that a chunk of breaks (~200 events each, ~200 bytes an event kept) holds
+/// some 40 MB.
+pub const DEFAULT_CHUNK_TABLES: usize = 1024;
 
 /// Tables one Rayon task simulates in a row (with one event loop).
 const TABLES_PER_TASK: usize = 8;
