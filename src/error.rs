@@ -163,6 +163,17 @@ pub enum SimError {
         /// What is wrong with it.
         reason: String,
     },
+    /// Two balls that overlap at rest (their indices in the table, `first < second`, and
+    /// how deep in m), found by [`crate::simulate::check_layout`].
+    #[error("balls {first} and {second} overlap by {depth:e} m at rest")]
+    Overlap {
+        /// The first ball's index.
+        first: usize,
+        /// The second ball's index.
+        second: usize,
+        /// 2R minus the distance of their centres, m.
+        depth: f64,
+    },
     /// A cue strike that cannot be resolved.
     #[error("strike: {0}")]
     Strike(String),

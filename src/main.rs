@@ -25,6 +25,7 @@ fn main() -> ExitCode {
         Command::Bench(a) => a.threads,
         Command::Gen(_) => None,
         Command::Shots(a) => a.threads,
+        Command::Simulate(a) => a.threads,
     };
     if let Err(e) = cli::commands::set_threads(threads) {
         eprintln!("kisstime: {e}");
@@ -36,6 +37,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => cli::bench::run(args),
         Command::Gen(args) => cli::commands::run_gen(args),
         Command::Shots(args) => cli::shots::run_shots(args),
+        Command::Simulate(args) => cli::simulate::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

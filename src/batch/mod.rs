@@ -25,6 +25,7 @@ use crate::model::Ball;
 mod columns;
 pub mod next;
 pub mod pairs;
+mod sim_input;
 
 pub use next::{NextCollision, next_from_pairs};
 pub use pairs::{Pairs, pair_index, pair_of_index, pairs, pairs_in_table};

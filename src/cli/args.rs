@@ -63,6 +63,55 @@ pub enum Command {
     /// to contact and the cut angle. The same seed gives the same outcomes on every backend
     /// and thread count.
     Shots(ShotsArgs),
+    /// Whole shots: simulate every table from the cue strike to rest, event by event, with
+    /// pooltool 0.6.0's physics (CPU, f64, Rayon over tables).
+    ///
+    /// INPUT holds the balls as for `pairs` (CSV or .npy, any motion state; ball order =
+    /// ascending id, which decides exact ties as pooltool's ball order does). --strikes
+    /// gives at most one cue strike a table, applied at t = 0 (`table,ball,V0,phi,theta,a,b`,
+    /// pooltool's Cue.set_state conventions). Outputs (CSV, or .npy by name, written
+    /// atomically and streamed): -o every event, one row per involved ball
+    /// (`table,k,t,type,agent_a,agent_b,ball,state,x,y,vx,vy,wx,wy,wz`), --final every
+    /// ball's final state
+    /// (`table,ball,state,x,y,vx,vy,wx,wy,wz,pocket`), --outcomes one row a table
+    /// (`table,events,t_end,cut`). Without -o and --final the final states go to standard
+    /// output. A summary line on stderr gives tables/s and events/s.
+    Simulate(SimulateArgs),
+}
+
+#[derive(Args)]
+pub struct SimulateArgs {
+    /// The balls: CSV, or a NumPy .npy array when the name ends in .npy (as for `pairs`).
+    pub input: PathBuf,
+    /// Cue strikes, at most one a table: CSV `table,ball,V0,phi,theta,a,b` or .npy.
+    #[arg(long)]
+    pub strikes: Option<PathBuf>,
+    /// The table: `9ft` (pooltool's 9-ft pocket table), `rectangle` (its 1.27 × 2.54 m
+    /// playing surface with four rails and no pockets) or a JSON file (the format of
+    /// shared/fullshots/table.json).
+    #[arg(long, default_value = "9ft")]
+    pub table: String,
+    /// Write every event here (atomically; .npy by name).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Write every ball's final state here (atomically; .npy by name).
+    #[arg(long = "final")]
+    pub final_states: Option<PathBuf>,
+    /// Write one row a table here: its events, end time, and whether a limit cut it.
+    #[arg(long)]
+    pub outcomes: Option<PathBuf>,
+    /// Stop a table after this many events (the strike included); it is reported as cut.
+    #[arg(long, default_value_t = 200_000, value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_events: u64,
+    /// Stop a table before an event later than this simulated time in s; reported as cut.
+    #[arg(long, default_value_t = 3600.0)]
+    pub max_time: f64,
+    /// Worker threads (default: one per core). Results do not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Print the table, the batch size and the cut tables on stderr.
+    #[arg(short, long)]
+    pub verbose: bool,
 }
 
 #[derive(Args)]

@@ -40,7 +40,7 @@ const STREAM_PAIRS: usize = 1 << 22;
 const SHOW_PAIRS: u64 = 1 << 25;
 
 /// Reads a batch in the format its name says, with a progress bar for large files.
-fn read_input(path: &Path) -> Result<Batch, Error> {
+pub fn read_input(path: &Path) -> Result<Batch, Error> {
     let name = path.display().to_string();
     let io = |source| Error::Io {
         path: name.clone(),

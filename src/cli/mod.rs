@@ -1,5 +1,5 @@
 //! The command line, built only with the `cli` feature: argument parsing ([`args`]), the
-//! commands ([`commands`] for `pairs`, `next`, `gen`; [`shots`]; [`bench`]), progress bars
+//! commands ([`commands`] for `pairs`, `next`, `gen`; [`shots`]; [`simulate`]; [`bench`]), progress bars
 //! ([`progress`]) and the presentation of results ([`report`], [`plot`]). Everything it
 //! computes comes from the library.
 
@@ -10,3 +10,4 @@ pub mod plot;
 pub mod progress;
 pub mod report;
 pub mod shots;
+pub mod simulate;

@@ -1,7 +1,8 @@
 //! Reading and writing batches and answers, in CSV ([`mod@csv`]) or NumPy `.npy`
 //! ([`npy`]), chosen by the file name ([`Format`]); outputs are written atomically
 //! ([`atomic`]). Tables from JSON ([`table_json`]); the full-shot reference set's files
-//! ([`shot_set`]).
+//! ([`shot_set`]); `kisstime simulate`'s strikes ([`strikes`]) and outputs
+//! ([`sim_output`]).
 //!
 //! # Input
 //! Header `table,ball,state,x,y,vx,vy,wx,wy,wz` ([`BALL_COLUMNS`]), one row a ball:
@@ -29,6 +30,8 @@ mod columns;
 pub mod csv;
 pub mod npy;
 pub mod shot_set;
+pub mod sim_output;
+pub mod strikes;
 pub mod table_json;
 
 pub use self::atomic::{output_error, remove_unfinished_outputs, write_output};

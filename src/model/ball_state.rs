@@ -3,9 +3,9 @@
 //! that changed the ball. Plus the two scalar functions of a state that the loop uses:
 //! the cloth slip velocity and the ball's kinetic energy.
 
-use crate::model::MotionState;
 use crate::model::sim_params::BallParams;
 use crate::model::vec3::Vec3;
+use crate::model::{Ball, MotionState};
 
 /// A ball's state, a plain `Copy` struct (the GPU twin will hold the same fields).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,6 +32,42 @@ impl BallState {
             w: Vec3::ZERO,
             s: MotionState::Stationary,
             t: 0.0,
+        }
+    }
+
+    /// The 3-D state of a [`Ball`] of a [`crate::Batch`] (the 2-D input of every command):
+    /// centre at z = `radius` on the cloth (whatever the motion state, pocketed included),
+    /// v_z = 0, the spin as given, reference time 0.
+    ///
+    /// ```
+    /// use kisstime::Ball;
+    /// use kisstime::simulate::BallState;
+    ///
+    /// let b = BallState::from_ball(&Ball::rolling(0.5, 1.0, 0.0, 1.0, 0.028575), 0.028575);
+    /// assert_eq!((b.r.x, b.r.y, b.r.z, b.v.y, b.v.z), (0.5, 1.0, 0.028575, 1.0, 0.0));
+    /// ```
+    pub fn from_ball(ball: &Ball, radius: f64) -> BallState {
+        BallState {
+            r: Vec3::new(ball.x, ball.y, radius),
+            v: Vec3::new(ball.vx, ball.vy, 0.0),
+            w: Vec3::new(ball.wx, ball.wy, ball.wz),
+            s: ball.state,
+            t: 0.0,
+        }
+    }
+
+    /// The 2-D [`Ball`] of this state (z, v_z and the reference time dropped): the inverse
+    /// of [`BallState::from_ball`].
+    pub fn to_ball(&self) -> Ball {
+        Ball {
+            state: self.s,
+            x: self.r.x,
+            y: self.r.y,
+            vx: self.v.x,
+            vy: self.v.y,
+            wx: self.w.x,
+            wy: self.w.y,
+            wz: self.w.z,
         }
     }
 

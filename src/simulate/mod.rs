@@ -15,6 +15,7 @@
 //! | detection | [`crate::query`]: `ball_ball`, `ball_cushion`, `ball_circle`, `ball_pocket` |
 //! | resolution | [`crate::resolve`]: `stick_ball`, `ball_ball`, `ball_cushion`, `stronge`, `ball_pocket`, `transition` |
 //! | the loop | here: [`cache`], [`event_loop`], [`events`] |
+//! | layout checks, many tables at once | here: [`check`], [`batch`] ([`simulate_batch`]) |
 //!
 //! Agreement: on `shared/fullshots` (300 pooltool shots, 26,936 events) every event
 //! sequence is identical to pooltool's and `check_fullshots.py` passes 300 of 300
@@ -52,12 +53,19 @@
 //! # Ok::<(), kisstime::error::SimError>(())
 //! ```
 
+pub mod batch;
 pub mod cache;
+pub mod check;
 pub mod event_loop;
 pub mod events;
 
 pub use crate::error::SimError;
 pub use crate::model::{BallParams, BallState, CueParams, ResolverParams, SimParams, Table, Vec3};
 pub use crate::resolve::stick_ball::CueStrike;
+pub use batch::{
+    BatchError, BatchOptions, BatchStats, Chunk, DEFAULT_CHUNK_TABLES, EventRecord, TableRun,
+    pocket_of, simulate_batch,
+};
+pub use check::{LAYOUT_TOLERANCE, check_layout};
 pub use event_loop::{EventLoop, Limits, MAX_BALLS, simulate};
 pub use events::{Cut, Event, EventKind, NO_AGENT, Outcome};

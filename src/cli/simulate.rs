@@ -1,0 +1,284 @@
+//! `kisstime simulate`: whole shots, from the strike to rest, for every table of a batch
+//! ([`kisstime::simulate::simulate_batch`]), streamed to the outputs chunk by chunk.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use kisstime::io::Format;
+use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
+use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
+use kisstime::io::write_output;
+use kisstime::model::PocketTableSpecs;
+use kisstime::simulate::{
+    BatchError, BatchOptions, Limits, SimError, SimParams, Table, simulate_batch,
+};
+use kisstime::{Batch, Error, InputError};
+
+use super::args::SimulateArgs;
+use super::commands::read_input;
+use super::progress::Progress;
+
+/// Tables from which a progress bar is shown (on a terminal).
+const SHOW_TABLES: usize = 20_000;
+
+/// The table `--table` names: `9ft`, `rectangle` or a JSON file.
+fn read_table(arg: &str) -> Result<Table, Error> {
+    match arg {
+        "9ft" => Ok(Table::nine_foot()),
+        "rectangle" => {
+            let s = PocketTableSpecs::default();
+            Table::rectangle(s.w, s.l, s.cushion_height).map_err(Error::from)
+        }
+        path => {
+            let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+                path: path.to_owned(),
+                source,
+            })?;
+            Table::from_json(&text).map_err(|e| InputError::new(e.to_string()).in_file(path).into())
+        }
+    }
+}
+
+/// The 1-based line of ball `ball` of table `table` in the CSV input `path`, if found (only
+/// looked up when reporting an error).
+fn find_line(path: &Path, table: i64, ball: i64) -> Option<u64> {
+    if Format::of(Some(path)) != Format::Csv {
+        return None;
+    }
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_path(path)
+        .ok()?;
+    let mut rec = csv::StringRecord::new();
+    while rdr.read_record(&mut rec).ok()? {
+        let id = |k: usize| rec.get(k).and_then(|s| s.parse::<i64>().ok());
+        if id(0) == Some(table) && id(1) == Some(ball) {
+            return rec.position().map(|p| p.line());
+        }
+    }
+    None
+}
+
+/// A bad table found while simulating, as an input error naming the file, the line, the
+/// table and the ball.
+fn table_error(
+    args: &SimulateArgs,
+    batch: &Batch,
+    strike_rows: &[StrikeRow],
+    k: usize,
+    error: SimError,
+) -> Error {
+    let input = args.input.display().to_string();
+    let table = batch.table_id(k);
+    let ids = batch.ball_ids(k);
+    let in_input = |msg: String, ball: Option<i64>| {
+        let mut e = InputError::new(msg).in_file(&input).at_table(table);
+        if let Some(ball) = ball {
+            e = e.at_ball(ball);
+            e.line = find_line(&args.input, table, ball);
+        }
+        Error::from(e)
+    };
+    match error {
+        SimError::Ball { index, reason } => in_input(reason, ids.get(index).copied()),
+        SimError::Overlap {
+            first,
+            second,
+            depth,
+        } => in_input(
+            format!(
+                "overlaps ball {} by {depth:.3e} m, both at rest",
+                ids[first.min(ids.len() - 1)]
+            ),
+            ids.get(second).copied(),
+        ),
+        SimError::Strike(reason) => {
+            let file = args
+                .strikes
+                .as_ref()
+                .map_or_else(String::new, |p| p.display().to_string());
+            let mut e = InputError::new(format!("strike: {reason}"))
+                .in_file(file)
+                .at_table(table);
+            if let Some(r) = strike_rows.iter().find(|r| r.table == table) {
+                e = kisstime::io::strikes::locate(
+                    e,
+                    &args
+                        .strikes
+                        .as_ref()
+                        .unwrap_or(&PathBuf::new())
+                        .display()
+                        .to_string(),
+                    Format::of(args.strikes.as_deref()),
+                    r.at,
+                )
+                .at_ball(r.ball);
+            }
+            e.into()
+        }
+        other => in_input(other.to_string(), None),
+    }
+}
+
+/// An optional output: written atomically to `path`, or to standard output when
+/// `to_stdout`, or not at all (`body` gets `None`).
+fn maybe_output(
+    path: Option<&Path>,
+    to_stdout: bool,
+    body: impl FnOnce(Option<&mut dyn Write>) -> Result<(), Error>,
+) -> Result<(), Error> {
+    if path.is_some() || to_stdout {
+        write_output(path, |w| body(Some(w)))
+    } else {
+        body(None)
+    }
+}
+
+/// A write error on the output `path` (standard output when `None`).
+fn out_err(path: Option<&Path>) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::Io {
+        path: path.map_or_else(|| "standard output".to_owned(), |p| p.display().to_string()),
+        source,
+    }
+}
+
+pub fn run(args: &SimulateArgs) -> Result<(), Error> {
+    if args.max_time.is_nan() || args.max_time <= 0.0 {
+        return Err(InputError::new(format!(
+            "--max-time {} must be greater than 0",
+            args.max_time
+        ))
+        .into());
+    }
+    let table = read_table(&args.table)?;
+    let params = SimParams::default();
+    let batch = read_input(&args.input)?;
+    let (strike_rows, strikes) = match &args.strikes {
+        Some(path) => {
+            let rows = read_strikes(path)?;
+            let file = path.display().to_string();
+            let strikes = match_strikes(&batch, &rows, &file, Format::of(Some(path)))?;
+            (rows, strikes)
+        }
+        None => (Vec::new(), Vec::new()),
+    };
+    let n = batch.num_tables();
+    if args.verbose {
+        eprintln!(
+            "kisstime: simulating {n} tables ({} balls, {} strikes) on {} with {} threads",
+            batch.num_balls(),
+            strike_rows.len(),
+            args.table,
+            rayon::current_num_threads()
+        );
+    }
+    let options = BatchOptions {
+        limits: Limits {
+            max_events: usize::try_from(args.max_events).unwrap_or(usize::MAX),
+            max_time: args.max_time,
+        },
+        record_events: args.output.is_some(),
+        ..BatchOptions::default()
+    };
+    let events_path = args.output.as_deref();
+    let final_path = args.final_states.as_deref();
+    let outcomes_path = args.outcomes.as_deref();
+    let final_to_stdout = events_path.is_none() && final_path.is_none();
+    let mut stats = None;
+    let mut first_cut = None;
+    maybe_output(events_path, false, |events_out| {
+        maybe_output(final_path, final_to_stdout, |final_out| {
+            maybe_output(outcomes_path, false, |outcomes_out| {
+                let e_err = out_err(events_path);
+                let f_err = out_err(final_path);
+                let o_err = out_err(outcomes_path);
+                let mut events = match events_out {
+                    Some(w) => Some(EventsWriter::new(w, Format::of(events_path)).map_err(&e_err)?),
+                    None => None,
+                };
+                let mut finals = match final_out {
+                    Some(w) => Some(
+                        FinalWriter::new(w, Format::of(final_path), batch.num_balls() as u64)
+                            .map_err(&f_err)?,
+                    ),
+                    None => None,
+                };
+                let mut outcomes = match outcomes_out {
+                    Some(w) => Some(
+                        OutcomesWriter::new(w, Format::of(outcomes_path), n as u64)
+                            .map_err(&o_err)?,
+                    ),
+                    None => None,
+                };
+                let bar = Progress::new("simulating", n as u64, "tables", n >= SHOW_TABLES);
+                let input = batch.sim_input(&strikes, params.ball.r);
+                let result = simulate_batch(&table, params, &options, n, input, |chunk| {
+                    for run in chunk.iter() {
+                        let ids = TableIds {
+                            table: batch.table_id(run.table),
+                            balls: batch.ball_ids(run.table),
+                        };
+                        if run.outcome.cut.is_some() && first_cut.is_none() {
+                            first_cut = Some(ids.table);
+                        }
+                        if let Some(w) = events.as_mut() {
+                            w.write_table(ids, &table, &run).map_err(&e_err)?;
+                        }
+                        if let Some(w) = finals.as_mut() {
+                            w.write_table(ids, &table, &run).map_err(&f_err)?;
+                        }
+                        if let Some(w) = outcomes.as_mut() {
+                            w.write_table(ids, &run).map_err(&o_err)?;
+                        }
+                    }
+                    bar.inc(chunk.len() as u64);
+                    Ok::<(), Error>(())
+                });
+                bar.done();
+                let s = result.map_err(|e| match e {
+                    BatchError::Table { table: k, error } => {
+                        table_error(args, &batch, &strike_rows, k, error)
+                    }
+                    BatchError::Sink(e) => e,
+                })?;
+                if let Some(w) = events {
+                    w.finish().map_err(&e_err)?;
+                }
+                if let Some(w) = finals {
+                    w.finish().map_err(&f_err)?;
+                }
+                if let Some(w) = outcomes {
+                    w.finish().map_err(&o_err)?;
+                }
+                stats = Some(s);
+                Ok(())
+            })
+        })
+    })?;
+    if let Some(s) = stats {
+        let secs = s.sim_seconds.max(1e-9);
+        eprintln!(
+            "{} tables, {} events in {:.3} s: {:.0} tables/s, {:.0} events/s",
+            s.tables,
+            s.events,
+            s.sim_seconds,
+            s.tables as f64 / secs,
+            s.events as f64 / secs
+        );
+        if let Some(first) = first_cut {
+            eprintln!(
+                "kisstime: {} tables were cut by --max-events or --max-time (the first: table \
+                 {first}){}",
+                s.cut,
+                if outcomes_path.is_some() {
+                    ""
+                } else {
+                    "; --outcomes lists them"
+                }
+            );
+        }
+    }
+    Ok(())
+}

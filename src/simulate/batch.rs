@@ -1,0 +1,524 @@
+//! Many tables at once: [`simulate_batch`] runs the event loop on every table of a batch
+//! with Rayon over tables, and hands the results to a caller's sink chunk by chunk, in
+//! table order.
+//!
+//! - **Deterministic**: each table is simulated on its own by the same code, so the
+//!   results are bit for bit the same whatever the number of threads, and they come to
+//!   the sink in table order.
+//! - **Bounded memory**: tables are simulated [`BatchOptions::chunk_tables`] at a time;
+//!   a chunk's results are handed to the sink and dropped before the next chunk starts,
+//!   so memory depends on the chunk size, not on the batch size.
+//! - **No allocation per event**: each worker reuses one [`EventLoop`] (and one input
+//!   buffer) for all the tables it handles; events are appended to the chunk's flat list.
+//!
+//! ```
+//! use kisstime::simulate::{BallState, BatchOptions, CueStrike, SimParams, Table, simulate_batch};
+//!
+//! let table = Table::nine_foot();
+//! let p = SimParams::default();
+//! let r = p.ball.r;
+//! // 10 tables: the cue ball at (0.635, 0.6) shot straight at a ball on the foot spot
+//! let strike = CueStrike { v0: 2.0, phi: 90.0, theta: 0.0, a: 0.0, b: 0.1 };
+//! let input = |_k: usize, balls: &mut Vec<BallState>| {
+//!     balls.clear();
+//!     balls.push(BallState::at_rest(0.635, 0.6, r));
+//!     balls.push(BallState::at_rest(0.635, 1.905, r));
+//!     Ok(Some((0, strike)))
+//! };
+//! let mut first_kinds = Vec::new();
+//! let stats = simulate_batch(&table, p, &BatchOptions::default(), 10, input, |chunk| {
+//!     for run in chunk.iter() {
+//!         first_kinds.push((run.events[0].event.kind.name(), run.events[1].event.kind.name()));
+//!         assert_eq!(run.balls.len(), 2);
+//!         assert!(run.outcome.cut.is_none());
+//!     }
+//!     Ok::<(), std::convert::Infallible>(())
+//! })?;
+//! assert_eq!(stats.tables, 10);
+//! assert_eq!(first_kinds[0], ("stick_ball", "sliding_rolling"));
+//! # Ok::<(), kisstime::simulate::BatchError<std::convert::Infallible>>(())
+//! ```
+
+use std::fmt;
+use std::ops::Range;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::error::SimError;
+use crate::model::MotionState;
+use crate::model::ball_state::BallState;
+use crate::model::sim_params::SimParams;
+use crate::model::table::Table;
+use crate::resolve::stick_ball::CueStrike;
+use crate::simulate::check::check_layout;
+use crate::simulate::event_loop::{EventLoop, Limits, MAX_BALLS};
+use crate::simulate::events::{Event, EventKind, Outcome};
+
+/// Tables per chunk by default: enough to keep every core busy (128 tasks of 8 tables),
+/// few enough that a chunk of breaks (~200 events each, ~200 bytes an event kept) holds
+/// some 40 MB.
+pub const DEFAULT_CHUNK_TABLES: usize = 1024;
+
+/// Tables one Rayon task simulates in a row (with one event loop).
+const TABLES_PER_TASK: usize = 8;
+
+/// How [`simulate_batch`] runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BatchOptions {
+    /// The per-table event and simulated-time caps.
+    pub limits: Limits,
+    /// Keep every event with the states of its balls ([`TableRun::events`]); `false`
+    /// keeps only the final states and outcomes (faster, less memory).
+    pub record_events: bool,
+    /// Tables per chunk handed to the sink (at least 1; see the module docs).
+    pub chunk_tables: usize,
+    /// Run [`check_layout`] on every table before simulating it.
+    pub check_layout: bool,
+}
+
+impl Default for BatchOptions {
+    fn default() -> Self {
+        BatchOptions {
+            limits: Limits::default(),
+            record_events: true,
+            chunk_tables: DEFAULT_CHUNK_TABLES,
+            check_layout: true,
+        }
+    }
+}
+
+/// One event and the states, right after it, of the balls it involved: `states[0]` is
+/// ball `event.ball`'s; for a ball–ball event `states[1]` is ball `event.other`'s (for
+/// every other kind it repeats `states[0]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EventRecord {
+    /// The event.
+    pub event: Event,
+    /// The involved balls' states after it.
+    pub states: [BallState; 2],
+}
+
+impl EventRecord {
+    /// The record of `event` given every ball's state right after it.
+    pub fn new(event: Event, balls: &[BallState]) -> EventRecord {
+        let first = balls[event.ball as usize];
+        let second = if event.kind == EventKind::BallBall {
+            balls[event.other as usize]
+        } else {
+            first
+        };
+        EventRecord {
+            event,
+            states: [first, second],
+        }
+    }
+
+    /// The involved balls, as (index in the table, state after the event): one, or two for
+    /// a ball–ball event (in the event's agent order).
+    pub fn balls(&self) -> impl Iterator<Item = (usize, &BallState)> {
+        let two = self.event.kind == EventKind::BallBall;
+        let ids = [self.event.ball, self.event.other];
+        ids.into_iter()
+            .zip(&self.states)
+            .take(if two { 2 } else { 1 })
+            .map(|(i, s)| (i as usize, s))
+    }
+}
+
+/// One table's results, borrowed from its [`Chunk`].
+#[derive(Clone, Copy, Debug)]
+pub struct TableRun<'a> {
+    /// The table's position in the batch (0-based).
+    pub table: usize,
+    /// Its events in order (empty unless [`BatchOptions::record_events`]).
+    pub events: &'a [EventRecord],
+    /// Every ball's state at the end, in the input's ball order.
+    pub balls: &'a [BallState],
+    /// How the simulation ended (events, end time, cut or not).
+    pub outcome: Outcome,
+}
+
+/// The results of consecutive tables, flat: what the sink of [`simulate_batch`] receives.
+#[derive(Clone, Debug, Default)]
+pub struct Chunk {
+    first: usize,
+    events: Vec<EventRecord>,
+    event_start: Vec<usize>,
+    balls: Vec<BallState>,
+    ball_start: Vec<usize>,
+    outcomes: Vec<Outcome>,
+}
+
+impl Chunk {
+    fn empty(first: usize) -> Chunk {
+        Chunk {
+            first,
+            event_start: vec![0],
+            ball_start: vec![0],
+            ..Chunk::default()
+        }
+    }
+
+    /// The tables it holds (positions in the batch).
+    pub fn tables(&self) -> Range<usize> {
+        self.first..self.first + self.outcomes.len()
+    }
+
+    /// The number of tables.
+    pub fn len(&self) -> usize {
+        self.outcomes.len()
+    }
+
+    /// Whether it holds no table.
+    pub fn is_empty(&self) -> bool {
+        self.outcomes.is_empty()
+    }
+
+    /// Events simulated over its tables (whether recorded or not).
+    pub fn n_events(&self) -> usize {
+        self.outcomes.iter().map(|o| o.n_events).sum()
+    }
+
+    /// Table `i` of the chunk (0-based within the chunk; `None` past the end).
+    pub fn get(&self, i: usize) -> Option<TableRun<'_>> {
+        let outcome = *self.outcomes.get(i)?;
+        Some(TableRun {
+            table: self.first + i,
+            events: &self.events[self.event_start[i]..self.event_start[i + 1]],
+            balls: &self.balls[self.ball_start[i]..self.ball_start[i + 1]],
+            outcome,
+        })
+    }
+
+    /// Its tables in order.
+    pub fn iter(&self) -> impl Iterator<Item = TableRun<'_>> {
+        (0..self.len()).filter_map(|i| self.get(i))
+    }
+
+    /// Appends `other`, which holds the tables right after this chunk's.
+    fn append(&mut self, other: Chunk) {
+        let (e0, b0) = (self.events.len(), self.balls.len());
+        self.events.extend(other.events);
+        self.balls.extend(other.balls);
+        self.outcomes.extend(other.outcomes);
+        self.event_start
+            .extend(other.event_start[1..].iter().map(|s| s + e0));
+        self.ball_start
+            .extend(other.ball_start[1..].iter().map(|s| s + b0));
+    }
+}
+
+/// Totals of a batch run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BatchStats {
+    /// Tables simulated.
+    pub tables: usize,
+    /// Events in all.
+    pub events: usize,
+    /// Tables cut by a limit.
+    pub cut: usize,
+    /// Wall-clock seconds spent simulating (the sink's time excluded).
+    pub sim_seconds: f64,
+}
+
+/// Why [`simulate_batch`] stopped.
+#[derive(Debug)]
+pub enum BatchError<E> {
+    /// A table could not be simulated: its position in the batch and the error (a ball's
+    /// index in [`SimError::Ball`] is its index in the table's input). Of several bad
+    /// tables the first in table order is reported.
+    Table {
+        /// The table's position in the batch.
+        table: usize,
+        /// What is wrong.
+        error: SimError,
+    },
+    /// The sink failed.
+    Sink(E),
+}
+
+impl<E: fmt::Display> fmt::Display for BatchError<E> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BatchError::Table { table, error } => write!(f, "table #{table}: {error}"),
+            BatchError::Sink(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl<E: fmt::Debug + fmt::Display> std::error::Error for BatchError<E> {}
+
+/// Simulates `n_tables` tables on `table` from the strike to rest (or to a limit), with
+/// Rayon over tables, handing the results to `sink` one [`Chunk`] at a time in table
+/// order (see the module docs).
+///
+/// `input(k, balls)` fills `balls` (cleared by the callee) with table `k`'s balls (in the
+/// order that decides exact ties, pooltool's ball order) and returns its cue strike
+/// (ball index and strike, applied at t = 0) if any; it is called from worker threads.
+/// Each table is checked ([`check_layout`], if asked, and [`EventLoop::reset`]: at most
+/// [`MAX_BALLS`] balls, finite numbers, a valid strike on an existing ball); the first bad
+/// table stops the run with [`BatchError::Table`] before its chunk reaches the sink.
+pub fn simulate_batch<E>(
+    table: &Table,
+    params: SimParams,
+    options: &BatchOptions,
+    n_tables: usize,
+    input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync,
+    mut sink: impl FnMut(&Chunk) -> Result<(), E>,
+) -> Result<BatchStats, BatchError<E>> {
+    // the parameters, checked once
+    EventLoop::new(table, params, options.limits, 0)
+        .map_err(|error| BatchError::Table { table: 0, error })?;
+    let per_chunk = options.chunk_tables.max(1);
+    let mut stats = BatchStats::default();
+    let mut first = 0;
+    while first < n_tables {
+        let end = n_tables.min(first.saturating_add(per_chunk));
+        let started = Instant::now();
+        let tasks: Vec<Range<usize>> = (first..end)
+            .step_by(TABLES_PER_TASK)
+            .map(|s| s..end.min(s + TABLES_PER_TASK))
+            .collect();
+        let parts: Vec<Result<Chunk, (usize, SimError)>> = tasks
+            .into_par_iter()
+            .map_init(
+                // cannot fail: the parameters were checked above and 16 ≤ MAX_BALLS
+                || {
+                    (
+                        EventLoop::new(table, params, options.limits, 16).ok(),
+                        Vec::new(),
+                    )
+                },
+                |(lp, buf), tables| match lp {
+                    Some(lp) => run_tables(lp, buf, table, params.ball.r, options, &input, tables),
+                    None => Err((tables.start, SimError::Table("no event loop".to_owned()))),
+                },
+            )
+            .collect();
+        let mut chunk = Chunk::empty(first);
+        for part in parts {
+            chunk.append(part.map_err(|(table, error)| BatchError::Table { table, error })?);
+        }
+        stats.sim_seconds += started.elapsed().as_secs_f64();
+        stats.tables += chunk.len();
+        stats.events += chunk.n_events();
+        stats.cut += chunk.outcomes.iter().filter(|o| o.cut.is_some()).count();
+        sink(&chunk).map_err(BatchError::Sink)?;
+        first = end;
+    }
+    Ok(stats)
+}
+
+/// Simulates the tables `tables` with one loop, into a chunk; the first bad table's
+/// position and error otherwise.
+fn run_tables(
+    lp: &mut EventLoop,
+    buf: &mut Vec<BallState>,
+    table: &Table,
+    radius: f64,
+    options: &BatchOptions,
+    input: &(impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync),
+    tables: Range<usize>,
+) -> Result<Chunk, (usize, SimError)> {
+    let mut out = Chunk::empty(tables.start);
+    for k in tables {
+        let fail = |e| (k, e);
+        let strike = input(k, buf).map_err(fail)?;
+        if buf.len() > MAX_BALLS {
+            return Err(fail(SimError::Ball {
+                index: MAX_BALLS,
+                reason: format!(
+                    "the table has {} balls; the simulator takes at most {MAX_BALLS}",
+                    buf.len()
+                ),
+            }));
+        }
+        if options.check_layout {
+            check_layout(table, radius, buf).map_err(fail)?;
+        }
+        if let Some((cue, _)) = strike
+            && buf.get(cue).is_some_and(|b| b.s == MotionState::Pocketed)
+        {
+            return Err(fail(SimError::Ball {
+                index: cue,
+                reason: "the strike's ball is pocketed".to_owned(),
+            }));
+        }
+        lp.reset(buf, strike).map_err(fail)?;
+        while let Some(ev) = lp.step() {
+            if options.record_events {
+                out.events.push(EventRecord::new(ev, lp.balls()));
+            }
+        }
+        out.balls.extend_from_slice(lp.balls());
+        out.outcomes.push(lp.outcome());
+        out.event_start.push(out.events.len());
+        out.ball_start.push(out.balls.len());
+    }
+    Ok(out)
+}
+
+/// The index of the pocket a pocketed ball sits in (its centre is the pocket's, as the
+/// pocket resolution leaves it), if any.
+pub fn pocket_of(table: &Table, b: &BallState) -> Option<usize> {
+    if b.s != MotionState::Pocketed {
+        return None;
+    }
+    table
+        .pockets
+        .iter()
+        .position(|p| p.center.x == b.r.x && p.center.y == b.r.y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::batch::Batch;
+    use crate::model::Ball;
+    use crate::simulate::events::Cut;
+
+    fn rack_batch(n: usize) -> (Batch, Vec<Option<(usize, CueStrike)>>) {
+        let mut batch = Batch::new();
+        let mut strikes = Vec::new();
+        for k in 0..n {
+            let mut balls = vec![(0, Ball::at_rest(0.635, 0.6))];
+            for i in 0..5 {
+                let x = 0.4 + 0.1 * i as f64;
+                balls.push((i + 1, Ball::at_rest(x, 1.9 + 0.01 * (k % 7) as f64)));
+            }
+            batch.push_table(k as i64, balls).unwrap();
+            let phi = 80.0 + (k % 20) as f64;
+            strikes.push(Some((
+                0,
+                CueStrike {
+                    v0: 1.0 + 0.3 * (k % 9) as f64,
+                    phi,
+                    theta: 0.0,
+                    a: 0.1,
+                    b: -0.2,
+                },
+            )));
+        }
+        (batch, strikes)
+    }
+
+    fn run(
+        batch: &Batch,
+        strikes: &[Option<(usize, CueStrike)>],
+        options: &BatchOptions,
+    ) -> (Vec<EventRecord>, Vec<BallState>, Vec<Outcome>, usize) {
+        let p = SimParams::default();
+        let (mut ev, mut balls, mut outs, mut chunks) = (Vec::new(), Vec::new(), Vec::new(), 0);
+        let input = batch.sim_input(strikes, p.ball.r);
+        simulate_batch(
+            &Table::nine_foot(),
+            p,
+            options,
+            batch.num_tables(),
+            input,
+            |c: &Chunk| {
+                chunks += 1;
+                for (next, t) in (c.tables().start..).zip(c.iter()) {
+                    assert_eq!(t.table, next);
+                    ev.extend_from_slice(t.events);
+                    balls.extend_from_slice(t.balls);
+                    outs.push(t.outcome);
+                }
+                Ok::<(), ()>(())
+            },
+        )
+        .unwrap();
+        (ev, balls, outs, chunks)
+    }
+
+    #[test]
+    fn chunking_and_threads_do_not_change_results() {
+        let (batch, strikes) = rack_batch(45);
+        let big = BatchOptions::default();
+        let one = BatchOptions {
+            chunk_tables: 1,
+            ..big
+        };
+        let a = run(&batch, &strikes, &big);
+        let b = run(&batch, &strikes, &one);
+        assert_eq!((a.3, b.3), (1, 45));
+        assert_eq!(a.0, b.0);
+        assert_eq!(a.1, b.1);
+        assert_eq!(a.2, b.2);
+        let single = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let c = single.install(|| run(&batch, &strikes, &big));
+        assert_eq!(a.0, c.0);
+        assert_eq!(a.1, c.1);
+        // the same as the one-table entry point
+        let p = SimParams::default();
+        let balls: Vec<BallState> = batch
+            .balls(3)
+            .iter()
+            .map(|b| BallState::from_ball(b, p.ball.r))
+            .collect();
+        let mut events = Vec::new();
+        let t = Table::nine_foot();
+        let out =
+            crate::simulate::simulate(&t, p, Limits::default(), &balls, strikes[3], |e, b| {
+                events.push(EventRecord::new(*e, b))
+            })
+            .unwrap();
+        let before: usize = a.2[..3].iter().map(|o| o.n_events).sum();
+        assert_eq!(&a.0[before..before + out.n_events], &events[..]);
+        // final states only
+        let fin = BatchOptions {
+            record_events: false,
+            ..big
+        };
+        let d = run(&batch, &strikes, &fin);
+        assert!(d.0.is_empty());
+        assert_eq!(a.1, d.1);
+        assert_eq!(a.2, d.2);
+    }
+
+    #[test]
+    fn a_table_cut_by_the_event_cap_is_reported_and_bad_tables_are_named() {
+        let (batch, strikes) = rack_batch(5);
+        let options = BatchOptions {
+            limits: Limits {
+                max_events: 3,
+                ..Limits::default()
+            },
+            ..BatchOptions::default()
+        };
+        let (ev, _, outs, _) = run(&batch, &strikes, &options);
+        assert_eq!(ev.len(), 15);
+        assert!(outs.iter().all(|o| o.cut == Some(Cut::MaxEvents)));
+        // a ball off the table in table 2
+        let mut bad = Batch::new();
+        for k in 0..4 {
+            let x = if k == 2 { 3.0 } else { 0.5 };
+            bad.push_table(
+                k,
+                [(0, Ball::at_rest(0.6, 0.6)), (1, Ball::at_rest(x, 1.0))],
+            )
+            .unwrap();
+        }
+        let p = SimParams::default();
+        let err = simulate_batch(
+            &Table::nine_foot(),
+            p,
+            &BatchOptions::default(),
+            4,
+            bad.sim_input(&[], p.ball.r),
+            |_| Ok::<(), ()>(()),
+        )
+        .unwrap_err();
+        match err {
+            BatchError::Table {
+                table: 2,
+                error: SimError::Ball { index: 1, reason },
+            } => assert!(reason.contains("off the table"), "{reason}"),
+            other => panic!("{other:?}"),
+        }
+    }
+}
