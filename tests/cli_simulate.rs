@@ -617,3 +617,55 @@ fn the_reference_set_gives_the_replays_event_sequences() {
         assert_eq!(a, b);
     }
 }
+
+#[test]
+fn plot_draws_one_table_and_its_path_is_checked_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let balls = write(dir.path(), "balls.csv", BALLS);
+    let strikes = write(dir.path(), "strikes.csv", STRIKES);
+    let png = dir.path().join("shot.png");
+    let run = kisstime(&[
+        "simulate",
+        s(&balls),
+        "--strikes",
+        s(&strikes),
+        "--plot",
+        s(&png),
+        "--table-id",
+        "2",
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    assert!(
+        bytes.len() > 10_000,
+        "a real picture: {} bytes",
+        bytes.len()
+    );
+    // refused before anything is computed or written
+    for (args, expect) in [
+        (vec!["--plot", "shot.jpg", "--table-id", "2"], "*.png"),
+        (
+            vec!["--plot", "missing/shot.png", "--table-id", "2"],
+            "does not exist",
+        ),
+        (vec!["--plot", "shot.png"], "--table-id"),
+        (
+            vec!["--plot", "shot.png", "--table-id", "9"],
+            "no such table",
+        ),
+    ] {
+        let out = dir.path().join("final.csv");
+        let mut all = vec!["simulate", s(&balls), "--final", s(&out)];
+        all.extend(args.iter().copied());
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
+            .args(&all)
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert!(!out.exists(), "{args:?}: nothing is written");
+    }
+}

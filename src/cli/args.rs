@@ -109,6 +109,13 @@ pub struct SimulateArgs {
     /// Worker threads (default: one per core). Results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Draw one table's shot from above (cushions, jaws and pockets to scale, every ball's
+    /// path, the collisions, cushion hits and pots, where the balls stopped) as a PNG.
+    #[arg(long, value_name = "PNG")]
+    pub plot: Option<PathBuf>,
+    /// The table `--plot` draws (its id in the input); needed when the input has several.
+    #[arg(long, value_name = "K", requires = "plot")]
+    pub table_id: Option<i64>,
     /// Print the table, the batch size and the cut tables on stderr.
     #[arg(short, long)]
     pub verbose: bool,

@@ -9,5 +9,6 @@ pub mod commands;
 pub mod plot;
 pub mod progress;
 pub mod report;
+pub mod shot_plot;
 pub mod shots;
 pub mod simulate;

@@ -7,16 +7,17 @@ use std::path::{Path, PathBuf};
 use kisstime::io::Format;
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
-use kisstime::io::write_output;
+use kisstime::io::{output_error, write_output};
 use kisstime::model::PocketTableSpecs;
 use kisstime::simulate::{
-    BatchError, BatchOptions, Limits, SimError, SimParams, Table, simulate_batch,
+    BallState, BatchError, BatchOptions, Limits, SimError, SimParams, Table, simulate_batch,
 };
 use kisstime::{Batch, Error, InputError};
 
 use super::args::SimulateArgs;
 use super::commands::read_input;
 use super::progress::Progress;
+use super::shot_plot::render_shot_png;
 
 /// Tables from which a progress bar is shown (on a terminal).
 const SHOW_TABLES: usize = 20_000;
@@ -136,6 +137,50 @@ fn maybe_output(
     }
 }
 
+/// Refuses a `--plot` path before anything is computed: it must end in `.png` (the format
+/// written) and its folder must exist.
+fn check_png_path(path: &Path) -> Result<(), Error> {
+    let named = path.display();
+    let png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !png {
+        return Err(InputError::new(format!(
+            "--plot {named}: the picture is written as PNG; name it *.png"
+        ))
+        .into());
+    }
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(InputError::new(format!(
+            "--plot {named}: the folder {} does not exist",
+            dir.display()
+        ))
+        .into());
+    }
+    Ok(())
+}
+
+/// The position in the batch of the table `--plot` draws: `--table-id`, or the only table.
+fn plotted_table(batch: &Batch, id: Option<i64>) -> Result<usize, Error> {
+    let n = batch.num_tables();
+    match id {
+        Some(id) => (0..n).find(|&k| batch.table_id(k) == id).ok_or_else(|| {
+            InputError::new(format!("--table-id {id}: no such table in the input"))
+                .at_table(id)
+                .into()
+        }),
+        None if n == 1 => Ok(0),
+        None => Err(InputError::new(format!(
+            "--plot draws one table and the input has {n}: choose it with --table-id"
+        ))
+        .into()),
+    }
+}
+
 /// A write error on the output `path` (standard output when `None`).
 fn out_err(path: Option<&Path>) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::Io {
@@ -152,9 +197,16 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         ))
         .into());
     }
+    if let Some(path) = &args.plot {
+        check_png_path(path)?;
+    }
     let table = read_table(&args.table)?;
     let params = SimParams::default();
     let batch = read_input(&args.input)?;
+    let plotted = match &args.plot {
+        Some(_) => Some(plotted_table(&batch, args.table_id)?),
+        None => None,
+    };
     let (strike_rows, strikes) = match &args.strikes {
         Some(path) => {
             let rows = read_strikes(path)?;
@@ -257,6 +309,25 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             })
         })
     })?;
+    if let (Some(path), Some(k)) = (&args.plot, plotted) {
+        let balls: Vec<BallState> = batch
+            .balls(k)
+            .iter()
+            .map(|b| BallState::from_ball(b, params.ball.r))
+            .collect();
+        let strike = strikes.get(k).copied().flatten();
+        let label = format!("Table {}", batch.table_id(k));
+        let png = render_shot_png(
+            &table,
+            params,
+            options.limits,
+            &balls,
+            batch.ball_ids(k),
+            strike,
+            &label,
+        )?;
+        write_output(Some(path), |w| w.write_all(&png).map_err(output_error))?;
+    }
     if let Some(s) = stats {
         let secs = s.sim_seconds.max(1e-9);
         eprintln!(

@@ -1,0 +1,455 @@
+//! The picture of one simulated shot (`kisstime simulate … --plot shot.png --table-id K`):
+//! the table from above — rails, cushions, jaws and pockets to scale — every ball's path
+//! from the strike to rest, event markers (ball–ball contacts, cushion hits, pots) and the
+//! final positions.
+//!
+//! The paths are the simulator's own closed forms: between two consecutive events every
+//! ball moves on [`evolve`] from its state after the earlier one, sampled densely enough
+//! that a massé curve is drawn as the curve it is, not as straight segments between events.
+//! The table is turned a quarter turn clockwise so that its long side runs across the
+//! picture: the head (small y) is on the left, and table +x points down.
+
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+use kisstime::Error;
+use kisstime::model::{BallState, MotionState, SimParams, Table};
+use kisstime::motion::evolve;
+use kisstime::resolve::CueStrike;
+use kisstime::simulate::{EventKind, EventLoop, Limits};
+
+use super::plot::{circle, encode_png, fonts, plot_error};
+
+/// A circle about `(x, y)` as a polygon.
+fn circle_at((x, y): (f64, f64), r: f64) -> Vec<(f64, f64)> {
+    circle(x, y, r)
+}
+
+/// Picture size in pixels.
+const SIZE: (u32, u32) = (1600, 960);
+/// The frame around the playing surface, in metres (rails and pockets).
+const FRAME: f64 = 0.16;
+
+const CLOTH: RGBColor = RGBColor(38, 104, 74);
+const RAIL: RGBColor = RGBColor(92, 56, 32);
+const CUSHION: RGBColor = RGBColor(24, 70, 48);
+const POCKET: RGBColor = RGBColor(15, 15, 15);
+const KISS: RGBColor = RGBColor(255, 255, 255);
+const RAIL_HIT: RGBColor = RGBColor(255, 150, 40);
+const POT: RGBColor = RGBColor(255, 60, 60);
+
+/// One ball's drawn path: points in table coordinates.
+struct Trace {
+    points: Vec<(f64, f64)>,
+}
+
+/// An event worth a marker: where, and what.
+struct Marker {
+    at: (f64, f64),
+    kind: EventKind,
+}
+
+/// What the picture shows of a simulated shot.
+struct Shot {
+    traces: Vec<Trace>,
+    markers: Vec<Marker>,
+    start: Vec<BallState>,
+    end: Vec<BallState>,
+    events: usize,
+    duration: f64,
+    cut: bool,
+}
+
+/// The colour of ball `id` (pool's usual colours: 0 the cue ball, 1–7 solids, 8 black,
+/// 9–15 the stripes, drawn lighter).
+fn ball_colour(id: i64) -> RGBColor {
+    const SOLIDS: [RGBColor; 8] = [
+        RGBColor(250, 250, 245),
+        RGBColor(245, 200, 20),
+        RGBColor(30, 70, 200),
+        RGBColor(210, 30, 30),
+        RGBColor(110, 40, 150),
+        RGBColor(245, 120, 20),
+        RGBColor(20, 130, 60),
+        RGBColor(130, 30, 40),
+    ];
+    match id {
+        0..=7 => SOLIDS[id as usize],
+        8 => RGBColor(20, 20, 20),
+        9..=15 => {
+            let c = SOLIDS[(id - 8) as usize];
+            RGBColor(
+                ((c.0 as u16 + 255) / 2) as u8,
+                ((c.1 as u16 + 255) / 2) as u8,
+                ((c.2 as u16 + 255) / 2) as u8,
+            )
+        }
+        _ => RGBColor(200, 180, 140),
+    }
+}
+
+/// Table coordinates turned a quarter turn clockwise: `(x, y) → (y, −x)`.
+fn view((x, y): (f64, f64)) -> (f64, f64) {
+    (y, -x)
+}
+
+/// Simulates the shot and records what the picture needs: every ball's path sampled
+/// along the closed forms between consecutive events (about one point per 2 mm of travel,
+/// at least 8 per stretch), and a marker for every collision and pot.
+fn record(
+    table: &Table,
+    params: SimParams,
+    limits: Limits,
+    balls: &[BallState],
+    strike: Option<(usize, CueStrike)>,
+) -> Result<Shot, Error> {
+    let mut sim = EventLoop::new(table, params, limits, balls.len())?;
+    sim.reset(balls, strike)?;
+    let mut traces: Vec<Trace> = balls
+        .iter()
+        .map(|b| Trace {
+            points: vec![(b.r.x, b.r.y)],
+        })
+        .collect();
+    let mut markers = Vec::new();
+    let mut prev: Vec<BallState> = sim.balls().to_vec();
+    let mut prev_t = sim.time();
+    while let Some(event) = sim.step() {
+        let dt = event.t - prev_t;
+        for (trace, b) in traces.iter_mut().zip(&prev) {
+            if !matches!(b.s, MotionState::Sliding | MotionState::Rolling) || dt <= 0.0 {
+                continue;
+            }
+            let length = b.v.norm() * dt;
+            let n = ((length / 0.002).ceil() as usize).clamp(8, 2000);
+            for k in 1..=n {
+                let s = evolve(b, dt * k as f64 / n as f64, &params.ball);
+                trace.points.push((s.r.x, s.r.y));
+            }
+        }
+        let now = sim.balls();
+        let i = event.ball as usize;
+        let at = match event.kind {
+            EventKind::BallBall => {
+                let (a, b) = (now[i].r, now[event.other as usize].r);
+                Some((0.5 * (a.x + b.x), 0.5 * (a.y + b.y)))
+            }
+            EventKind::BallLinearCushion | EventKind::BallCircularCushion => {
+                Some((now[i].r.x, now[i].r.y))
+            }
+            EventKind::BallPocket => {
+                let c = table.pockets[event.other as usize].center;
+                Some((c.x, c.y))
+            }
+            _ => None,
+        };
+        if let Some(at) = at {
+            markers.push(Marker {
+                at,
+                kind: event.kind,
+            });
+        }
+        if event.kind == EventKind::BallPocket {
+            // the path ends at the pocket's centre, where the ball is stored
+            let c = table.pockets[event.other as usize].center;
+            traces[i].points.push((c.x, c.y));
+        }
+        prev.clear();
+        prev.extend_from_slice(now);
+        prev_t = event.t;
+    }
+    let outcome = sim.outcome();
+    Ok(Shot {
+        traces,
+        markers,
+        start: balls.to_vec(),
+        end: sim.balls().to_vec(),
+        events: outcome.n_events,
+        duration: outcome.t_end,
+        cut: outcome.cut.is_some(),
+    })
+}
+
+/// The table's extent in table coordinates: every cushion end, jaw and pocket, framed.
+fn extent(table: &Table) -> (f64, f64, f64, f64) {
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    let mut take = |x: f64, y: f64, r: f64| {
+        x0 = x0.min(x - r);
+        x1 = x1.max(x + r);
+        y0 = y0.min(y - r);
+        y1 = y1.max(y + r);
+    };
+    for s in &table.linear {
+        take(s.p1.x, s.p1.y, 0.0);
+        take(s.p2.x, s.p2.y, 0.0);
+    }
+    for c in &table.circular {
+        take(c.center.x, c.center.y, c.radius);
+    }
+    for p in &table.pockets {
+        take(p.center.x, p.center.y, p.radius);
+    }
+    (x0 - FRAME, x1 + FRAME, y0 - FRAME, y1 + FRAME)
+}
+
+/// Draws the shot of table `label` and returns it as PNG bytes. `ids` are the balls' ids
+/// (for colours and labels), in the order of `balls`.
+pub fn render_shot_png(
+    table: &Table,
+    params: SimParams,
+    limits: Limits,
+    balls: &[BallState],
+    ids: &[i64],
+    strike: Option<(usize, CueStrike)>,
+    label: &str,
+) -> Result<Vec<u8>, Error> {
+    let shot = record(table, params, limits, balls, strike)?;
+    fonts();
+    let (w, h) = SIZE;
+    let mut rgb = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        draw(&root, table, params.ball.r, &shot, ids, label).map_err(plot_error)?;
+        root.present().map_err(plot_error)?;
+    }
+    encode_png(&rgb, SIZE)
+}
+
+type DrawResult = Result<(), Box<dyn std::error::Error + 'static>>;
+
+fn draw(
+    root: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    table: &Table,
+    radius: f64,
+    shot: &Shot,
+    ids: &[i64],
+    label: &str,
+) -> DrawResult {
+    let pots: Vec<String> = shot
+        .end
+        .iter()
+        .zip(ids)
+        .filter(|(b, _)| b.s == MotionState::Pocketed)
+        .map(|(_, id)| id.to_string())
+        .collect();
+    let title = format!(
+        "{label}: {} events in {:.2} s{}; potted: {}",
+        shot.events,
+        shot.duration,
+        if shot.cut { " (cut by a limit)" } else { "" },
+        if pots.is_empty() {
+            "none".to_owned()
+        } else {
+            pots.join(", ")
+        }
+    );
+    let (head, body) = root.split_vertically(50);
+    head.draw(&Text::new(
+        title,
+        (20, 14),
+        ("sans-serif", 24).into_font().style(FontStyle::Bold),
+    ))?;
+    let (x0, x1, y0, y1) = extent(table);
+    // turned: screen x is table y, screen y is −(table x); equal scales
+    let (vx0, vx1, vy0, vy1) = (y0, y1, -x1, -x0);
+    let (bw, bh) = body.dim_in_pixel();
+    let legend_h = 40.0;
+    let scale = ((bw as f64 - 40.0) / (vx1 - vx0)).min((bh as f64 - legend_h) / (vy1 - vy0));
+    let (cw, ch) = ((vx1 - vx0) * scale, (vy1 - vy0) * scale);
+    let left = ((bw as f64 - cw) / 2.0).max(0.0) as u32;
+    let area = body
+        .margin(0, 0, left, 0)
+        .shrink((0, 0), (cw as u32, ch as u32));
+    let mut chart = ChartBuilder::on(&area).build_cartesian_2d(vx0..vx1, vy0..vy1)?;
+    // rails, then the cloth inside the cushion noses
+    chart.draw_series([Rectangle::new([(vx0, vy0), (vx1, vy1)], RAIL.filled())])?;
+    let nose: Vec<(f64, f64)> = cushion_outline(table);
+    chart.draw_series([Polygon::new(nose.clone(), CLOTH.filled())])?;
+    for p in &table.pockets {
+        chart.draw_series([Polygon::new(
+            circle_at(view((p.center.x, p.center.y)), p.radius),
+            POCKET.filled(),
+        )])?;
+    }
+    for s in &table.linear {
+        chart.draw_series([PathElement::new(
+            vec![view((s.p1.x, s.p1.y)), view((s.p2.x, s.p2.y))],
+            CUSHION.stroke_width(3),
+        )])?;
+    }
+    for c in &table.circular {
+        let mut ring = circle_at(view((c.center.x, c.center.y)), c.radius);
+        ring.push(ring[0]);
+        chart.draw_series([PathElement::new(ring, CUSHION.stroke_width(2))])?;
+    }
+    // where the balls started
+    for b in &shot.start {
+        let mut ring = circle_at(view((b.r.x, b.r.y)), radius);
+        ring.push(ring[0]);
+        chart.draw_series([PathElement::new(ring, WHITE.mix(0.45).stroke_width(1))])?;
+    }
+    // the paths
+    for (trace, &id) in shot.traces.iter().zip(ids) {
+        if trace.points.len() < 2 {
+            continue;
+        }
+        let points: Vec<(f64, f64)> = trace.points.iter().map(|&p| view(p)).collect();
+        chart.draw_series([PathElement::new(
+            points,
+            ball_colour(id).mix(0.9).stroke_width(2),
+        )])?;
+    }
+    // the events
+    for m in &shot.markers {
+        let at = view(m.at);
+        match m.kind {
+            EventKind::BallBall => {
+                chart.draw_series([Circle::new(at, 5, KISS.stroke_width(2))])?;
+            }
+            EventKind::BallPocket => {
+                chart.draw_series([Circle::new(at, 7, POT.filled())])?;
+            }
+            _ => {
+                chart.draw_series([Cross::new(at, 5, RAIL_HIT.stroke_width(2))])?;
+            }
+        }
+    }
+    // where they came to rest (pocketed balls are not on the table)
+    for (b, &id) in shot.end.iter().zip(ids) {
+        if b.s == MotionState::Pocketed {
+            continue;
+        }
+        let at = view((b.r.x, b.r.y));
+        chart.draw_series([Polygon::new(
+            circle_at(at, radius),
+            ball_colour(id).filled(),
+        )])?;
+        let mut ring = circle_at(at, radius);
+        ring.push(ring[0]);
+        chart.draw_series([PathElement::new(ring, BLACK.stroke_width(1))])?;
+        let text = if id == 0 {
+            String::new()
+        } else {
+            id.to_string()
+        };
+        let colour = if id == 8 { WHITE } else { BLACK };
+        let style = ("sans-serif", 13)
+            .into_font()
+            .style(FontStyle::Bold)
+            .color(&colour)
+            .pos(plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Center,
+            ));
+        chart.draw_series([Text::new(text, at, style)])?;
+    }
+    // legend, below the table
+    let y = (ch + 10.0) as i32 + 50;
+    let font = ("sans-serif", 17).into_font();
+    let x = left as i32;
+    root.draw(&Circle::new((x + 8, y + 10), 7, BLACK.filled()))?;
+    root.draw(&Circle::new((x + 8, y + 10), 5, KISS.stroke_width(2)))?;
+    root.draw(&Text::new("ball–ball", (x + 22, y), font.clone()))?;
+    root.draw(&Cross::new((x + 128, y + 10), 6, RAIL_HIT.stroke_width(2)))?;
+    root.draw(&Text::new("cushion or jaw", (x + 142, y), font.clone()))?;
+    root.draw(&Circle::new((x + 298, y + 10), 7, POT.filled()))?;
+    root.draw(&Text::new("pot", (x + 312, y), font.clone()))?;
+    root.draw(&Text::new(
+        "Lines: each ball's path from the strike to rest (exact closed forms). Faint rings: \
+         where the balls started; filled: where they stopped.",
+        (x + 370, y),
+        font.color(&RGBColor(70, 70, 70)),
+    ))?;
+    Ok(())
+}
+
+/// The cloth, turned for the picture: the convex hull of the straight cushions' ends (the
+/// playing surface and the pocket throats between the jaws).
+fn cushion_outline(table: &Table) -> Vec<(f64, f64)> {
+    let mut points: Vec<(f64, f64)> = table
+        .linear
+        .iter()
+        .flat_map(|s| [(s.p1.x, s.p1.y), (s.p2.x, s.p2.y)])
+        .collect();
+    points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    points.dedup();
+    // Andrew's monotone chain: lower hull, then upper hull
+    let turn = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    let mut hull: Vec<(f64, f64)> = Vec::with_capacity(points.len() + 1);
+    for pass in 0..2 {
+        let start = hull.len();
+        let ordered: Box<dyn Iterator<Item = &(f64, f64)>> = if pass == 0 {
+            Box::new(points.iter())
+        } else {
+            Box::new(points.iter().rev())
+        };
+        for &p in ordered {
+            while hull.len() >= start + 2
+                && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull.into_iter().map(view).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_break_and_a_masse_shot_draw() {
+        let table = Table::nine_foot();
+        let p = SimParams::default();
+        let r = p.ball.r;
+        // a short rack of three and a cue ball
+        let balls = [
+            BallState::at_rest(0.635, 0.6, r),
+            BallState::at_rest(0.635, 1.905, r),
+            BallState::at_rest(0.635 - r - 1e-4, 1.905 + 1.75 * r, r),
+            BallState::at_rest(0.635 + r + 1e-4, 1.905 + 1.75 * r, r),
+        ];
+        let ids = [0, 1, 2, 3];
+        let hard = CueStrike {
+            v0: 6.0,
+            phi: 90.0,
+            theta: 0.0,
+            a: 0.0,
+            b: 0.0,
+        };
+        let png = render_shot_png(
+            &table,
+            p,
+            Limits::default(),
+            &balls,
+            &ids,
+            Some((0, hard)),
+            "t",
+        )
+        .unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        let shot = record(&table, p, Limits::default(), &balls, Some((0, hard))).unwrap();
+        assert!(shot.markers.iter().any(|m| m.kind == EventKind::BallBall));
+        // a massé: the cue ball's path curves, so its sampled points leave the straight line
+        let masse = CueStrike {
+            v0: 2.0,
+            phi: 80.0,
+            theta: 60.0,
+            a: 0.4,
+            b: 0.0,
+        };
+        let shot = record(&table, p, Limits::default(), &balls[..1], Some((0, masse))).unwrap();
+        let pts = &shot.traces[0].points;
+        assert!(pts.len() > 50, "{} points", pts.len());
+        let (a, b) = (pts[0], pts[pts.len() / 4]);
+        let c = pts[pts.len() / 8];
+        let cross = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+        assert!(cross.abs() > 1e-6, "the massé path is curved");
+    }
+}
