@@ -10,7 +10,9 @@
 //!   pooltool's continually-touching fix (Q2, the chaser hands 10 % of its speed along the
 //!   line of centres to the other ball) may add energy when the two speeds are within
 //!   a few percent of each other; those ball–ball events are bounded separately
-//!   ([`Q2_ENERGY_RTOL`]);
+//!   ([`Q2_ENERGY_RTOL`]). Measured (`overlap_statistics`): the largest rise across a
+//!   ball–ball resolution is 1.3e-6 of the total on 300 random tables and 6.5e-7 on the
+//!   300 reference shots; across every other resolution the energy never rose at all;
 //! - **no ball leaves the table** except into a pocket: after every event every ball not
 //!   pocketed has its centre on the playing surface (at least `R − 1 µm` from the outer
 //!   rectangle's cushion lines) or in a pocket's mouth (within the disc about the pocket's
@@ -18,7 +20,14 @@
 //! - **overlaps** stay within what pooltool's 1 µm spacer (Q1) and its 5 µm fallback
 //!   leave: after every event no two balls on the table are closer than
 //!   `2R − MAX_OVERLAP`; the statistics are printed by `overlap_statistics`
-//!   (`cargo test --test sim_properties -- --nocapture overlap_statistics`);
+//!   (`cargo test --test sim_properties -- --nocapture overlap_statistics`). Measured:
+//!   on 300 random tables (9,024 events) two balls overlap after 1.7 % of the events, in
+//!   79 of the tables, at most 8.6e-6 m deep; on the 300 reference shots, whose event
+//!   sequences are pooltool's own (26,936 events), after 0.85 % of the events, in 14
+//!   shots, at most 3.7e-6 m deep. No table ends with two balls overlapping. The
+//!   reference shots show that these overlaps are pooltool's own; the spacer moves the
+//!   two balls of a kiss back along their velocities (or, past 5 µm, along the normal)
+//!   without looking at their neighbours;
 //! - **time order**: event times never decrease;
 //! - **threads**: a batch of tables gives bit-identical events and final states on 1 and
 //!   on 2 Rayon threads.
@@ -40,9 +49,9 @@ use std::path::Path;
 const ENERGY_RTOL: f64 = 1e-9;
 /// The most a ball–ball resolution may add to the total energy, relative to it, when
 /// pooltool's continually-touching fix (Q2) fires.
-const Q2_ENERGY_RTOL: f64 = 1e-3;
+const Q2_ENERGY_RTOL: f64 = 1e-4;
 /// The deepest overlap of two balls on the table allowed after an event, in m.
-const MAX_OVERLAP: f64 = 1e-5;
+const MAX_OVERLAP: f64 = 2e-5;
 /// Slack of the playing-surface bounds, in m.
 const BOUNDS_TOL: f64 = 1e-6;
 /// The 9-ft table's playing surface.
@@ -376,6 +385,18 @@ fn overlap_statistics() {
             "{group}: {} tables, {events} events; overlap after {with} events ({:.3} %), in {tables_with} tables, at rest in {final_with}; deepest {deepest:.3e} m",
             g.len(),
             100.0 * with as f64 / events as f64
+        );
+        let rise = |pick: &dyn Fn(EventKind) -> bool| {
+            g.iter()
+                .flat_map(|s| s.energy.iter())
+                .filter(|(k, _, _)| pick(*k))
+                .map(|(_, e0, e1)| (e1 - e0) / e0)
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let ball_ball = rise(&|k| k == EventKind::BallBall);
+        let others = rise(&|k| k != EventKind::BallBall && k != EventKind::StickBall);
+        println!(
+            "{group}: largest relative energy change across a ball–ball resolution {ball_ball:.3e}, across any other (strike excluded) {others:.3e}"
         );
         assert!(deepest <= MAX_OVERLAP);
     }
