@@ -107,6 +107,8 @@ const TWINS: &[Twin] = &[
                 "for inspection and tests; the solver never uses it",
             ),
             ("ball_ball_time", SIM_FIRST),
+            ("ball_ball_rules", SIM_FIRST),
+            ("ball_ball_time_on", SIM_FIRST),
             ("Status::name", TEXT),
             ("Status::is_contact", HOST_ONLY),
             ("fmt", TEXT),

@@ -20,6 +20,18 @@ pub struct Path {
     pub horizon: f64,
 }
 
+impl Path {
+    /// The path of a ball that does not translate, at `c`: `a = b = 0`, horizon `∞`.
+    pub fn still(c: Vec2) -> Path {
+        Path {
+            a: Vec2::ZERO,
+            b: Vec2::ZERO,
+            c,
+            horizon: f64::INFINITY,
+        }
+    }
+}
+
 /// A horizon `h` widened by a relative 1e-9 and an absolute 1e-12 s.
 ///
 /// pooltool takes the smallest root of the whole polynomial, with no horizon; a root past
@@ -36,12 +48,7 @@ pub fn horizon_margin(h: f64) -> f64 {
 /// the slip is exactly 0); rolling `μ = μ_r`, `d̂ = unit(v)`; otherwise `a = b = 0`.
 pub fn trajectory(s: &BallState, p: &BallParams) -> Path {
     let c = Vec2::new(s.r.x, s.r.y);
-    let still = Path {
-        a: Vec2::ZERO,
-        b: Vec2::ZERO,
-        c,
-        horizon: f64::INFINITY,
-    };
+    let still = Path::still(c);
     let (mu, dir, h) = match s.s {
         MotionState::Sliding => {
             let u = rel_velocity(s.v, s.w, p.r).xy();

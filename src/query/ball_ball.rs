@@ -47,7 +47,7 @@ use crate::model::ball_state::BallState;
 use crate::model::sim_params::BallParams;
 use crate::model::{Vec2, dot, norm, norm1, perp_dot};
 use crate::motion::path::{BallPath, PATH_MOVES, PATH_POCKETED, pair_horizon};
-use crate::motion::trajectory::trajectory;
+use crate::motion::trajectory::{Path, trajectory};
 use crate::query::roots::{NO_ROOT, quadratic_roots, smallest_positive_root};
 
 /// Two centres closer than `2R` by at most this many metres (either way) touch.
@@ -550,23 +550,37 @@ pub fn pair_contact(p1: &BallPath, p2: &BallPath, radius: f64) -> Contact {
 /// exactly 0 (bit-identical accelerations) it reports "now" and later raises in
 /// make_kiss; here the path is solved as it is (lower degree).
 pub fn ball_ball_time(b1: &BallState, b2: &BallState, p: &BallParams) -> f64 {
+    if let Some(t) = ball_ball_rules(b1, b2, p.r) {
+        return t;
+    }
+    ball_ball_time_on(&trajectory(b1, p), &trajectory(b2, p), p.r)
+}
+
+/// The rules [`ball_ball_time`] applies before any path is computed: `∞` if either ball
+/// is pocketed or neither translates, `0` if the centres are closer than `2R` (Q3);
+/// `None` when the pair's paths must be solved.
+pub fn ball_ball_rules(b1: &BallState, b2: &BallState, radius: f64) -> Option<f64> {
     if b1.s == MotionState::Pocketed || b2.s == MotionState::Pocketed {
-        return f64::INFINITY;
+        return Some(f64::INFINITY);
     }
     if !b1.translating() && !b2.translating() {
-        return f64::INFINITY;
+        return Some(f64::INFINITY);
     }
-    if (b2.r - b1.r).norm() < 2.0 * p.r {
-        return 0.0;
+    if (b2.r - b1.r).norm() < 2.0 * radius {
+        return Some(0.0);
     }
-    let (p1, p2) = (trajectory(b1, p), trajectory(b2, p));
+    None
+}
+
+/// [`ball_ball_time`] after its rules, on the two balls' paths (computed once per ball).
+pub fn ball_ball_time_on(p1: &Path, p2: &Path, radius: f64) -> f64 {
     let rel = RelPath {
         a: p2.a - p1.a,
         b: p2.b - p1.b,
         c: p2.c - p1.c,
     };
     let h = p1.horizon.min(p2.horizon);
-    let contact = first_contact(&rel, p.r, h);
+    let contact = first_contact(&rel, radius, h);
     match contact.status {
         Status::None => f64::INFINITY,
         Status::Hit | Status::Overlap => contact.t,

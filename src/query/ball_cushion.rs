@@ -57,17 +57,22 @@ pub fn ball_linear_cushion_time(b: &BallState, seg: &LinearCushion, p: &BallPara
     if !b.translating() {
         return f64::INFINITY;
     }
-    let path = trajectory(b, p);
+    linear_cushion_time_on(&trajectory(b, p), seg, p.r)
+}
+
+/// [`ball_linear_cushion_time`] for a translating ball's path (computed once for all
+/// segments), `radius` the ball's.
+pub fn linear_cushion_time_on(path: &Path, seg: &LinearCushion, radius: f64) -> f64 {
     let a = seg.lx * path.a.x + seg.ly * path.a.y;
     let bb = seg.lx * path.b.x + seg.ly * path.b.y;
     let c0 = seg.l0 + seg.lx * path.c.x + seg.ly * path.c.y;
-    let off = p.r * (seg.lx * seg.lx + seg.ly * seg.ly).sqrt();
+    let off = radius * (seg.lx * seg.lx + seg.ly * seg.ly).sqrt();
     let mut best = f64::INFINITY;
     if seg.direction == 0 || seg.direction == 2 {
-        best = best.min(side_time(&path, seg, a, bb, c0 + off));
+        best = best.min(side_time(path, seg, a, bb, c0 + off));
     }
     if seg.direction == 1 || seg.direction == 2 {
-        best = best.min(side_time(&path, seg, a, bb, c0 - off));
+        best = best.min(side_time(path, seg, a, bb, c0 - off));
     }
     best
 }

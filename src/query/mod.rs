@@ -6,12 +6,14 @@
 //!   and for the simulator's ball states);
 //! - [`ball_circle`]: when a ball's path enters a fixed circle (jaws and pockets);
 //! - [`ball_cushion`]: when a ball reaches a straight cushion or a jaw;
-//! - [`ball_pocket`]: when a ball falls into a pocket.
+//! - [`ball_pocket`]: when a ball falls into a pocket;
+//! - [`bounds`]: cheap box tests that rule a query out before it is solved.
 
 pub mod ball_ball;
 pub mod ball_circle;
 pub mod ball_cushion;
 pub mod ball_pocket;
+pub mod bounds;
 pub mod roots;
 
 pub use ball_ball::{CONTACT_TOL, Contact, RelPath, Status, ball_ball_time, pair_contact};

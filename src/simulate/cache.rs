@@ -46,6 +46,45 @@ pub fn earliest(slots: &[Slot]) -> Option<(usize, f64)> {
     best.map(|(k, s)| (k, s.t))
 }
 
+/// The earliest entry of one ball's row of a ball–table category (its slots for every
+/// segment, jaw or pocket): those entries are always computed and invalidated together,
+/// so the row keeps only its earliest slot (of equal times the first inserted) and that
+/// item's index. The earliest of the rows is then the category's earliest entry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowBest {
+    /// The row's earliest slot.
+    pub slot: Slot,
+    /// Its item (segment, jaw or pocket index).
+    pub item: u32,
+}
+
+impl RowBest {
+    /// A row whose entries must be (re)computed.
+    pub const MISSING: RowBest = RowBest {
+        slot: Slot::MISSING,
+        item: 0,
+    };
+}
+
+/// The row with the earliest slot, of equal times the one inserted first (as [`earliest`]
+/// over all the rows' slots): `(ball, row)`, or `None` for no rows. Missing rows must have
+/// been filled.
+pub fn earliest_row(rows: &[RowBest]) -> Option<(usize, RowBest)> {
+    let mut best: Option<(usize, RowBest)> = None;
+    for (i, r) in rows.iter().enumerate() {
+        let better = match best {
+            None => true,
+            Some((_, b)) => {
+                r.slot.t < b.slot.t || (r.slot.t == b.slot.t && r.slot.seq < b.slot.seq)
+            }
+        };
+        if better {
+            best = Some((i, *r));
+        }
+    }
+    best
+}
+
 /// The index of pair `(i, j)`, `i < j < n`, in `itertools.combinations` order.
 pub fn pair_index(i: usize, j: usize, n: usize) -> usize {
     i * n - i * (i + 1) / 2 + (j - i - 1)

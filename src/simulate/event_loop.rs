@@ -19,16 +19,21 @@ use crate::model::sim_params::SimParams;
 use crate::model::table::Table;
 #[cfg(test)]
 use crate::model::vec3::Vec3;
+use crate::model::{MotionState, Vec2};
 use crate::motion::evolve::{TransitionKind, evolve, next_transition};
-use crate::query::ball_ball::ball_ball_time;
-use crate::query::ball_cushion::{ball_circular_cushion_time, ball_linear_cushion_time};
-use crate::query::ball_pocket::ball_pocket_time;
+use crate::motion::trajectory::{Path, trajectory};
+use crate::query::ball_ball::{RelPath, ball_ball_rules, ball_ball_time_on, cannot_meet};
+use crate::query::ball_circle::circle_entry;
+use crate::query::ball_cushion::linear_cushion_time_on;
+use crate::query::bounds::{
+    PathBox, box_outside_circle, box_outside_extent, boxes_apart, path_box,
+};
 use crate::resolve::ball_ball::resolve_ball_ball;
 use crate::resolve::ball_cushion::{resolve_circular_cushion, resolve_linear_cushion};
 use crate::resolve::ball_pocket::resolve_pocket;
 use crate::resolve::stick_ball::{CueStrike, cue_strike};
 use crate::resolve::transition::resolve_transition;
-use crate::simulate::cache::{Slot, earliest, pair_at, pair_index};
+use crate::simulate::cache::{RowBest, Slot, earliest, earliest_row, pair_at, pair_index};
 use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
 
 /// The most balls one table may hold (the caches grow with its square).
@@ -76,9 +81,16 @@ pub struct EventLoop<'a> {
     balls: Vec<BallState>,
     transitions: Vec<(f64, TransitionKind)>,
     pairs: Vec<Slot>,
-    linear: Vec<Slot>,
-    circular: Vec<Slot>,
-    pockets: Vec<Slot>,
+    /// Per ball, the earliest of its straight-cushion entries (see [`RowBest`]).
+    linear: Vec<RowBest>,
+    /// Per ball, the earliest of its jaw entries.
+    circular: Vec<RowBest>,
+    /// Per ball, the earliest of its pocket entries.
+    pockets: Vec<RowBest>,
+    /// Each ball's path at the current time and its box, valid where `path_fresh` has
+    /// the ball's bit (cleared when the clock moves or the ball changes).
+    paths: Vec<(Path, PathBox)>,
+    path_fresh: u64,
     strike: Option<(usize, CueStrike)>,
     stick: Slot,
     seq: u64,
@@ -111,9 +123,11 @@ impl<'a> EventLoop<'a> {
             balls: Vec::with_capacity(n),
             transitions: Vec::with_capacity(n),
             pairs: Vec::with_capacity(n * n.saturating_sub(1) / 2),
-            linear: Vec::with_capacity(n * table.linear.len()),
-            circular: Vec::with_capacity(n * table.circular.len()),
-            pockets: Vec::with_capacity(n * table.pockets.len()),
+            linear: Vec::with_capacity(n),
+            circular: Vec::with_capacity(n),
+            pockets: Vec::with_capacity(n),
+            paths: Vec::with_capacity(n),
+            path_fresh: 0,
             strike: None,
             stick: Slot::MISSING,
             seq: 0,
@@ -153,14 +167,17 @@ impl<'a> EventLoop<'a> {
             let entry = next.map_or((f64::INFINITY, TransitionKind::SlidingRolling), |x| x);
             self.transitions.push(entry);
         }
-        let reset = |v: &mut Vec<Slot>, len: usize| {
-            v.clear();
-            v.resize(len, Slot::MISSING);
-        };
-        reset(&mut self.pairs, n * n.saturating_sub(1) / 2);
-        reset(&mut self.linear, n * self.table.linear.len());
-        reset(&mut self.circular, n * self.table.circular.len());
-        reset(&mut self.pockets, n * self.table.pockets.len());
+        self.pairs.clear();
+        self.pairs
+            .resize(n * n.saturating_sub(1) / 2, Slot::MISSING);
+        for rows in [&mut self.linear, &mut self.circular, &mut self.pockets] {
+            rows.clear();
+            rows.resize(n, RowBest::MISSING);
+        }
+        let still = (Path::still(Vec2::ZERO), path_box(&Path::still(Vec2::ZERO)));
+        self.paths.clear();
+        self.paths.resize(n, still);
+        self.path_fresh = 0;
         self.strike = strike;
         self.stick = Slot::MISSING;
         self.seq = 0;
@@ -229,6 +246,18 @@ impl<'a> EventLoop<'a> {
         for b in &mut self.balls {
             *b = evolve(b, dt, p);
         }
+        self.path_fresh = 0;
+    }
+
+    /// Ball `i`'s path from its current state and the box it stays in (computed once
+    /// per ball and time).
+    fn path(&mut self, i: usize) -> (Path, PathBox) {
+        if self.path_fresh & (1 << i) == 0 {
+            let path = trajectory(&self.balls[i], &self.params.ball);
+            self.paths[i] = (path, path_box(&path));
+            self.path_fresh |= 1 << i;
+        }
+        self.paths[i]
     }
 }
 
@@ -359,16 +388,42 @@ impl EventLoop<'_> {
     /// Fills the missing pair entries (combinations order) as `t + τ`.
     fn fill_pairs(&mut self) {
         let n = self.balls.len();
-        for k in 0..self.pairs.len() {
-            if self.pairs[k].is_missing() {
-                let (i, j) = pair_at(k, n);
-                let tau = ball_ball_time(&self.balls[i], &self.balls[j], &self.params.ball);
-                let seq = self.next_seq();
-                self.pairs[k] = Slot {
-                    t: self.t + tau,
-                    seq,
-                };
+        let mut k = 0;
+        for i in 0..n {
+            for j in i + 1..n {
+                if self.pairs[k].is_missing() {
+                    let tau = self.pair_time(i, j);
+                    let seq = self.next_seq();
+                    self.pairs[k] = Slot {
+                        t: self.t + tau,
+                        seq,
+                    };
+                }
+                k += 1;
             }
+        }
+    }
+
+    /// τ until balls `i < j` collide ([`crate::query::ball_ball::ball_ball_time`]), with
+    /// the paths computed once per ball and pairs whose boxes stay apart skipped.
+    ///
+    /// The box test comes before the overlap rule (Q3): boxes farther apart than `2R`
+    /// hold centres farther apart than `2R` at τ = 0 too, so the rule would not fire.
+    fn pair_time(&mut self, i: usize, j: usize) -> f64 {
+        let r = self.params.ball.r;
+        let (bi, bj) = (&self.balls[i], &self.balls[j]);
+        let pocketed = bi.s == MotionState::Pocketed || bj.s == MotionState::Pocketed;
+        if pocketed || !(bi.translating() || bj.translating()) {
+            return f64::INFINITY;
+        }
+        let (pi, box_i) = self.path(i);
+        let (pj, box_j) = self.path(j);
+        if boxes_apart(&box_i, &box_j, 2.0 * r) {
+            return f64::INFINITY;
+        }
+        match ball_ball_rules(&self.balls[i], &self.balls[j], r) {
+            Some(tau) => tau,
+            None => ball_ball_time_on(&pi, &pj, r),
         }
     }
 
@@ -392,34 +447,68 @@ impl EventLoop<'_> {
         })
     }
 
-    /// Fills the missing (ball, item) entries of one ball–table category (balls outer,
-    /// items inner, table order) with `time(ball, item)`.
+    /// Fills the missing rows of one ball–table category: every item of the ball, in
+    /// table order, gets its time `t + τ` and an insertion stamp; the row keeps the
+    /// earliest (of equal times the first). A ball that does not translate meets nothing.
     fn fill_items(&mut self, which: Items) {
-        let n_items = match which {
-            Items::Linear => self.table.linear.len(),
-            Items::Circular => self.table.circular.len(),
-            Items::Pocket => self.table.pockets.len(),
-        };
-        for k in 0..n_items * self.balls.len() {
-            if !self.slots(which)[k].is_missing() {
+        let n_items = self.n_items(which);
+        for i in 0..self.balls.len() {
+            if !self.rows(which)[i].slot.is_missing() {
                 continue;
             }
-            let (i, m) = (k / n_items, k % n_items);
-            let (b, p, tb) = (&self.balls[i], &self.params.ball, self.table);
-            let tau = match which {
-                Items::Linear => ball_linear_cushion_time(b, &tb.linear[m], p),
-                Items::Circular => ball_circular_cushion_time(b, &tb.circular[m], p),
-                Items::Pocket => ball_pocket_time(b, &tb.pockets[m], p),
-            };
-            let slot = Slot {
-                t: self.t + tau,
-                seq: self.next_seq(),
-            };
-            self.slots_mut(which)[k] = slot;
+            let moving = self.balls[i].translating();
+            let (path, bx) = if moving { self.path(i) } else { self.paths[i] };
+            let mut best = RowBest::MISSING;
+            for m in 0..n_items {
+                let tau = match moving {
+                    true => self.item_time(which, m, &path, &bx),
+                    false => f64::INFINITY,
+                };
+                let slot = Slot {
+                    t: self.t + tau,
+                    seq: self.next_seq(),
+                };
+                if m == 0 || slot.t < best.slot.t {
+                    best = RowBest {
+                        slot,
+                        item: m as u32,
+                    };
+                }
+            }
+            self.rows_mut(which)[i] = best;
         }
     }
 
-    fn slots(&self, which: Items) -> &[Slot] {
+    /// τ until a translating ball on `path` (box `bx`) meets item `m` of a category, or
+    /// `∞`; items its box keeps clear of are skipped (see [`crate::query::bounds`]).
+    fn item_time(&self, which: Items, m: usize, path: &Path, bx: &PathBox) -> f64 {
+        let (r, tb) = (self.params.ball.r, self.table);
+        let circle = |c: crate::model::vec3::Vec3, rho: f64| {
+            let center = Vec2::new(c.x, c.y);
+            if box_outside_circle(bx, center, rho) || circle_out_of_reach(path, center, rho) {
+                return f64::INFINITY;
+            }
+            circle_entry(path, center, rho)
+        };
+        match which {
+            Items::Linear => match box_outside_extent(bx, &tb.linear[m]) {
+                true => f64::INFINITY,
+                false => linear_cushion_time_on(path, &tb.linear[m], r),
+            },
+            Items::Circular => circle(tb.circular[m].center, tb.circular[m].radius + r),
+            Items::Pocket => circle(tb.pockets[m].center, tb.pockets[m].radius),
+        }
+    }
+
+    fn n_items(&self, which: Items) -> usize {
+        match which {
+            Items::Linear => self.table.linear.len(),
+            Items::Circular => self.table.circular.len(),
+            Items::Pocket => self.table.pockets.len(),
+        }
+    }
+
+    fn rows(&self, which: Items) -> &[RowBest] {
         match which {
             Items::Linear => &self.linear,
             Items::Circular => &self.circular,
@@ -427,7 +516,7 @@ impl EventLoop<'_> {
         }
     }
 
-    fn slots_mut(&mut self, which: Items) -> &mut [Slot] {
+    fn rows_mut(&mut self, which: Items) -> &mut [RowBest] {
         match which {
             Items::Linear => &mut self.linear,
             Items::Circular => &mut self.circular,
@@ -437,15 +526,17 @@ impl EventLoop<'_> {
 
     /// The earliest event of one ball–table category, `(kind, tier)` as given.
     fn item_candidate(&mut self, which: Items, kind: EventKind, tier: u32) -> Option<Candidate> {
+        if self.n_items(which) == 0 {
+            return None;
+        }
         self.fill_items(which);
-        let (k, t) = earliest(self.slots(which))?;
-        let n_items = self.slots(which).len() / self.balls.len();
-        let (i, m) = (k / n_items, k % n_items);
+        let (i, best) = earliest_row(self.rows(which))?;
+        let t = best.slot.t;
         let event = Event {
             kind,
             t,
             ball: i as u32,
-            other: m as u32,
+            other: best.item,
         };
         Some(Candidate {
             t,
@@ -466,6 +557,18 @@ impl EventLoop<'_> {
     fn pocket_candidate(&mut self) -> Option<Candidate> {
         self.item_candidate(Items::Pocket, EventKind::BallPocket, 2)
     }
+}
+
+/// Whether a translating path provably stays farther than `rho` from `center` within its
+/// horizon: the pair solver's hull test ([`cannot_meet`]) on the path relative to the
+/// circle's centre, with the reach `2 · (rho/2)`. Conservative, as for ball pairs.
+fn circle_out_of_reach(path: &Path, center: Vec2, rho: f64) -> bool {
+    let rel = RelPath {
+        a: path.a,
+        b: path.b,
+        c: path.c - center,
+    };
+    cannot_meet(&rel, 0.5 * rho, path.horizon)
 }
 
 /// The three ball–table categories.
@@ -529,13 +632,10 @@ impl EventLoop<'_> {
                 self.pairs[k] = Slot::MISSING;
             }
         }
-        for (slots, len) in [
-            (&mut self.linear, self.table.linear.len()),
-            (&mut self.circular, self.table.circular.len()),
-            (&mut self.pockets, self.table.pockets.len()),
-        ] {
-            slots[i * len..(i + 1) * len].fill(Slot::MISSING);
+        for rows in [&mut self.linear, &mut self.circular, &mut self.pockets] {
+            rows[i] = RowBest::MISSING;
         }
+        self.path_fresh &= !(1 << i);
         if self.strike.is_some_and(|(cue, _)| cue == i) {
             self.stick = Slot::MISSING;
         }
@@ -564,7 +664,6 @@ pub fn simulate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::MotionState;
 
     fn run(
         balls: &[BallState],
