@@ -14,6 +14,9 @@ use cli::args::{Cli, Command};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Mesa's Vulkan drivers complain on stderr when XDG_RUNTIME_DIR is unset (twice a GPU
+    // run); compute needs no runtime directory, so give them a private empty one
+    let _runtime_dir = quiet_mesa();
     // Ctrl-C (or SIGTERM): leave no output file, finished or half-written, behind
     let _ = ctrlc::set_handler(|| {
         kisstime::io::remove_unfinished_outputs();
@@ -28,8 +31,8 @@ fn main() -> ExitCode {
         Command::Simulate(a) => a.threads,
     };
     if let Err(e) = cli::commands::set_threads(threads) {
-        eprintln!("kisstime: {e}");
-        return ExitCode::from(1);
+        eprintln!("kisstime: error: {e}");
+        return ExitCode::from(2);
     }
     let result = match &cli.command {
         Command::Pairs(args) => cli::commands::run_pairs(args),
@@ -50,4 +53,20 @@ fn main() -> ExitCode {
             ExitCode::from(if e.is_bad_input() { 2 } else { 1 })
         }
     }
+}
+
+/// Sets `XDG_RUNTIME_DIR` to a private temporary directory when it is unset (removed when
+/// the returned guard drops, at the end of `main`).
+fn quiet_mesa() -> Option<tempfile::TempDir> {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
+        return None;
+    }
+    let dir = tempfile::Builder::new()
+        .prefix("kisstime-runtime-")
+        .tempdir()
+        .ok()?;
+    // SAFETY: at the start of main, before any other thread exists, nothing reads the
+    // environment concurrently
+    unsafe { std::env::set_var("XDG_RUNTIME_DIR", dir.path()) };
+    Some(dir)
 }

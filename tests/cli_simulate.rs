@@ -643,15 +643,22 @@ fn plot_draws_one_table_and_its_path_is_checked_first() {
         bytes.len()
     );
     // refused before anything is computed or written
-    for (args, expect) in [
-        (vec!["--plot", "shot.jpg", "--table-id", "2"], "*.png"),
+    // (a missing folder cannot be written: exit 1; the others are bad usage: exit 2)
+    for (args, code, expect) in [
+        (
+            vec!["--plot", "shot.jpg", "--table-id", "2"],
+            2,
+            "written as .png",
+        ),
         (
             vec!["--plot", "missing/shot.png", "--table-id", "2"],
+            1,
             "does not exist",
         ),
-        (vec!["--plot", "shot.png"], "--table-id"),
+        (vec!["--plot", "shot.png"], 2, "--table-id"),
         (
             vec!["--plot", "shot.png", "--table-id", "9"],
+            2,
             "no such table",
         ),
     ] {
@@ -664,7 +671,7 @@ fn plot_draws_one_table_and_its_path_is_checked_first() {
             .output()
             .unwrap();
         let err = String::from_utf8_lossy(&run.stderr);
-        assert_eq!(run.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(run.status.code(), Some(code), "{args:?}: {err}");
         assert!(err.contains(expect), "{args:?}: {err}");
         assert!(!out.exists(), "{args:?}: nothing is written");
     }

@@ -131,3 +131,81 @@ fn a_missing_folder_is_an_error_that_leaves_nothing() {
     assert!(err.contains("out.csv"), "{err}");
     assert!(!dir.path().join("missing").exists());
 }
+
+#[test]
+fn outputs_are_checked_before_anything_is_computed() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing").join("x.png");
+    let wrong = dir.path().join("x.npz");
+    // (a missing folder cannot be written: exit 1; a wrong extension is bad usage: exit 2)
+    for (args, code, expect) in [
+        (
+            vec!["shots", "--samples", "10", "--plot", s(&missing)],
+            1,
+            "does not exist",
+        ),
+        (
+            vec!["shots", "--samples", "10", "--plot", "out.jpg"],
+            2,
+            "written as .png",
+        ),
+        (
+            vec!["shots", "--samples", "10", "-o", s(&wrong)],
+            2,
+            "written as .csv",
+        ),
+        (
+            vec!["shots", "--samples", "10", "-o", "x.npy"],
+            2,
+            "written as .csv",
+        ),
+        (
+            vec!["gen", "--tables", "2", "-o", s(&wrong)],
+            2,
+            "written as .csv or .npy",
+        ),
+    ] {
+        let out = run_kisstime(&args, &[]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        // refused at once: no study summary was computed and printed
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+    assert!(!wrong.exists());
+    // a name without an extension is CSV, and devices pass
+    assert!(gen_to(s(&dir.path().join("plain"))).status.success());
+    assert!(gen_to("/dev/null").status.success());
+}
+
+#[test]
+fn thread_counts_outside_1_to_1024_are_refused_before_starting() {
+    for n in ["0", "1025", "100000"] {
+        let out = run_kisstime(&["gen", "--tables", "2", "-o", "/dev/null"], &[]);
+        assert!(out.status.success());
+        let out = run_kisstime(&["shots", "--samples", "10", "--threads", n], &[]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "--threads {n}: {err}");
+        assert!(err.contains("give 1 to 1024"), "{err}");
+        assert!(out.stdout.is_empty());
+    }
+    let out = run_kisstime(&["shots", "--samples", "10", "--threads", "1"], &[]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn no_runtime_directory_noise_on_stderr() {
+    // without XDG_RUNTIME_DIR, Mesa's drivers used to print an error twice per GPU run
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
+        .args(["shots", "--samples", "100", "--backend", "auto"])
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(!err.contains("XDG_RUNTIME_DIR"), "{err}");
+}

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use kisstime::io::{Format, PairsWriter, output_error};
 use kisstime::workload::generate;
-use kisstime::{Batch, Engine, Error, NextCollision, Params};
+use kisstime::{Batch, Engine, Error, InputError, NextCollision, Params};
 
 use super::args::{BackendArg, GenArgs, PrecisionArg, RunArgs, precision_for};
 use super::progress::Progress;
@@ -56,6 +56,9 @@ pub fn read_input(path: &Path) -> Result<Batch, Error> {
 
 /// Reads the input and opens the engine.
 fn prepare(args: &RunArgs) -> Result<(Batch, Params, Engine), Error> {
+    if let Some(out) = &args.output {
+        check_output(out, "-o", &["csv", "npy"])?;
+    }
     let params = args.physics.params();
     params.validate()?;
     let batch = read_input(&args.input)?;
@@ -111,6 +114,7 @@ pub fn run_next(args: &RunArgs) -> Result<(), Error> {
 }
 
 pub fn run_gen(args: &GenArgs) -> Result<(), Error> {
+    check_output(&args.output, "-o", &["csv", "npy"])?;
     let params = Params::default();
     let batch = generate(
         args.scenario.workload(),
@@ -124,13 +128,72 @@ pub fn run_gen(args: &GenArgs) -> Result<(), Error> {
     })
 }
 
-/// Sets the number of Rayon worker threads (`--threads`).
-pub fn set_threads(threads: Option<usize>) -> Result<(), String> {
+/// The most worker threads `--threads` may ask for: far more than any machine's cores,
+/// far fewer than the thousands of OS threads that exhaust one.
+pub const MAX_THREADS: usize = 1024;
+
+/// Sets the number of Rayon worker threads (`--threads`), refusing 0 and more than
+/// [`MAX_THREADS`] before any thread starts.
+pub fn set_threads(threads: Option<usize>) -> Result<(), Error> {
     if let Some(n) = threads {
+        if n == 0 || n > MAX_THREADS {
+            return Err(Error::Unsupported(format!(
+                "--threads {n}: give 1 to {MAX_THREADS} (this machine has {} cores)",
+                std::thread::available_parallelism().map_or(1, |c| c.get())
+            )));
+        }
         rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build_global()
-            .map_err(|e| format!("cannot start {n} threads: {e}"))?;
+            .map_err(|e| Error::Unsupported(format!("cannot start {n} threads: {e}")))?;
+    }
+    Ok(())
+}
+
+/// Refuses an output path before anything is computed: its folder must exist (else an
+/// [`Error::Io`], exit 1), and its name must end in one of `extensions` (else bad input,
+/// exit 2) (the formats the output is written in; `csv` also
+/// stands for a name with no extension). `-` (standard output) and anything that exists
+/// and is not a regular file or a folder (a device such as `/dev/null`, a FIFO) pass.
+pub fn check_output(path: &Path, what: &str, extensions: &[&str]) -> Result<(), Error> {
+    if path.as_os_str() == "-" {
+        return Ok(());
+    }
+    if let Ok(meta) = std::fs::metadata(path)
+        && !meta.is_file()
+        && !meta.is_dir()
+    {
+        return Ok(());
+    }
+    let named = path.display();
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let known = match &ext {
+        Some(e) => extensions.contains(&e.as_str()),
+        None => extensions.contains(&"csv"),
+    };
+    if !known {
+        let list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+        return Err(InputError::new(format!(
+            "{what} {named}: written as {}; name it so",
+            list.join(" or ")
+        ))
+        .into());
+    }
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        // cannot be written: an I/O error, as when writing fails (exit 1)
+        return Err(Error::Io {
+            path: format!("{what} {named}"),
+            source: std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                format!("the folder {} does not exist", dir.display()),
+            ),
+        });
     }
     Ok(())
 }

@@ -5,7 +5,7 @@ use kisstime::io::{output_error, write_output};
 use kisstime::study::{Noise, StudyConfig, Summary, run_study};
 
 use super::args::ShotsArgs;
-use super::commands::{open_engine, print_notes};
+use super::commands::{check_output, open_engine, print_notes};
 use super::plot::write_study_png;
 use super::progress::Progress;
 use super::report::{summary_text, write_samples_csv};
@@ -38,6 +38,12 @@ fn shots_sigma(args: &ShotsArgs, scenario: &StudyConfig) -> Result<Noise, Error>
 }
 
 pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
+    if let Some(out) = &args.output {
+        check_output(out, "-o", &["csv"])?;
+    }
+    if let Some(plot) = &args.plot {
+        check_output(plot, "--plot", &["png"])?;
+    }
     let scenario = match &args.scenario {
         Some(path) => StudyConfig::read(path)?,
         None => StudyConfig::builtin(),

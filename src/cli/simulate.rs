@@ -15,7 +15,7 @@ use kisstime::simulate::{
 use kisstime::{Batch, Error, InputError};
 
 use super::args::SimulateArgs;
-use super::commands::read_input;
+use super::commands::{check_output, read_input};
 use super::progress::Progress;
 use super::shot_plot::render_shot_png;
 
@@ -137,33 +137,6 @@ fn maybe_output(
     }
 }
 
-/// Refuses a `--plot` path before anything is computed: it must end in `.png` (the format
-/// written) and its folder must exist.
-fn check_png_path(path: &Path) -> Result<(), Error> {
-    let named = path.display();
-    let png = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    if !png {
-        return Err(InputError::new(format!(
-            "--plot {named}: the picture is written as PNG; name it *.png"
-        ))
-        .into());
-    }
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        return Err(InputError::new(format!(
-            "--plot {named}: the folder {} does not exist",
-            dir.display()
-        ))
-        .into());
-    }
-    Ok(())
-}
-
 /// The position in the batch of the table `--plot` draws: `--table-id`, or the only table.
 fn plotted_table(batch: &Batch, id: Option<i64>) -> Result<usize, Error> {
     let n = batch.num_tables();
@@ -198,7 +171,16 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         .into());
     }
     if let Some(path) = &args.plot {
-        check_png_path(path)?;
+        check_output(path, "--plot", &["png"])?;
+    }
+    for (flag, path) in [
+        ("-o", &args.output),
+        ("--final", &args.final_states),
+        ("--outcomes", &args.outcomes),
+    ] {
+        if let Some(path) = path {
+            check_output(path, flag, &["csv", "npy"])?;
+        }
     }
     let table = read_table(&args.table)?;
     let params = SimParams::default();
