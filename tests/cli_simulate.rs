@@ -676,3 +676,35 @@ fn plot_draws_one_table_and_its_path_is_checked_first() {
         assert!(!out.exists(), "{args:?}: nothing is written");
     }
 }
+
+#[test]
+fn a_bad_ball_in_npy_input_is_named_by_its_row() {
+    use kisstime::{Ball, Batch};
+    let dir = tempfile::tempdir().unwrap();
+    let mut batch = Batch::new();
+    batch
+        .push_table(
+            4,
+            [
+                (0, Ball::at_rest(0.635, 0.6)),
+                (1, Ball::at_rest(0.635, 1.9)),
+            ],
+        )
+        .unwrap();
+    // ball 3 of table 7 lies off the table: row 3 of the file (0-based)
+    batch
+        .push_table(
+            7,
+            [(2, Ball::at_rest(0.635, 0.6)), (3, Ball::at_rest(3.0, 1.9))],
+        )
+        .unwrap();
+    let path = dir.path().join("balls.npy");
+    let mut bytes = Vec::new();
+    kisstime::io::npy::write_batch_npy(&mut bytes, &batch).unwrap();
+    std::fs::write(&path, bytes).unwrap();
+    let run = kisstime(&["simulate", s(&path)]);
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    for part in ["balls.npy", "row 3", "table 7", "ball 3"] {
+        assert!(run.stderr.contains(part), "{part}: {}", run.stderr);
+    }
+}

@@ -39,7 +39,7 @@ impl Batch {
         mut tables: Vec<i64>,
         mut ball_ids: Vec<i64>,
         mut balls: Vec<Ball>,
-        unit: &str,
+        unit: &'static str,
         place: impl Fn(usize) -> u64,
         locate: impl Fn(InputError, u64) -> InputError,
     ) -> Result<Batch, Error> {
@@ -71,13 +71,17 @@ impl Batch {
             balls = order.iter().map(|&r| balls[r]).collect();
         }
         let original = |r: usize| if sorted { r } else { order[r] };
-        Batch::from_sorted_columns(&tables, ball_ids, balls).map_err(|(row, mut e)| {
-            if row > 0 && tables[row - 1] == tables[row] && e.message == "duplicate ball id" {
-                let first = place(original(row - 1));
-                e.message = format!("duplicate ball id (first on {unit} {first})");
-            }
-            locate(e, place(original(row))).into()
-        })
+        let mut batch =
+            Batch::from_sorted_columns(&tables, ball_ids, balls).map_err(|(row, mut e)| {
+                if row > 0 && tables[row - 1] == tables[row] && e.message == "duplicate ball id" {
+                    let first = place(original(row - 1));
+                    e.message = format!("duplicate ball id (first on {unit} {first})");
+                }
+                Error::from(locate(e, place(original(row))))
+            })?;
+        batch.places = (0..tables.len()).map(|r| place(original(r))).collect();
+        batch.place_unit = unit;
+        Ok(batch)
     }
 
     /// A batch from balls given as columns already sorted by (table id, ball id), taking

@@ -42,6 +42,10 @@ pub struct Batch {
     ball_ids: Vec<i64>,
     balls: Vec<Ball>,
     seen: HashSet<i64>,
+    /// Where each ball was read (its line or row in the file, in ball order), and what
+    /// that counts; empty for a batch built table by table.
+    places: Vec<u64>,
+    place_unit: &'static str,
 }
 
 /// The error for a table of more than [`crate::limits::MAX_TABLE_BALLS`] balls.
@@ -70,6 +74,8 @@ impl Batch {
             ball_ids: Vec::new(),
             balls: Vec::new(),
             seen: HashSet::new(),
+            places: Vec::new(),
+            place_unit: "row",
         }
     }
 
@@ -152,6 +158,14 @@ impl Batch {
     /// The ball ids of table `k`, ascending.
     pub fn ball_ids(&self, k: usize) -> &[i64] {
         &self.ball_ids[self.ball_start[k]..self.ball_start[k + 1]]
+    }
+
+    /// Where ball `i` of table `k` was read — its line (CSV) or row (`.npy`) in the input
+    /// file, with the unit (`"line"` or `"row"`) — for a batch that came from a file or
+    /// from [`Batch::from_columns`] (the row given); `None` for one built table by table.
+    pub fn ball_place(&self, k: usize, i: usize) -> Option<(&'static str, u64)> {
+        let at = self.ball_start[k] + i;
+        self.places.get(at).map(|&p| (self.place_unit, p))
     }
 
     /// The balls of table `k`, in ball-id order.

@@ -40,28 +40,6 @@ fn read_table(arg: &str) -> Result<Table, Error> {
     }
 }
 
-/// The 1-based line of ball `ball` of table `table` in the CSV input `path`, if found (only
-/// looked up when reporting an error).
-fn find_line(path: &Path, table: i64, ball: i64) -> Option<u64> {
-    if Format::of(Some(path)) != Format::Csv {
-        return None;
-    }
-    let mut rdr = csv::ReaderBuilder::new()
-        .has_headers(true)
-        .flexible(true)
-        .trim(csv::Trim::All)
-        .from_path(path)
-        .ok()?;
-    let mut rec = csv::StringRecord::new();
-    while rdr.read_record(&mut rec).ok()? {
-        let id = |k: usize| rec.get(k).and_then(|s| s.parse::<i64>().ok());
-        if id(0) == Some(table) && id(1) == Some(ball) {
-            return rec.position().map(|p| p.line());
-        }
-    }
-    None
-}
-
 /// A bad table found while simulating, as an input error naming the file, the line, the
 /// table and the ball.
 fn table_error(
@@ -74,16 +52,21 @@ fn table_error(
     let input = args.input.display().to_string();
     let table = batch.table_id(k);
     let ids = batch.ball_ids(k);
-    let in_input = |msg: String, ball: Option<i64>| {
+    // the ball by its position in the table, and where the input file has it
+    let in_input = |msg: String, index: Option<usize>| {
         let mut e = InputError::new(msg).in_file(&input).at_table(table);
-        if let Some(ball) = ball {
-            e = e.at_ball(ball);
-            e.line = find_line(&args.input, table, ball);
+        if let Some(i) = index.filter(|&i| i < ids.len()) {
+            e = e.at_ball(ids[i]);
+            match batch.ball_place(k, i) {
+                Some(("line", line)) => e.line = Some(line),
+                Some((_, row)) => e.row = Some(row),
+                None => {}
+            }
         }
         Error::from(e)
     };
     match error {
-        SimError::Ball { index, reason } => in_input(reason, ids.get(index).copied()),
+        SimError::Ball { index, reason } => in_input(reason, Some(index)),
         SimError::Overlap {
             first,
             second,
@@ -93,7 +76,7 @@ fn table_error(
                 "overlaps ball {} by {depth:.3e} m, both at rest",
                 ids[first.min(ids.len() - 1)]
             ),
-            ids.get(second).copied(),
+            Some(second),
         ),
         SimError::Strike(reason) => {
             let file = args

@@ -63,7 +63,7 @@ impl BallRows {
     /// what `at` counts (`line`, `row`).
     pub(crate) fn into_batch(
         self,
-        unit: &str,
+        unit: &'static str,
         locate: impl Fn(InputError, u64) -> InputError,
     ) -> Result<Batch, Error> {
         let BallRows {
