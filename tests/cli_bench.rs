@@ -94,3 +94,64 @@ fn gpu_bench_without_a_gpu_is_an_error_and_all_skips_it() {
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("skipped: gpu f32"), "{text}");
 }
+
+#[test]
+fn sim_bench_reports_shots_and_events_per_second() {
+    for (workload, balls) in [("ordinary", None), ("breaks", Some(50 * 16))] {
+        let args = [
+            "bench", "--sim", workload, "--tables", "50", "--reps", "1", "--json",
+        ];
+        let out = kisstime(&args, &[]);
+        assert!(
+            out.status.success(),
+            "{workload}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+        assert_eq!(json["mode"], "sim");
+        assert_eq!(json["workload"], workload);
+        assert_eq!(json["tables"], 50);
+        assert_eq!(json["reps"], 1);
+        assert_eq!(json["cut"], 0, "{json}");
+        if let Some(balls) = balls {
+            assert_eq!(json["balls"], balls);
+        }
+        assert!(json["shots_per_s"].as_f64().unwrap() > 0.0, "{json}");
+        assert!(json["events_per_s"].as_f64().unwrap() > 0.0, "{json}");
+        assert!(json["threads"].as_u64().unwrap() >= 1);
+        // a break has many more events than the strike and the cue ball's transitions
+        let per_shot = json["events_per_shot"].as_f64().unwrap();
+        assert!(
+            per_shot > if balls.is_some() { 20.0 } else { 3.0 },
+            "{json}"
+        );
+    }
+    let out = kisstime(
+        &["bench", "--sim", "breaks", "--tables", "20", "--reps", "1"],
+        &[("RAYON_NUM_THREADS", "1")],
+    );
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("breaks, 20 tables (320 balls)"), "{text}");
+    assert!(
+        text.contains("shots/s") && text.contains("events/s"),
+        "{text}"
+    );
+}
+
+#[test]
+fn bench_refuses_bad_values_with_exit_code_2() {
+    for args in [
+        &["bench", "--sim", "ordinary", "--tables", "0"][..],
+        &["bench", "--sim", "ordinary", "--reps", "0"],
+        &["bench", "--sim", "breaks", "--tables", "-3"],
+        &["bench", "--sim", "massé"],
+        &["bench", "--sim", "breaks", "--backend", "gpu"],
+        &["bench", "--sim", "breaks", "--scenario", "worst"],
+        &["bench", "--tables", "0"],
+        &["bench", "--reps", "0"],
+    ] {
+        let out = kisstime(args, &[]);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+    }
+}

@@ -8,7 +8,7 @@ use kisstime::engine::{Backend, Precision, default_precision};
 use kisstime::model::{
     DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS,
 };
-use kisstime::workload::Workload;
+use kisstime::workload::{ShotWorkload, Workload};
 
 #[derive(Parser)]
 #[command(
@@ -222,9 +222,16 @@ pub struct ShotsArgs {
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// Number of tables.
-    #[arg(long, default_value_t = 10_000)]
-    pub tables: usize,
+    /// Whole-shot mode: simulate built-in shots from the strike to rest with the simulator
+    /// (`kisstime simulate`'s, events not kept) instead of timing the collision kernels;
+    /// reports shots/s, events/s and events per shot. `breaks`: a racked break; `ordinary`:
+    /// 6 to 16 balls, the cue ball struck towards one of them.
+    #[arg(long, value_enum, conflicts_with_all = ["scenario", "balls", "backend", "precision"])]
+    pub sim: Option<SimWorkloadArg>,
+    /// Number of tables (at least 1; default 10,000, with --sim 2,000 breaks or 10,000
+    /// ordinary shots).
+    #[arg(long, value_parser = at_least_one)]
+    pub tables: Option<usize>,
     /// Balls per table, 2 to 64 (the rack always has 16).
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u16).range(2..=64))]
     pub balls: u16,
@@ -240,15 +247,42 @@ pub struct BenchArgs {
     /// Random seed of the workload.
     #[arg(long, default_value_t = 42)]
     pub seed: u64,
-    /// Measured runs per operation, after one warm-up; the median is reported.
-    #[arg(long, default_value_t = 3)]
+    /// Measured runs per operation, after one warm-up, at least 1; the median is reported.
+    #[arg(long, default_value_t = 3, value_parser = at_least_one)]
     pub reps: usize,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// Worker threads for the CPU backend (default: one per core).
+    /// Worker threads for the CPU backend and the simulator (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+}
+
+/// A count of at least 1.
+fn at_least_one(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(0) => Err("must be at least 1".to_owned()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// A built-in whole-shot workload for `kisstime bench --sim`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SimWorkloadArg {
+    /// A 15-ball rack on the foot spot, broken from behind the head string at 6-9 m/s.
+    Breaks,
+    /// 6 to 16 balls anywhere, the cue ball struck towards one of them at 0.5-4 m/s.
+    Ordinary,
+}
+
+impl SimWorkloadArg {
+    pub fn workload(self) -> ShotWorkload {
+        match self {
+            SimWorkloadArg::Breaks => ShotWorkload::Breaks,
+            SimWorkloadArg::Ordinary => ShotWorkload::Ordinary,
+        }
+    }
 }
 
 /// Backends to benchmark.

@@ -6,6 +6,11 @@
 //! pairs/s. For the GPU the upload / kernel / readback split of the last run is kept.
 //! Every non-reference backend is compared with the CPU f64 answers under the corpus's
 //! tiers (`kisstime::compare`).
+//!
+//! With `--sim breaks|ordinary` it times the simulator instead: built-in whole shots
+//! ([`kisstime::workload::generate_shots`]) from the strike to rest through
+//! [`simulate_batch`] without keeping the events, once to warm up and then `reps` times;
+//! the median wall time gives shots/s and events/s.
 
 use std::time::Instant;
 
@@ -13,7 +18,8 @@ use kisstime::compare::{compare_pairs, next_disagreements};
 use kisstime::engine::{Backend, Engine, Precision};
 use kisstime::gpu::GpuTimings;
 use kisstime::io::{output_error, write_output};
-use kisstime::workload::{Workload, generate};
+use kisstime::simulate::{BatchError, BatchOptions, SimParams, Table, simulate_batch};
+use kisstime::workload::{ShotTable, ShotWorkload, Workload, generate, generate_shots};
 use kisstime::{Batch, Error, Params};
 use serde::Serialize;
 
@@ -21,9 +27,23 @@ use super::args::{BenchArgs, BenchBackend};
 
 /// Runs `kisstime bench`: measures, then prints the report (text, or JSON with `--json`).
 pub fn run(args: &BenchArgs) -> Result<(), Error> {
+    if let Some(sim) = args.sim {
+        let workload = sim.workload();
+        let tables = args.tables.unwrap_or(match workload {
+            ShotWorkload::Breaks => 2_000,
+            ShotWorkload::Ordinary => 10_000,
+        });
+        let report = run_sim_bench(workload, tables, args.seed, args.reps)?;
+        let text = if args.json {
+            serde_json::to_string_pretty(&report).expect("the report serialises") + "\n"
+        } else {
+            report.to_text()
+        };
+        return write_output(None, |w| w.write_all(text.as_bytes()).map_err(output_error));
+    }
     let config = BenchConfig {
         scenario: args.scenario.workload(),
-        tables: args.tables,
+        tables: args.tables.unwrap_or(10_000),
         balls: args.balls as usize,
         seed: args.seed,
         cpu: args.backend != BenchBackend::Gpu,
@@ -242,6 +262,113 @@ pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, Error> {
         }
     }
     Ok(report)
+}
+
+/// The report of `kisstime bench --sim`.
+#[derive(Clone, Debug, Serialize)]
+pub struct SimBenchReport {
+    /// Always `sim`: tells this report from the kernels' one.
+    pub mode: String,
+    /// The workload (`breaks`, `ordinary`).
+    pub workload: String,
+    /// Tables (shots) simulated per run.
+    pub tables: usize,
+    /// Balls over all tables.
+    pub balls: usize,
+    /// Workload seed.
+    pub seed: u64,
+    /// Measured runs (after one warm-up).
+    pub reps: usize,
+    /// Rayon worker threads.
+    pub threads: usize,
+    /// Median wall time of one run, in seconds.
+    pub median_s: f64,
+    /// Shots per second (tables / median time).
+    pub shots_per_s: f64,
+    /// Events per second (events / median time).
+    pub events_per_s: f64,
+    /// Events per run, over all tables.
+    pub events: usize,
+    /// Mean events per shot.
+    pub events_per_shot: f64,
+    /// Tables cut by an event or time limit (should be 0).
+    pub cut: usize,
+}
+
+/// Runs `kisstime bench --sim`: `tables` shots of `workload` from `seed`, simulated once
+/// to warm up and then `reps` times without keeping the events.
+pub fn run_sim_bench(
+    workload: ShotWorkload,
+    tables: usize,
+    seed: u64,
+    reps: usize,
+) -> Result<SimBenchReport, Error> {
+    let params = SimParams::default();
+    let table = Table::nine_foot();
+    let shots: Vec<ShotTable> = generate_shots(workload, tables, seed, params.ball.r);
+    let options = BatchOptions {
+        record_events: false,
+        ..BatchOptions::default()
+    };
+    let run = || {
+        simulate_batch(
+            &table,
+            params,
+            &options,
+            shots.len(),
+            |k, buf| {
+                let s = &shots[k];
+                buf.clear();
+                buf.extend_from_slice(&s.balls);
+                Ok(s.strike())
+            },
+            |_| Ok::<(), std::convert::Infallible>(()),
+        )
+        .map_err(|e| match e {
+            BatchError::Table { table, error } => Error::Unsupported(format!(
+                "generated {} table #{table}: {error}",
+                workload.name()
+            )),
+            BatchError::Sink(never) => match never {},
+        })
+    };
+    let (median, stats) = timed(reps, run)?;
+    Ok(SimBenchReport {
+        mode: "sim".into(),
+        workload: workload.name().into(),
+        tables: stats.tables,
+        balls: shots.iter().map(|s| s.balls.len()).sum(),
+        seed,
+        reps,
+        threads: rayon::current_num_threads(),
+        median_s: median,
+        shots_per_s: stats.tables as f64 / median,
+        events_per_s: stats.events as f64 / median,
+        events: stats.events,
+        events_per_shot: stats.events as f64 / stats.tables.max(1) as f64,
+        cut: stats.cut,
+    })
+}
+
+impl SimBenchReport {
+    /// The report as readable lines.
+    pub fn to_text(&self) -> String {
+        format!(
+            "kisstime bench --sim: {}, {} tables ({} balls), seed {}, {} threads, median of {} runs\n\n\
+             {:.3} s a run: {:.0} shots/s, {:.0} events/s, {:.1} events per shot, {} tables cut\n",
+            self.workload,
+            self.tables,
+            self.balls,
+            self.seed,
+            self.threads,
+            self.reps,
+            self.median_s,
+            self.shots_per_s,
+            self.events_per_s,
+            self.events_per_shot,
+            self.cut
+        )
+    }
 }
 
 /// Pairs per second in a readable unit.
