@@ -708,3 +708,37 @@ fn a_bad_ball_in_npy_input_is_named_by_its_row() {
         assert!(run.stderr.contains(part), "{part}: {}", run.stderr);
     }
 }
+
+#[test]
+fn the_readme_break_example_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = env!("CARGO_MANIFEST_DIR");
+    let (events, fin, png) = (
+        dir.path().join("events.csv"),
+        dir.path().join("final.csv"),
+        dir.path().join("break.png"),
+    );
+    let run = kisstime(&[
+        "simulate",
+        &format!("{root}/examples/break.csv"),
+        "--strikes",
+        &format!("{root}/examples/break_strike.csv"),
+        "-o",
+        s(&events),
+        "--final",
+        s(&fin),
+        "--plot",
+        s(&png),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+    let ev = csv_rows(&std::fs::read_to_string(&events).unwrap());
+    assert_eq!(ev[0][3], "stick_ball");
+    assert!(ev.iter().any(|r| r[3] == "ball_ball"));
+    let fin = csv_rows(&std::fs::read_to_string(&fin).unwrap());
+    assert_eq!(fin.len(), 16, "every ball of the rack and the cue ball");
+    assert!(
+        fin.iter()
+            .all(|r| r[2] == "stationary" || r[2] == "pocketed")
+    );
+    assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+}
