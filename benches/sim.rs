@@ -10,10 +10,16 @@
 //! at the start, so events/s = shots/s × events per shot. pooltool 0.6.0 on this 2-core
 //! machine: ~30 ordinary shots/s, ~3.7 breaks/s (issue 13). Targets: ≥ 10,000 ordinary
 //! shots/s and ≥ 1,000 breaks/s on 2 cores.
+//!
+//! `study/*`: the built-in shot study ([`StudyConfig::builtin`], 8 balls, ~12.6 events a
+//! sample), [`STUDY_SAMPLES`] noisy samples to rest and to the first contact, on 1 and 2
+//! threads; "elem/s" are samples/s. pooltool 0.6.0 runs the same shot at 193 samples/s to
+//! rest (`shared/studies/README.md`). Target (issue 14): ≥ 20,000 samples/s on 2 threads.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kisstime::io::shot_set::{Shot, read_shots, read_table};
 use kisstime::simulate::{EventLoop, Limits, SimParams, Table};
+use kisstime::study::{RunOptions, StudyConfig, Until, run_study};
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::path::Path;
@@ -82,5 +88,46 @@ fn sim(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, sim);
+/// Samples per run of the study benchmark.
+const STUDY_SAMPLES: usize = 4_000;
+
+fn study(c: &mut Criterion) {
+    let config = StudyConfig::builtin();
+    let sigma = config.sigma();
+    let mut group = c.benchmark_group("study");
+    group.sample_size(10);
+    group.measurement_time(Duration::from_secs(4));
+    group.throughput(Throughput::Elements(STUDY_SAMPLES as u64));
+    for (until, name) in [
+        (Until::Rest, "to rest"),
+        (Until::FirstContact, "first contact"),
+    ] {
+        let options = RunOptions {
+            until,
+            ..RunOptions::default()
+        };
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let label = format!(
+                "{name}, {threads} thread{}",
+                if threads > 1 { "s" } else { "" }
+            );
+            group.bench_function(label, |b| {
+                b.iter(|| {
+                    pool.install(|| {
+                        run_study(&config, &sigma, STUDY_SAMPLES, 42, &options, &mut |_, _| {})
+                            .unwrap()
+                            .len()
+                    })
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, sim, study);
 criterion_main!(benches);

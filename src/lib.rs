@@ -27,8 +27,9 @@
 //! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback, and the defaults;
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
 //! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files;
-//! - [`study`]: Monte Carlo shot studies (configuration, noise, the driver, statistics;
-//!   today on their own first-contact model);
+//! - [`study`]: Monte Carlo shot studies — one shot under cue noise (or given strikes),
+//!   every sample from the strike to rest on the simulator: configuration, noise, the
+//!   driver, statistics, and `shared/studies`' reference format;
 //! - [`workload`]: reproducible built-in workloads; [`limits`], [`error`].
 //!
 //! The `kisstime` command line (`src/main.rs`, `src/cli/`) is a thin layer over these,

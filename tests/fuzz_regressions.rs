@@ -90,13 +90,12 @@ fn decelerations_that_underflow_or_overflow_are_refused() {
 /// underflows to 0 (finding 2 again, through the shot study's reader). Refused, naming it.
 #[test]
 fn scenario_with_underflowing_deceleration_is_refused() {
-    let text = "[table]\nlength = 2.54\nwidth = 1.27\n\
-                [physics]\nmu_r = 1e-200\ng = 1e-200\n\
-                [[balls]]\nid = 0\nx = 0.7\ny = 0.45\n\
-                [[balls]]\nid = 3\nx = 1.85\ny = 0.78\n\
-                [shot]\ncue_ball = 0\nobject_ball = 3\nv0 = 1.6\nphi = 18.58\n\
+    let text = "[physics]\nmu_r = 1e-200\ng = 1e-200\n\
+                [[balls]]\nid = 0\nx = 0.45\ny = 0.7\n\
+                [[balls]]\nid = 3\nx = 0.78\ny = 1.85\n\
+                [shot]\ncue_ball = 0\nobject_ball = 3\nv0 = 1.6\nphi = 71.42\n\
                 theta = 5.0\na = 0.0\nb = 0.2\n";
-    let err = kisstime::study::StudyConfig::parse(text, "s.toml")
+    let err = kisstime::study::StudyConfig::parse(text, "s.toml", None)
         .unwrap_err()
         .to_string();
     assert!(
@@ -106,7 +105,7 @@ fn scenario_with_underflowing_deceleration_is_refused() {
     assert!(err.contains("s.toml"), "{err}");
     // the same file with ordinary values is fine
     let ok = text.replace("mu_r = 1e-200\ng = 1e-200\n", "");
-    assert!(kisstime::study::StudyConfig::parse(&ok, "s.toml").is_ok());
+    assert!(kisstime::study::StudyConfig::parse(&ok, "s.toml", None).is_ok());
 }
 
 /// A `.npy` file of `header` (version 1.0, padded as NumPy pads).

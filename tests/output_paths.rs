@@ -200,8 +200,15 @@ fn thread_counts_outside_1_to_1024_are_refused_before_starting() {
 #[test]
 fn no_runtime_directory_noise_on_stderr() {
     // without XDG_RUNTIME_DIR, Mesa's drivers used to print an error twice per GPU run
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("t.csv");
+    let made = run_kisstime(
+        &["gen", "--tables", "20", "-o", input.to_str().unwrap()],
+        &[],
+    );
+    assert!(made.status.success());
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
-        .args(["shots", "--samples", "100", "--backend", "auto"])
+        .args(["next", input.to_str().unwrap(), "--backend", "auto"])
         .env_remove("XDG_RUNTIME_DIR")
         .output()
         .unwrap();

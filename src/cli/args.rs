@@ -54,14 +54,19 @@ pub enum Command {
     /// Write a built-in workload as an input file, so that the CLI, other tools and other
     /// simulators can be timed on identical data.
     Gen(GenArgs),
-    /// Monte Carlo shot study: re-play one intended shot under cue noise many times and
-    /// count what the cue ball touches first (each object ball, a cushion, nothing).
+    /// Monte Carlo shot study: re-play one intended shot under cue noise many times, every
+    /// sample from the strike to rest with the simulator (pooltool 0.6.0's physics and
+    /// strike model, CPU, f64), and count what came of it.
     ///
-    /// SCENARIO is a TOML file (table, balls, intended shot, noise; see
-    /// examples/study.toml); without it the built-in study runs. Prints per outcome the
-    /// count and fraction with a 95% confidence interval, and for the intended ball the time
-    /// to contact and the cut angle. The same seed gives the same outcomes on every backend
-    /// and thread count.
+    /// SCENARIO is a TOML file (table, balls, intended shot, called pocket, target circle,
+    /// noise; see examples/study.toml), or a .json scenario in the format of
+    /// shared/studies; without it the built-in study runs. Prints the first contact (each
+    /// object ball, a cushion, nothing), the intended ball potted (and where), the cue ball
+    /// potted (scratch), other balls potted, no ball hit, each with count, fraction and 95%
+    /// confidence interval; the time to pot; where the cue ball ends (and how often in the
+    /// target circle); samples cut by a cap. --strikes replays given strikes without noise.
+    /// The same seed gives the same samples whatever the thread count, and the first N
+    /// samples of a larger study are the study of N.
     Shots(ShotsArgs),
     /// Whole shots: simulate every table from the cue strike to rest, event by event, with
     /// pooltool 0.6.0's physics (CPU, f64, Rayon over tables).
@@ -171,20 +176,27 @@ pub struct GenArgs {
 
 #[derive(Args)]
 pub struct ShotsArgs {
-    /// The study (TOML, see examples/study.toml). Default: the built-in study.
+    /// The study: TOML (see examples/study.toml) or a .json scenario in the format of
+    /// shared/studies. Default: the built-in study.
     pub scenario: Option<PathBuf>,
-    /// Number of noisy samples.
+    /// Number of noisy samples (ignored with --strikes).
     #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..))]
     pub samples: u64,
     /// Random seed: sample i's noise depends on (seed, i) only.
     #[arg(long, default_value_t = 42)]
     pub seed: u64,
-    /// Where to compute the ball contacts (as for `pairs`).
-    #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
-    pub backend: BackendArg,
-    /// Floating-point precision of the contacts (as for `pairs`).
-    #[arg(long, value_enum)]
-    pub precision: Option<PrecisionArg>,
+    /// Evaluate exactly these strikes, without noise, instead of drawing samples: CSV
+    /// `sample,V0,phi,theta,a,b` (pooltool's Cue.set_state fields: V0 in m/s, phi and
+    /// theta in degrees, a and b fractions of R) or .npy by name.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["samples", "seed", "noise", "sigma_v0", "sigma_phi", "sigma_theta", "sigma_a", "sigma_b"])]
+    pub strikes: Option<PathBuf>,
+    /// How far each sample runs: to rest (the full outcome), or only to the cue ball's
+    /// first contact (cheaper; first-contact table only).
+    #[arg(long, value_enum, default_value_t = UntilArg::Rest)]
+    pub until: UntilArg,
+    /// Print the summary as JSON on standard output instead of text.
+    #[arg(long)]
+    pub json: bool,
     /// Multiply every noise standard deviation by this factor (replaces the file's
     /// `noise.factor`; 0 replays the intended shot exactly).
     #[arg(long, allow_negative_numbers = true)]
@@ -204,20 +216,37 @@ pub struct ShotsArgs {
     /// Standard deviation of the vertical tip offset in metres (replaces the scaled value).
     #[arg(long, allow_negative_numbers = true)]
     pub sigma_b: Option<f64>,
-    /// Write one CSV row per sample here (atomically).
+    /// Write one CSV row per sample here (atomically): the strike, the first contact, the
+    /// outcome, the balls potted with their pockets, the cue ball's final position, the
+    /// event count.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Draw the study as a PNG here: the table, the spread of the first contacts, and the
-    /// cut angles on the intended ball.
+    /// Draw the study as a PNG here: the table with its pockets and cushions, the balls and
+    /// the intended path, a heat map of where the cue ball stops coloured by outcome, and
+    /// the cut angles on the intended ball.
     #[arg(long)]
     pub plot: Option<PathBuf>,
-    /// Print the backend and adapter used on stderr.
+    /// Stop a sample after this many events (the strike included); it is counted as cut.
+    #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_events: u64,
+    /// Stop a sample before an event later than this simulated time in s; counted as cut.
+    #[arg(long, default_value_t = 600.0)]
+    pub max_time: f64,
+    /// Print the table and the run's size on stderr.
     #[arg(short, long)]
     pub verbose: bool,
-    /// Worker threads for the CPU backend (default: one per core). Results do not depend
-    /// on it.
+    /// Worker threads (default: one per core). Results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
+}
+
+/// How far a study's samples run.
+#[derive(Clone, Copy, ValueEnum, PartialEq, Eq)]
+pub enum UntilArg {
+    /// Every ball at rest.
+    Rest,
+    /// The cue ball's first contact.
+    FirstContact,
 }
 
 #[derive(Args)]

@@ -181,6 +181,16 @@ pub fn check_output(path: &Path, what: &str, extensions: &[&str]) -> Result<(), 
         ))
         .into());
     }
+    if path.is_dir() {
+        // cannot be written: an I/O error, as when writing fails (exit 1)
+        return Err(Error::Io {
+            path: format!("{what} {named}"),
+            source: std::io::Error::new(
+                std::io::ErrorKind::IsADirectory,
+                "a folder of that name is in the way",
+            ),
+        });
+    }
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),

@@ -1,8 +1,29 @@
-//! The shot study's reports: the summary as text, and one CSV row per sample.
+//! The shot study's reports: the summary as text or JSON, and one CSV row per sample.
 
+use std::fmt::Write as _;
+use std::path::Path;
+
+use kisstime::study::reference::{first_contact_word, potted_field};
 use kisstime::study::{
-    Class, Noise, Outcome, SAMPLE_COLUMNS, Sample, StudyConfig, Summary, noisy_strike, wilson,
+    Class, FirstContact, Noise, Result4, Sample, Stats, StudyConfig, Summary, Until, wilson,
 };
+use serde_json::{Value, json};
+
+/// What the report says about the run besides its results.
+pub struct Run<'a> {
+    /// The study.
+    pub scenario: &'a StudyConfig,
+    /// The noise, for a noisy study (`None` with given strikes).
+    pub sigma: Option<Noise>,
+    /// The seed of a noisy study.
+    pub seed: u64,
+    /// The strike file, if strikes were given.
+    pub strikes: Option<&'a Path>,
+    /// Wall-clock seconds of the simulation.
+    pub seconds: f64,
+    /// Worker threads.
+    pub threads: usize,
+}
 
 /// A fraction as a percentage: two decimals, or three significant digits below 1 %.
 fn percent(x: f64) -> String {
@@ -15,77 +36,354 @@ fn percent(x: f64) -> String {
     }
 }
 
-/// The summary as text: one line per outcome (balls that are never hit first are left
-/// out, except the intended one), then the intended ball's statistics.
-pub fn summary_text(summary: &Summary) -> String {
-    use std::fmt::Write;
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "{:<24} {:>9} {:>9}   95% confidence interval",
-        "first contact", "count", "fraction"
-    );
-    for &(class, k) in &summary.counts {
-        let label = match class {
-            Class::Ball(id) if id == summary.intended => format!("ball {id} (intended)"),
-            Class::Ball(id) if k == 0 => {
-                let _ = id;
-                continue;
-            }
-            Class::Ball(id) => format!("ball {id}"),
-            Class::Cushion => "cushion".to_owned(),
-            Class::Stopped => "stopped".to_owned(),
-        };
-        let (lo, hi) = wilson(k, summary.samples);
-        let frac = if summary.samples > 0 {
-            k as f64 / summary.samples as f64
-        } else {
-            0.0
-        };
-        let _ = writeln!(
-            s,
-            "  {label:<22} {k:>9} {:>8.2}%   [{}%, {}%]",
-            100.0 * frac,
-            percent(lo),
-            percent(hi)
-        );
+/// The label of a first-contact class.
+fn class_label(config: &StudyConfig, class: Class) -> String {
+    match class {
+        Class::Ball(k) if k == config.intended => format!("ball {} (intended)", config.balls[k].id),
+        Class::Ball(k) => format!("ball {}", config.balls[k].id),
+        Class::Cushion => "cushion".to_owned(),
+        Class::Pocket => "pocket".to_owned(),
+        Class::Stopped => "stopped".to_owned(),
+        Class::Nothing => "nothing (no event)".to_owned(),
     }
-    let _ = writeln!(s);
-    match (&summary.time, &summary.cut) {
-        (Some(t), Some(c)) => {
+}
+
+/// The rows of the summary that are counts: (section, label, count), in report order.
+/// First contacts list every ball hit at least once (and the intended ball always).
+fn count_rows(config: &StudyConfig, s: &Summary) -> Vec<(&'static str, String, usize)> {
+    let mut rows = Vec::new();
+    for &(class, k) in &s.first {
+        let always = class == Class::Ball(config.intended);
+        if k > 0 || always {
+            rows.push(("first contact", class_label(config, class), k));
+        }
+    }
+    if s.until == Until::FirstContact {
+        return rows;
+    }
+    let intended = config.intended_id();
+    for r in Result4::ALL {
+        let label = match r {
+            Result4::Pot => format!("pot ({intended} in, cue ball up)"),
+            Result4::PotScratch => format!("pot + scratch ({intended} and cue ball in)"),
+            Result4::Scratch => format!("scratch only (cue ball in, {intended} not)"),
+            Result4::Miss => format!("miss ({intended} not in, cue ball up)"),
+        };
+        rows.push(("outcome", label, s.result(r)));
+    }
+    let called = config.pocket_id();
+    rows.push((
+        "potted",
+        format!("ball {intended} potted, any pocket"),
+        s.intended_potted(),
+    ));
+    for &(p, k) in &s.intended_pockets {
+        let id = &config.table.pocket_ids[p];
+        let note = if Some(id.as_str()) == called {
+            " (called)"
+        } else {
+            ""
+        };
+        rows.push(("potted", format!("  ball {intended} in {id}{note}"), k));
+    }
+    rows.push((
+        "potted",
+        "cue ball potted (scratch)".to_owned(),
+        s.scratches,
+    ));
+    for &(p, k) in &s.scratch_pockets {
+        let id = &config.table.pocket_ids[p];
+        rows.push(("potted", format!("  cue ball in {id}"), k));
+    }
+    for &(b, k) in &s.others_potted {
+        rows.push(("potted", format!("ball {} potted", config.balls[b].id), k));
+    }
+    rows.push(("potted", "no ball hit (foul)".to_owned(), s.no_ball_hit));
+    if let (Some(t), Some(k)) = (config.target, s.in_target) {
+        rows.push((
+            "position",
+            format!("cue ball in ({}, {}) r {}", t.x, t.y, t.radius),
+            k,
+        ));
+    }
+    rows
+}
+
+/// One statistics row: label, then mean, std, p5, p50, p95 with `digits` decimals.
+fn stats_row(out: &mut String, label: &str, st: &Stats, digits: usize) {
+    let _ = writeln!(
+        out,
+        "  {label:<34}{:>9.digits$} {:>9.digits$} {:>9.digits$} {:>9.digits$} {:>9.digits$}",
+        st.mean, st.std, st.p5, st.p50, st.p95
+    );
+}
+
+/// The heading of a statistics block.
+fn stats_head(out: &mut String, title: &str) {
+    let _ = writeln!(
+        out,
+        "{title:<36}{:>9} {:>9} {:>9} {:>9} {:>9}",
+        "mean", "std", "p5", "p50", "p95"
+    );
+}
+
+/// The description of the run: scenario, noise or strike file.
+fn preamble(run: &Run<'_>, samples: usize) -> String {
+    let c = run.scenario;
+    let mut s = format!("kisstime shots: {}\n", c.source);
+    let _ = write!(
+        s,
+        "table {}, {} balls; cue ball {}, intended ball {}",
+        c.table_name,
+        c.balls.len(),
+        c.cue_id(),
+        c.intended_id()
+    );
+    if let Some(p) = c.pocket_id() {
+        let _ = write!(s, " into {p}");
+    }
+    if let Some(t) = c.target {
+        let _ = write!(s, "; target circle ({}, {}) r {} m", t.x, t.y, t.radius);
+    }
+    s.push('\n');
+    match (run.sigma, run.strikes) {
+        (Some(sigma), _) => {
             let _ = writeln!(
                 s,
-                "ball {} hit first ({} samples):{:>9} {:>9} {:>9} {:>9} {:>9}",
-                summary.intended, t.n, "mean", "std", "p5", "p50", "p95"
-            );
-            let _ = writeln!(
-                s,
-                "  {:<30}{:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4}",
-                "time to contact (s)", t.mean, t.std, t.p5, t.p50, t.p95
-            );
-            let _ = writeln!(
-                s,
-                "  {:<30}{:>9.2} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
-                "cut angle (deg)", c.mean, c.std, c.p5, c.p50, c.p95
+                "{samples} samples, seed {}; noise σ: V0 {} m/s, phi {}°, theta {}°, a {} mm, \
+                 b {} mm",
+                run.seed,
+                sigma.v0,
+                sigma.phi,
+                sigma.theta,
+                1e3 * sigma.a,
+                1e3 * sigma.b
             );
         }
-        _ => {
-            let _ = writeln!(s, "ball {} is never hit first", summary.intended);
+        (None, Some(path)) => {
+            let _ = writeln!(s, "{samples} strikes from {}, no noise", path.display());
+        }
+        (None, None) => {
+            let _ = writeln!(s, "{samples} samples");
         }
     }
     s
 }
 
-/// Writes one CSV row per sample (header `SAMPLE_COLUMNS`): the noisy strike (recomputed
-/// from `seed`), the outcome, the ball or cushion, the time, the cue ball's centre and speed,
-/// the contact point, and the cut angle; empty fields where they do not apply. Numbers are the
-/// shortest decimals that read back as the same f64.
+/// The summary as text.
+pub fn summary_text(run: &Run<'_>, s: &Summary) -> String {
+    let c = run.scenario;
+    let mut out = preamble(run, s.samples);
+    let n = s.samples;
+    let mut section = "";
+    for (sec, label, k) in count_rows(c, s) {
+        if sec != section {
+            section = sec;
+            let title = match sec {
+                "first contact" => "first contact",
+                "outcome" => "outcome (every ball at rest)",
+                "potted" => "balls potted",
+                _ => "position play",
+            };
+            let _ = writeln!(
+                out,
+                "\n{title:<34} {:>9} {:>9}   95% confidence interval",
+                "count", "fraction"
+            );
+        }
+        let (lo, hi) = wilson(k, n);
+        let frac = if n > 0 { k as f64 / n as f64 } else { 0.0 };
+        let _ = writeln!(
+            out,
+            "  {label:<32} {k:>9} {:>8}%   [{}%, {}%]",
+            percent(frac),
+            percent(lo),
+            percent(hi)
+        );
+    }
+    if s.cut > 0 {
+        let _ = writeln!(
+            out,
+            "\n{} samples were cut by the event or time cap (counted above as they stood)",
+            s.cut
+        );
+    } else {
+        let _ = writeln!(out, "\nno sample was cut by the event or time cap");
+    }
+    let _ = writeln!(out);
+    let intended = c.intended_id();
+    if let (Some(t), Some(a)) = (&s.contact_time, &s.cut_angle) {
+        stats_head(
+            &mut out,
+            &format!("ball {intended} hit first ({} samples)", t.n),
+        );
+        stats_row(&mut out, "time to contact (s)", t, 4);
+        stats_row(&mut out, "cut angle (deg)", a, 2);
+    } else {
+        let _ = writeln!(out, "ball {intended} is never hit first");
+    }
+    if s.until == Until::Rest {
+        if let Some(t) = &s.pot_time {
+            stats_head(
+                &mut out,
+                &format!("ball {intended} potted ({} samples)", t.n),
+            );
+            stats_row(&mut out, "time to pot (s)", t, 4);
+        }
+        if let Some((x, y)) = &s.cue_final {
+            stats_head(&mut out, &format!("cue ball final, on table ({})", x.n));
+            stats_row(&mut out, "x (m)", x, 4);
+            stats_row(&mut out, "y (m)", y, 4);
+        }
+    }
+    if let (Some(e), Some(d)) = (&s.events, &s.duration) {
+        stats_head(&mut out, "every sample");
+        stats_row(&mut out, "events", e, 1);
+        stats_row(&mut out, "duration (s)", d, 3);
+    }
+    let _ = writeln!(
+        out,
+        "\n{n} samples in {:.3} s: {:.0} samples/s on {} threads (CPU, f64)",
+        run.seconds,
+        n as f64 / run.seconds.max(1e-9),
+        run.threads
+    );
+    out
+}
+
+/// Statistics as JSON (`null` when there are none).
+fn stats_json(st: Option<&Stats>) -> Value {
+    match st {
+        Some(s) => json!({
+            "n": s.n, "mean": s.mean, "std": s.std, "p5": s.p5, "p50": s.p50, "p95": s.p95
+        }),
+        None => Value::Null,
+    }
+}
+
+/// A count as JSON: count, fraction and the Wilson 95 % interval.
+fn count_json(k: usize, n: usize) -> Value {
+    let (lo, hi) = wilson(k, n);
+    let frac = if n > 0 { k as f64 / n as f64 } else { 0.0 };
+    json!({"count": k, "fraction": frac, "ci95": [lo, hi]})
+}
+
+/// The summary as one JSON object (for scripts): the run, then every count with its
+/// fraction and interval, then the statistics.
+pub fn summary_json(run: &Run<'_>, s: &Summary) -> String {
+    let c = run.scenario;
+    let n = s.samples;
+    let first: serde_json::Map<String, Value> = s
+        .first
+        .iter()
+        .map(|&(class, k)| {
+            let key = match class {
+                Class::Ball(b) => c.balls[b].id.clone(),
+                Class::Cushion => "cushion".to_owned(),
+                Class::Pocket => "pocket".to_owned(),
+                Class::Stopped => "stopped".to_owned(),
+                Class::Nothing => "nothing".to_owned(),
+            };
+            (key, count_json(k, n))
+        })
+        .collect();
+    let mut v = json!({
+        "scenario": c.source,
+        "table": c.table_name,
+        "cue_ball": c.cue_id(),
+        "intended": c.intended_id(),
+        "called_pocket": c.pocket_id(),
+        "until": match s.until { Until::Rest => "rest", Until::FirstContact => "first-contact" },
+        "samples": n,
+        "seed": run.sigma.map(|_| run.seed),
+        "strikes": run.strikes.map(|p| p.display().to_string()),
+        "noise": run.sigma.map(|g| json!({
+            "V0": g.v0, "phi": g.phi, "theta": g.theta, "a_m": g.a, "b_m": g.b
+        })),
+        "first_contact": first,
+        "contact_time_s": stats_json(s.contact_time.as_ref()),
+        "cut_angle_deg": stats_json(s.cut_angle.as_ref()),
+        "cut_by_cap": s.cut,
+        "events": stats_json(s.events.as_ref()),
+        "duration_s": stats_json(s.duration.as_ref()),
+        "seconds": run.seconds,
+        "samples_per_s": n as f64 / run.seconds.max(1e-9),
+        "threads": run.threads,
+    });
+    if s.until == Until::Rest {
+        let results: serde_json::Map<String, Value> = Result4::ALL
+            .iter()
+            .map(|&r| (r.name().to_owned(), count_json(s.result(r), n)))
+            .collect();
+        let pockets: serde_json::Map<String, Value> = s
+            .intended_pockets
+            .iter()
+            .map(|&(p, k)| (c.table.pocket_ids[p].clone(), count_json(k, n)))
+            .collect();
+        let others: serde_json::Map<String, Value> = s
+            .others_potted
+            .iter()
+            .map(|&(b, k)| (c.balls[b].id.clone(), count_json(k, n)))
+            .collect();
+        let extra = json!({
+            "outcome": results,
+            "intended_potted": count_json(s.intended_potted(), n),
+            "intended_pockets": pockets,
+            "scratch": count_json(s.scratches, n),
+            "scratch_pockets": s
+                .scratch_pockets
+                .iter()
+                .map(|&(p, k)| (c.table.pocket_ids[p].clone(), count_json(k, n)))
+                .collect::<serde_json::Map<String, Value>>(),
+            "others_potted": others,
+            "no_ball_hit": count_json(s.no_ball_hit, n),
+            "pot_time_s": stats_json(s.pot_time.as_ref()),
+            "cue_final_x": stats_json(s.cue_final.as_ref().map(|p| &p.0)),
+            "cue_final_y": stats_json(s.cue_final.as_ref().map(|p| &p.1)),
+            "target": c.target.map(|t| json!({"x": t.x, "y": t.y, "radius": t.radius})),
+            "in_target": s.in_target.map(|k| count_json(k, n)),
+        });
+        if let (Value::Object(m), Value::Object(e)) = (&mut v, extra) {
+            m.extend(e);
+        }
+    }
+    v.to_string()
+}
+
+/// The per-sample CSV's columns.
+pub const SAMPLE_COLUMNS: &str = "sample,V0,phi,theta,a,b,first_contact,first_ball,first_cushion,first_t,contact_cue_x,contact_cue_y,speed,contact_x,contact_y,cut_angle,result,intended_potted,intended_pocket,cue_potted,potted,cue_x,cue_y,in_target,n_events,duration,cut";
+
+/// The text of a first contact's segment, jaw or pocket id.
+fn first_cushion(c: &StudyConfig, f: &FirstContact) -> String {
+    match *f {
+        FirstContact::Cushion {
+            circular: false,
+            index,
+        } => c.table.linear_ids[index as usize].clone(),
+        FirstContact::Cushion {
+            circular: true,
+            index,
+        } => c.table.circular_ids[index as usize].clone(),
+        FirstContact::Pocket(p) => c.table.pocket_ids[p as usize].clone(),
+        _ => String::new(),
+    }
+}
+
+/// Writes one CSV row per sample (header [`SAMPLE_COLUMNS`]), `ids[k]` the sample id of
+/// `samples[k]`: the strike, the first contact (its kind, the ball or the cushion/pocket
+/// id, the time, the cue ball's centre and speed then, the contact point, the cut angle),
+/// then — to rest only — the outcome (`pot`, `pot+scratch`, `scratch`, `miss`), the
+/// intended ball potted and where, the cue ball potted, every ball potted as `ball@pocket`
+/// in order, the cue ball's final position, whether it is in the target circle, and for
+/// every sample the event count, the duration and the cap that cut it (`max_events`,
+/// `max_time`, empty). Empty fields where they do not apply; numbers are the shortest
+/// decimals that read back as the same f64.
 pub fn write_samples_csv(
     out: &mut dyn std::io::Write,
-    config: &StudyConfig,
-    sigma: &Noise,
-    seed: u64,
+    c: &StudyConfig,
+    ids: &[i64],
     samples: &[Sample],
+    until: Until,
 ) -> std::io::Result<()> {
     writeln!(out, "{SAMPLE_COLUMNS}")?;
     let mut buf = ryu::Buffer::new();
@@ -96,30 +394,66 @@ pub fn write_samples_csv(
             String::new()
         }
     };
-    for (i, s) in samples.iter().enumerate() {
-        let k = noisy_strike(config, sigma, seed, i as u64);
-        let (ball, cushion) = match s.outcome {
-            Outcome::Ball(id) => (id.to_string(), String::new()),
-            Outcome::Cushion(c) => (String::new(), c.name().to_owned()),
-            Outcome::Stopped => (String::new(), String::new()),
+    for (id, s) in ids.iter().zip(samples) {
+        let k = s.strike;
+        let kind = match s.first {
+            FirstContact::Ball(_) => "ball",
+            FirstContact::Cushion { .. } => "cushion",
+            FirstContact::Pocket(_) => "pocket",
+            FirstContact::Stopped => "stopped",
+            FirstContact::Nothing => "nothing",
         };
-        writeln!(
-            out,
-            "{i},{},{},{},{},{},{},{ball},{cushion},{},{},{},{},{},{},{}",
+        let ball = match s.first {
+            FirstContact::Ball(_) => first_contact_word(c, &s.first),
+            _ => "",
+        };
+        let (px, py) = s.contact_point;
+        let mut row = format!(
+            "{id},{},{},{},{},{},{kind},{ball},{},{},{},{},{},{},{},{}",
             num(k.v0),
             num(k.phi),
             num(k.theta),
             num(k.a),
             num(k.b),
-            s.outcome.kind(),
-            num(s.t),
-            num(s.cue.x),
-            num(s.cue.y),
-            num(s.speed),
-            num(s.contact.x),
-            num(s.contact.y),
-            num(s.cut)
-        )?;
+            first_cushion(c, &s.first),
+            num(s.first_t),
+            num(s.contact_cue.0),
+            num(s.contact_cue.1),
+            num(s.contact_speed),
+            num(px),
+            num(py),
+            num(s.cut_angle),
+        );
+        if until == Until::Rest {
+            let intended = s.pocket_of(c.intended);
+            let in_target = match c.target {
+                Some(t) if s.pocket_of(c.cue).is_none() => {
+                    u8::from(t.contains(s.cue_final.0, s.cue_final.1)).to_string()
+                }
+                Some(_) => "0".to_owned(),
+                None => String::new(),
+            };
+            let _ = write!(
+                row,
+                ",{},{},{},{},{},{},{},{in_target}",
+                Result4::of(c, s).name(),
+                u8::from(intended.is_some()),
+                intended.map_or("", |p| c.table.pocket_ids[p].as_str()),
+                u8::from(s.pocket_of(c.cue).is_some()),
+                potted_field(c, s),
+                num(s.cue_final.0),
+                num(s.cue_final.1),
+            );
+        } else {
+            row.push_str(",,,,,,,,");
+        }
+        let cut = match s.cut {
+            Some(kisstime::simulate::Cut::MaxEvents) => "max_events",
+            Some(kisstime::simulate::Cut::MaxTime) => "max_time",
+            None => "",
+        };
+        let _ = write!(row, ",{},{},{cut}", s.n_events, num(s.duration));
+        writeln!(out, "{row}")?;
     }
     Ok(())
 }

@@ -18,85 +18,42 @@ use kisstime::motion::evolve;
 use kisstime::resolve::CueStrike;
 use kisstime::simulate::{EventKind, EventLoop, Limits};
 
-use super::plot::{circle, encode_png, fonts, plot_error};
-
-/// A circle about `(x, y)` as a polygon.
-fn circle_at((x, y): (f64, f64), r: f64) -> Vec<(f64, f64)> {
-    circle(x, y, r)
-}
+use super::draw::{
+    ball_colour, circle_at, draw_table, encode_png, fonts, plot_error, table_area, view, view_range,
+};
 
 /// Picture size in pixels.
 const SIZE: (u32, u32) = (1600, 960);
-/// The frame around the playing surface, in metres (rails and pockets).
-const FRAME: f64 = 0.16;
-
-const CLOTH: RGBColor = RGBColor(38, 104, 74);
-const RAIL: RGBColor = RGBColor(92, 56, 32);
-const CUSHION: RGBColor = RGBColor(24, 70, 48);
-const POCKET: RGBColor = RGBColor(15, 15, 15);
 const KISS: RGBColor = RGBColor(255, 255, 255);
 const RAIL_HIT: RGBColor = RGBColor(255, 150, 40);
 const POT: RGBColor = RGBColor(255, 60, 60);
 
 /// One ball's drawn path: points in table coordinates.
-struct Trace {
-    points: Vec<(f64, f64)>,
+pub(super) struct Trace {
+    pub points: Vec<(f64, f64)>,
 }
 
 /// An event worth a marker: where, and what.
-struct Marker {
-    at: (f64, f64),
-    kind: EventKind,
+pub(super) struct Marker {
+    pub at: (f64, f64),
+    pub kind: EventKind,
 }
 
 /// What the picture shows of a simulated shot.
-struct Shot {
-    traces: Vec<Trace>,
-    markers: Vec<Marker>,
-    start: Vec<BallState>,
-    end: Vec<BallState>,
-    events: usize,
-    duration: f64,
-    cut: bool,
-}
-
-/// The colour of ball `id` (pool's usual colours: 0 the cue ball, 1–7 solids, 8 black,
-/// 9–15 the stripes, drawn lighter).
-fn ball_colour(id: i64) -> RGBColor {
-    const SOLIDS: [RGBColor; 8] = [
-        RGBColor(250, 250, 245),
-        RGBColor(245, 200, 20),
-        RGBColor(30, 70, 200),
-        RGBColor(210, 30, 30),
-        RGBColor(110, 40, 150),
-        RGBColor(245, 120, 20),
-        RGBColor(20, 130, 60),
-        RGBColor(130, 30, 40),
-    ];
-    match id {
-        0..=7 => SOLIDS[id as usize],
-        8 => RGBColor(20, 20, 20),
-        9..=15 => {
-            let c = SOLIDS[(id - 8) as usize];
-            RGBColor(
-                ((c.0 as u16 + 255) / 2) as u8,
-                ((c.1 as u16 + 255) / 2) as u8,
-                ((c.2 as u16 + 255) / 2) as u8,
-            )
-        }
-        _ => RGBColor(200, 180, 140),
-    }
-}
-
-/// Table coordinates turned a quarter turn clockwise: `(x, y) → (y, −x)`.
-fn view((x, y): (f64, f64)) -> (f64, f64) {
-    (y, -x)
+pub(super) struct Shot {
+    pub traces: Vec<Trace>,
+    pub markers: Vec<Marker>,
+    pub start: Vec<BallState>,
+    pub end: Vec<BallState>,
+    pub events: usize,
+    pub duration: f64,
+    pub cut: bool,
 }
 
 /// Simulates the shot and records what the picture needs: every ball's path sampled
 /// along the closed forms between consecutive events (about one point per 2 mm of travel,
 /// at least 8 per stretch), and a marker for every collision and pot.
-fn record(
+pub(super) fn record(
     table: &Table,
     params: SimParams,
     limits: Limits,
@@ -170,28 +127,6 @@ fn record(
     })
 }
 
-/// The table's extent in table coordinates: every cushion end, jaw and pocket, framed.
-fn extent(table: &Table) -> (f64, f64, f64, f64) {
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    let mut take = |x: f64, y: f64, r: f64| {
-        x0 = x0.min(x - r);
-        x1 = x1.max(x + r);
-        y0 = y0.min(y - r);
-        y1 = y1.max(y + r);
-    };
-    for s in &table.linear {
-        take(s.p1.x, s.p1.y, 0.0);
-        take(s.p2.x, s.p2.y, 0.0);
-    }
-    for c in &table.circular {
-        take(c.center.x, c.center.y, c.radius);
-    }
-    for p in &table.pockets {
-        take(p.center.x, p.center.y, p.radius);
-    }
-    (x0 - FRAME, x1 + FRAME, y0 - FRAME, y1 + FRAME)
-}
-
 /// Draws the shot of table `label` and returns it as PNG bytes. `ids` are the balls' ids
 /// (for colours and labels), in the order of `balls`.
 pub fn render_shot_png(
@@ -250,39 +185,12 @@ fn draw(
         (20, 14),
         ("sans-serif", 24).into_font().style(FontStyle::Bold),
     ))?;
-    let (x0, x1, y0, y1) = extent(table);
-    // turned: screen x is table y, screen y is −(table x); equal scales
-    let (vx0, vx1, vy0, vy1) = (y0, y1, -x1, -x0);
     let (bw, bh) = body.dim_in_pixel();
-    let legend_h = 40.0;
-    let scale = ((bw as f64 - 40.0) / (vx1 - vx0)).min((bh as f64 - legend_h) / (vy1 - vy0));
-    let (cw, ch) = ((vx1 - vx0) * scale, (vy1 - vy0) * scale);
-    let left = ((bw as f64 - cw) / 2.0).max(0.0) as u32;
-    let area = body
-        .margin(0, 0, left, 0)
-        .shrink((0, 0), (cw as u32, ch as u32));
-    let mut chart = ChartBuilder::on(&area).build_cartesian_2d(vx0..vx1, vy0..vy1)?;
-    // rails, then the cloth inside the cushion noses
-    chart.draw_series([Rectangle::new([(vx0, vy0), (vx1, vy1)], RAIL.filled())])?;
-    let nose: Vec<(f64, f64)> = cushion_outline(table);
-    chart.draw_series([Polygon::new(nose.clone(), CLOTH.filled())])?;
-    for p in &table.pockets {
-        chart.draw_series([Polygon::new(
-            circle_at(view((p.center.x, p.center.y)), p.radius),
-            POCKET.filled(),
-        )])?;
-    }
-    for s in &table.linear {
-        chart.draw_series([PathElement::new(
-            vec![view((s.p1.x, s.p1.y)), view((s.p2.x, s.p2.y))],
-            CUSHION.stroke_width(3),
-        )])?;
-    }
-    for c in &table.circular {
-        let mut ring = circle_at(view((c.center.x, c.center.y)), c.radius);
-        ring.push(ring[0]);
-        chart.draw_series([PathElement::new(ring, CUSHION.stroke_width(2))])?;
-    }
+    let legend_h = 40;
+    let (area, left, ch) = table_area(&body, table, (bw, bh - legend_h));
+    let mut chart =
+        ChartBuilder::on(&area).build_cartesian_2d(view_range(table).0, view_range(table).1)?;
+    draw_table(&mut chart, table)?;
     // where the balls started
     for b in &shot.start {
         let mut ring = circle_at(view((b.r.x, b.r.y)), radius);
@@ -362,41 +270,6 @@ fn draw(
         font.color(&RGBColor(70, 70, 70)),
     ))?;
     Ok(())
-}
-
-/// The cloth, turned for the picture: the convex hull of the straight cushions' ends (the
-/// playing surface and the pocket throats between the jaws).
-fn cushion_outline(table: &Table) -> Vec<(f64, f64)> {
-    let mut points: Vec<(f64, f64)> = table
-        .linear
-        .iter()
-        .flat_map(|s| [(s.p1.x, s.p1.y), (s.p2.x, s.p2.y)])
-        .collect();
-    points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    points.dedup();
-    // Andrew's monotone chain: lower hull, then upper hull
-    let turn = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
-        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
-    };
-    let mut hull: Vec<(f64, f64)> = Vec::with_capacity(points.len() + 1);
-    for pass in 0..2 {
-        let start = hull.len();
-        let ordered: Box<dyn Iterator<Item = &(f64, f64)>> = if pass == 0 {
-            Box::new(points.iter())
-        } else {
-            Box::new(points.iter().rev())
-        };
-        for &p in ordered {
-            while hull.len() >= start + 2
-                && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(p);
-        }
-        hull.pop();
-    }
-    hull.into_iter().map(view).collect()
 }
 
 #[cfg(test)]

@@ -1,14 +1,21 @@
 //! `kisstime shots`: the Monte Carlo shot study and its reports.
 
-use kisstime::Error;
-use kisstime::io::{output_error, write_output};
-use kisstime::study::{Noise, StudyConfig, Summary, run_study};
+use std::path::Path;
 
-use super::args::ShotsArgs;
-use super::commands::{check_output, open_engine, print_notes};
-use super::plot::write_study_png;
+use kisstime::Error;
+use kisstime::io::strikes::read_sample_strikes;
+use kisstime::io::{output_error, write_output};
+use kisstime::simulate::{CueStrike, Limits};
+use kisstime::study::{Noise, RunOptions, StudyConfig, Summary, Until, run_strikes, run_study};
+
+use super::args::{ShotsArgs, UntilArg};
+use super::commands::check_output;
 use super::progress::Progress;
-use super::report::{summary_text, write_samples_csv};
+use super::report::{Run, summary_json, summary_text, write_samples_csv};
+use super::study_plot::render_png;
+
+/// Samples from which a progress bar is shown (on a terminal).
+const SHOW_SAMPLES: usize = 200_000;
 
 /// The noise of a shot study: the file's, scaled by `--noise`, with `--sigma-*` overrides.
 fn shots_sigma(args: &ShotsArgs, scenario: &StudyConfig) -> Result<Noise, Error> {
@@ -37,6 +44,20 @@ fn shots_sigma(args: &ShotsArgs, scenario: &StudyConfig) -> Result<Noise, Error>
     Ok(sigma)
 }
 
+/// The scenario the arguments name: TOML, a reference-format `.json`, or the built-in one.
+fn read_scenario(path: Option<&Path>) -> Result<StudyConfig, Error> {
+    match path {
+        Some(p)
+            if p.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("json")) =>
+        {
+            StudyConfig::read_reference(p)
+        }
+        Some(p) => StudyConfig::read(p),
+        None => Ok(StudyConfig::builtin()),
+    }
+}
+
 pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
     if let Some(out) = &args.output {
         check_output(out, "-o", &["csv"])?;
@@ -44,50 +65,98 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
     if let Some(plot) = &args.plot {
         check_output(plot, "--plot", &["png"])?;
     }
-    let scenario = match &args.scenario {
-        Some(path) => StudyConfig::read(path)?,
-        None => StudyConfig::builtin(),
-    };
+    if !(args.max_time.is_finite() && args.max_time > 0.0) {
+        return Err(Error::Unsupported(format!(
+            "invalid --max-time {}: it must be finite and greater than 0",
+            args.max_time
+        )));
+    }
+    let scenario = read_scenario(args.scenario.as_deref())?;
     let sigma = shots_sigma(args, &scenario)?;
-    let mut engine = open_engine(args.backend, args.precision, args.verbose)?;
-    let n = args.samples as usize;
+    // the given strikes (and their sample ids), or none for a noisy study
+    let given: Option<(Vec<i64>, Vec<CueStrike>)> = match &args.strikes {
+        Some(path) => {
+            let rows = read_sample_strikes(path)?;
+            Some(rows.iter().map(|r| (r.sample, r.strike)).unzip())
+        }
+        None => None,
+    };
+    let options = RunOptions {
+        until: match args.until {
+            UntilArg::Rest => Until::Rest,
+            UntilArg::FirstContact => Until::FirstContact,
+        },
+        limits: Limits {
+            max_events: usize::try_from(args.max_events).unwrap_or(usize::MAX),
+            max_time: args.max_time,
+        },
+    };
+    let n = given
+        .as_ref()
+        .map_or(args.samples as usize, |(ids, _)| ids.len());
+    if args.verbose {
+        eprintln!(
+            "kisstime: {n} samples of {} ({} balls, table {}), {} threads",
+            scenario.source,
+            scenario.balls.len(),
+            scenario.table_name,
+            rayon::current_num_threads()
+        );
+    }
     let started = std::time::Instant::now();
-    let bar = Progress::new("shots", n as u64, "samples", n >= 100_000);
-    let samples = run_study(
-        &scenario,
-        &sigma,
-        n,
-        args.seed,
-        &mut engine,
-        &mut |done, _| bar.set(done as u64),
-    );
+    let bar = Progress::new("shots", n as u64, "samples", n >= SHOW_SAMPLES);
+    let mut progress = |done: usize, _: usize| bar.set(done as u64);
+    let samples = match &given {
+        Some((_, strikes)) => run_strikes(&scenario, strikes, &options, &mut progress),
+        None => run_study(&scenario, &sigma, n, args.seed, &options, &mut progress),
+    };
     bar.done();
     let seconds = started.elapsed().as_secs_f64();
-    print_notes(&mut engine);
     let samples = samples?;
-    let summary = Summary::of(&scenario, &samples);
-    let text = format!(
-        "kisstime shots: {}\n{n} samples, seed {}; noise σ: v0 {} m/s, phi {}°, theta {}°, \
-         a {} mm, b {} mm\n\n{}\n{n} samples in {seconds:.3} s: {:.0} samples/s on {}\n",
-        scenario.source,
-        args.seed,
-        sigma.v0,
-        sigma.phi,
-        sigma.theta,
-        1e3 * sigma.a,
-        1e3 * sigma.b,
-        summary_text(&summary),
-        n as f64 / seconds,
-        engine.describe()
-    );
-    write_output(None, |w| w.write_all(text.as_bytes()).map_err(output_error))?;
+    let summary = Summary::of(&scenario, &samples, options.until);
+    let ids: Vec<i64> = match &given {
+        Some((ids, _)) => ids.clone(),
+        None => (0..n as i64).collect(),
+    };
+    let run = Run {
+        scenario: &scenario,
+        sigma: given.is_none().then_some(sigma),
+        seed: args.seed,
+        strikes: args.strikes.as_deref(),
+        seconds,
+        threads: rayon::current_num_threads(),
+    };
+    let report = if args.json {
+        summary_json(&run, &summary) + "\n"
+    } else {
+        summary_text(&run, &summary)
+    };
+    // the files first, so that a failure leaves no summary claiming them: the picture is
+    // drawn before anything is written, and if the second file fails the first one, when
+    // this run created it, is removed again
+    let png = match &args.plot {
+        Some(_) => Some(render_png(&scenario, &samples, &summary)?),
+        None => None,
+    };
+    let mut written: Option<&Path> = None;
+    if let (Some(path), Some(png)) = (&args.plot, &png) {
+        let new = !path.exists();
+        write_output(Some(path), |w| w.write_all(png).map_err(output_error))?;
+        written = new.then_some(path.as_path());
+    }
     if let Some(path) = &args.output {
-        write_output(Some(path), |w| {
-            write_samples_csv(w, &scenario, &sigma, args.seed, &samples).map_err(output_error)
-        })?;
+        let result = write_output(Some(path), |w| {
+            write_samples_csv(w, &scenario, &ids, &samples, options.until).map_err(output_error)
+        });
+        if result.is_err()
+            && let Some(first) = written
+        {
+            let _ = std::fs::remove_file(first);
+        }
+        result?;
     }
-    if let Some(path) = &args.plot {
-        write_study_png(path, &scenario, &samples, &summary)?;
-    }
+    write_output(None, |w| {
+        w.write_all(report.as_bytes()).map_err(output_error)
+    })?;
     Ok(())
 }

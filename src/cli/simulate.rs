@@ -7,10 +7,10 @@ use std::path::{Path, PathBuf};
 use kisstime::io::Format;
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
+use kisstime::io::table_json::table_by_name;
 use kisstime::io::{output_error, write_output};
-use kisstime::model::PocketTableSpecs;
 use kisstime::simulate::{
-    BallState, BatchError, BatchOptions, Limits, SimError, SimParams, Table, simulate_batch,
+    BallState, BatchError, BatchOptions, Limits, SimError, SimParams, simulate_batch,
 };
 use kisstime::{Batch, Error, InputError};
 
@@ -21,24 +21,6 @@ use super::shot_plot::render_shot_png;
 
 /// Tables from which a progress bar is shown (on a terminal).
 const SHOW_TABLES: usize = 20_000;
-
-/// The table `--table` names: `9ft`, `rectangle` or a JSON file.
-fn read_table(arg: &str) -> Result<Table, Error> {
-    match arg {
-        "9ft" => Ok(Table::nine_foot()),
-        "rectangle" => {
-            let s = PocketTableSpecs::default();
-            Table::rectangle(s.w, s.l, s.cushion_height).map_err(Error::from)
-        }
-        path => {
-            let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-                path: path.to_owned(),
-                source,
-            })?;
-            Table::from_json(&text).map_err(|e| InputError::new(e.to_string()).in_file(path).into())
-        }
-    }
-}
 
 /// A bad table found while simulating, as an input error naming the file, the line, the
 /// table and the ball.
@@ -165,7 +147,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             check_output(path, flag, &["csv", "npy"])?;
         }
     }
-    let table = read_table(&args.table)?;
+    let table = table_by_name(&args.table)?;
     let params = SimParams::default();
     let batch = read_input(&args.input)?;
     let plotted = match &args.plot {

@@ -21,6 +21,21 @@ use crate::resolve::stick_ball::CueStrike;
 /// The strike file's columns, in order.
 pub const STRIKE_COLUMNS: [&str; 7] = ["table", "ball", "V0", "phi", "theta", "a", "b"];
 
+/// The columns of a shot study's strike file (`kisstime shots --strikes`), in order: the
+/// sample id, then the strike as in [`STRIKE_COLUMNS`].
+pub const SAMPLE_STRIKE_COLUMNS: [&str; 6] = ["sample", "V0", "phi", "theta", "a", "b"];
+
+/// One strike of a study's strike file.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleStrike {
+    /// The sample id.
+    pub sample: i64,
+    /// The strike, checked ([`CueStrike::validate`]).
+    pub strike: CueStrike,
+    /// Where it was read: the 1-based line (CSV) or the 0-based row (`.npy`).
+    pub at: u64,
+}
+
 /// One strike as read.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StrikeRow {
@@ -48,8 +63,19 @@ mod record {
         pub a: f64,
         pub b: f64,
     }
+
+    /// One strike of a study's file, a row of its structured `.npy` layout.
+    #[derive(npyz::Deserialize, npyz::AutoSerialize, npyz::Serialize)]
+    pub(super) struct SampleRecord {
+        pub sample: i64,
+        pub V0: f64,
+        pub phi: f64,
+        pub theta: f64,
+        pub a: f64,
+        pub b: f64,
+    }
 }
-use record::StrikeRecord;
+use record::{SampleRecord, StrikeRecord};
 
 /// Locates an error at `at` of `file` in the unit of `format` (line or row).
 pub fn locate(e: InputError, file: &str, format: Format, at: u64) -> InputError {
@@ -70,12 +96,75 @@ pub fn read_strikes(path: &Path) -> Result<Vec<StrikeRow>, Error> {
     let file = std::fs::File::open(path).map_err(io)?;
     let reader = std::io::BufReader::new(file);
     match Format::of(Some(path)) {
-        Format::Csv => read_csv(reader, &name),
-        Format::Npy => read_npy(reader, &name),
+        Format::Csv => read_csv(reader, &name, &STRIKE_COLUMNS),
+        Format::Npy => read_npy(reader, &name, &STRIKE_COLUMNS),
     }
 }
 
-fn read_csv(reader: impl std::io::Read, file: &str) -> Result<Vec<StrikeRow>, Error> {
+/// Reads a shot study's strike file ([`SAMPLE_STRIKE_COLUMNS`]; CSV, or `.npy` when its
+/// name says so: a 1-D structured array with those fields, `sample` an integer, or a 2-D
+/// float64 array of shape (N, 6)). Every strike is checked ([`CueStrike::validate`]: finite,
+/// V0 ≥ 0, the tip on the ball) and sample ids must not repeat; errors name the file, the
+/// line or row and the sample.
+pub fn read_sample_strikes(path: &Path) -> Result<Vec<SampleStrike>, Error> {
+    let name = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|source| Error::Io {
+        path: name.clone(),
+        source,
+    })?;
+    let reader = std::io::BufReader::new(file);
+    let format = Format::of(Some(path));
+    let rows = match format {
+        Format::Csv => read_csv(reader, &name, &SAMPLE_STRIKE_COLUMNS)?,
+        Format::Npy => read_npy(reader, &name, &SAMPLE_STRIKE_COLUMNS)?,
+    };
+    sample_strikes(rows, &name, format)
+}
+
+/// Checks the rows of a study's strike file (see [`read_sample_strikes`]).
+fn sample_strikes(
+    rows: Vec<StrikeRow>,
+    file: &str,
+    format: Format,
+) -> Result<Vec<SampleStrike>, Error> {
+    let mut seen: HashMap<i64, u64> = HashMap::with_capacity(rows.len());
+    let mut out = Vec::with_capacity(rows.len());
+    for r in rows {
+        let at = |msg: String| {
+            Error::from(locate(
+                InputError::new(format!("sample {}: {msg}", r.table)),
+                file,
+                format,
+                r.at,
+            ))
+        };
+        if let Some(first) = seen.insert(r.table, r.at) {
+            let unit = if format == Format::Csv { "line" } else { "row" };
+            return Err(at(format!("the sample id is also on {unit} {first}")));
+        }
+        r.strike.validate().map_err(|e| at(e.to_string()))?;
+        out.push(SampleStrike {
+            sample: r.table,
+            strike: r.strike,
+            at: r.at,
+        });
+    }
+    if out.is_empty() {
+        return Err(InputError::new("no strikes: the file has no rows")
+            .in_file(file)
+            .into());
+    }
+    Ok(out)
+}
+
+/// Reads CSV rows of `columns`: [`STRIKE_COLUMNS`] (table and ball ids) or
+/// [`SAMPLE_STRIKE_COLUMNS`] (a sample id, returned as the row's `table`, `ball` = 0).
+fn read_csv(
+    reader: impl std::io::Read,
+    file: &str,
+    columns: &[&str],
+) -> Result<Vec<StrikeRow>, Error> {
+    let ids = columns.len() - 5;
     let err =
         |line: u64, msg: String| Error::from(locate(InputError::new(msg), file, Format::Csv, line));
     let mut rdr = csv::ReaderBuilder::new()
@@ -92,12 +181,12 @@ fn read_csv(reader: impl std::io::Read, file: &str) -> Result<Vec<StrikeRow>, Er
         return Err(err(1, "the file is empty; expected the header line".into()));
     }
     let header: Vec<&str> = rec.iter().collect();
-    if header != STRIKE_COLUMNS {
+    if header != columns {
         return Err(err(
             1,
             format!(
                 "the header must be {} (found {})",
-                STRIKE_COLUMNS.join(","),
+                columns.join(","),
                 header.join(",")
             ),
         ));
@@ -105,48 +194,52 @@ fn read_csv(reader: impl std::io::Read, file: &str) -> Result<Vec<StrikeRow>, Er
     let mut rows = Vec::new();
     while rdr.read_record(&mut rec).map_err(bad_csv)? {
         let line = rec.position().map_or(0, |p| p.line());
-        if rec.len() != STRIKE_COLUMNS.len() {
+        if rec.len() != columns.len() {
             return Err(err(
                 line,
                 format!(
                     "expected {} fields ({}), found {}",
-                    STRIKE_COLUMNS.len(),
-                    STRIKE_COLUMNS.join(","),
+                    columns.len(),
+                    columns.join(","),
                     rec.len()
                 ),
             ));
         }
-        let table: i64 = rec[0]
-            .parse()
-            .map_err(|_| err(line, format!("table id {:?} is not an integer", &rec[0])))?;
-        let ball: i64 = rec[1].parse().map_err(|_| {
-            Error::from(
-                locate(
-                    InputError::new(format!("ball id {:?} is not an integer", &rec[1])),
-                    file,
-                    Format::Csv,
-                    line,
-                )
-                .at_table(table),
+        let table: i64 = rec[0].parse().map_err(|_| {
+            err(
+                line,
+                format!("{} id {:?} is not an integer", columns[0], &rec[0]),
             )
         })?;
-        let mut v = [0.0f64; 5];
-        for (k, x) in v.iter_mut().enumerate() {
-            let text = &rec[2 + k];
-            *x = text.parse().map_err(|_| {
+        let ball: i64 = if ids == 1 {
+            0
+        } else {
+            rec[1].parse().map_err(|_| {
                 Error::from(
                     locate(
-                        InputError::new(format!(
-                            "{} {text:?} is not a number",
-                            STRIKE_COLUMNS[2 + k]
-                        )),
+                        InputError::new(format!("ball id {:?} is not an integer", &rec[1])),
                         file,
                         Format::Csv,
                         line,
                     )
-                    .at_table(table)
-                    .at_ball(ball),
+                    .at_table(table),
                 )
+            })?
+        };
+        let mut v = [0.0f64; 5];
+        for (k, x) in v.iter_mut().enumerate() {
+            let text = &rec[ids + k];
+            *x = text.parse().map_err(|_| {
+                let e = InputError::new(format!("{} {text:?} is not a number", columns[ids + k]));
+                let e = locate(e, file, Format::Csv, line);
+                Error::from(if ids == 1 {
+                    InputError {
+                        message: format!("sample {table}: {}", e.message),
+                        ..e
+                    }
+                } else {
+                    e.at_table(table).at_ball(ball)
+                })
             })?;
         }
         rows.push(row(table, ball, v, line));
@@ -170,14 +263,23 @@ fn row(table: i64, ball: i64, v: [f64; 5], at: u64) -> StrikeRow {
     }
 }
 
-fn read_npy(reader: impl std::io::Read, file: &str) -> Result<Vec<StrikeRow>, Error> {
+/// Reads `.npy` rows of `columns` (as [`read_csv`]).
+fn read_npy(
+    reader: impl std::io::Read,
+    file: &str,
+    columns: &[&str],
+) -> Result<Vec<StrikeRow>, Error> {
+    let ids = columns.len() - 5;
     let bad = |msg: String| Error::from(InputError::new(msg).in_file(file));
     let npy =
         npyz::NpyFile::new(reader).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
     let expected = format!(
-        "expected a 1-D structured array with fields {} (table, ball integers), or a 2-D \
-         float64 array of shape (N, 7)",
-        STRIKE_COLUMNS.join(",")
+        "expected a 1-D structured array with fields {} ({} integer{}), or a 2-D float64 \
+         array of shape (N, {})",
+        columns.join(","),
+        columns[..ids].join(", "),
+        if ids == 1 { "" } else { "s" },
+        columns.len()
     );
     let shape = npy.shape().to_vec();
     let read_err = |row: u64, e: std::io::Error| {
@@ -189,7 +291,7 @@ fn read_npy(reader: impl std::io::Read, file: &str) -> Result<Vec<StrikeRow>, Er
     };
     let mut rows = Vec::new();
     match npy.dtype() {
-        npyz::DType::Record(_) if shape.len() == 1 => {
+        npyz::DType::Record(_) if shape.len() == 1 && ids == 2 => {
             let data = npy
                 .data::<StrikeRecord>()
                 .map_err(|e| bad(format!("{expected}: {e}")))?;
@@ -198,11 +300,20 @@ fn read_npy(reader: impl std::io::Read, file: &str) -> Result<Vec<StrikeRow>, Er
                 rows.push(row(s.table, s.ball, [s.V0, s.phi, s.theta, s.a, s.b], r));
             }
         }
-        npyz::DType::Plain(_) if shape.len() == 2 && shape[1] == 7 => {
+        npyz::DType::Record(_) if shape.len() == 1 => {
+            let data = npy
+                .data::<SampleRecord>()
+                .map_err(|e| bad(format!("{expected}: {e}")))?;
+            for (r, rec) in (0u64..).zip(data) {
+                let s = rec.map_err(|e| read_err(r, e))?;
+                rows.push(row(s.sample, 0, [s.V0, s.phi, s.theta, s.a, s.b], r));
+            }
+        }
+        npyz::DType::Plain(_) if shape.len() == 2 && shape[1] == columns.len() as u64 => {
             let data: Vec<f64> = npy
                 .into_vec()
                 .map_err(|e| bad(format!("{expected}: {e}")))?;
-            for (r, v) in (0u64..).zip(data.chunks_exact(7)) {
+            for (r, v) in (0u64..).zip(data.chunks_exact(columns.len())) {
                 let id = |x: f64, what: &str| {
                     if x.fract() == 0.0 && x.abs() < 9.0e15 {
                         Ok(x as i64)
@@ -214,9 +325,10 @@ fn read_npy(reader: impl std::io::Read, file: &str) -> Result<Vec<StrikeRow>, Er
                         ))
                     }
                 };
-                let table = id(v[0], "table")?;
-                let ball = id(v[1], "ball")?;
-                rows.push(row(table, ball, [v[2], v[3], v[4], v[5], v[6]], r));
+                let table = id(v[0], columns[0])?;
+                let ball = if ids == 2 { id(v[1], "ball")? } else { 0 };
+                let f = &v[ids..];
+                rows.push(row(table, ball, [f[0], f[1], f[2], f[3], f[4]], r));
             }
         }
         other => {
@@ -277,6 +389,50 @@ mod tests {
     use super::*;
     use crate::model::Ball;
 
+    fn samples(text: &str) -> Result<Vec<SampleStrike>, Error> {
+        let rows = read_csv(text.as_bytes(), "k.csv", &SAMPLE_STRIKE_COLUMNS)?;
+        sample_strikes(rows, "k.csv", Format::Csv)
+    }
+
+    #[test]
+    fn sample_strikes_are_read_and_bad_ones_named() {
+        let ok =
+            samples("sample,V0,phi,theta,a,b\n7,1.5,201.75,5,0,0.2\n2,1,90,0,0.1,0\n").unwrap();
+        assert_eq!((ok[0].sample, ok[0].strike.phi, ok[0].at), (7, 201.75, 2));
+        assert_eq!((ok[1].sample, ok[1].strike.a), (2, 0.1));
+        for (bad, want) in [
+            (
+                "1,1.5,90,0,0.8,0.8",
+                "k.csv, line 2: sample 1: strike: a² + b² > 1",
+            ),
+            ("1,-1,90,0,0,0", "line 2: sample 1: strike: V0 = -1 < 0"),
+            (
+                "1,x,90,0,0,0",
+                "k.csv, line 2: sample 1: V0 \"x\" is not a number",
+            ),
+            ("q,1,90,0,0,0", "line 2: sample id \"q\" is not an integer"),
+            ("1,1,90,0,0", "line 2: expected 6 fields"),
+            (
+                "1,1,90,0,0,0\n1,1,90,0,0,0",
+                "line 3: sample 1: the sample id is also on line 2",
+            ),
+        ] {
+            let err = samples(&format!("sample,V0,phi,theta,a,b\n{bad}\n")).unwrap_err();
+            assert!(err.to_string().contains(want), "{bad}: {err}");
+        }
+        let err = samples("table,ball,V0,phi,theta,a,b\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("line 1: the header must be sample,V0,phi,theta,a,b"),
+            "{err}"
+        );
+        let err = samples("sample,V0,phi,theta,a,b\n")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("no strikes"), "{err}");
+    }
+
     #[test]
     fn strikes_are_matched_and_bad_ones_named() {
         let mut batch = Batch::new();
@@ -289,7 +445,7 @@ mod tests {
                 .unwrap();
         }
         let text = "table,ball,V0,phi,theta,a,b\n3,4,2,90,0,0.1,0.2\n";
-        let rows = read_csv(text.as_bytes(), "s.csv").unwrap();
+        let rows = read_csv(text.as_bytes(), "s.csv", &STRIKE_COLUMNS).unwrap();
         let m = match_strikes(&batch, &rows, "s.csv", Format::Csv).unwrap();
         // table 3 was pushed first
         assert_eq!(m[0].map(|s| s.0), Some(1));
@@ -308,14 +464,14 @@ mod tests {
             ("3,4,2,90,0,0\n", "line 2: expected 7 fields"),
         ] {
             let text = format!("table,ball,V0,phi,theta,a,b\n{bad}\n");
-            let err = read_csv(text.as_bytes(), "s.csv")
+            let err = read_csv(text.as_bytes(), "s.csv", &STRIKE_COLUMNS)
                 .and_then(|rows| match_strikes(&batch, &rows, "s.csv", Format::Csv))
                 .unwrap_err()
                 .to_string();
             assert!(err.contains(want), "{bad}: {err}");
         }
         let twice = "table,ball,V0,phi,theta,a,b\n1,0,2,90,0,0,0\n1,4,2,90,0,0,0\n";
-        let rows = read_csv(twice.as_bytes(), "s.csv").unwrap();
+        let rows = read_csv(twice.as_bytes(), "s.csv", &STRIKE_COLUMNS).unwrap();
         let err = match_strikes(&batch, &rows, "s.csv", Format::Csv)
             .unwrap_err()
             .to_string();

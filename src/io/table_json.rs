@@ -6,9 +6,11 @@
 
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
-use crate::error::SimError;
+use crate::error::{Error, InputError, SimError};
 use crate::model::table::MAX_TABLE_ITEMS;
-use crate::model::table::{CircularCushion, LinearCushion, POCKET_DEPTH, Pocket, Table};
+use crate::model::table::{
+    CircularCushion, LinearCushion, POCKET_DEPTH, Pocket, PocketTableSpecs, Table,
+};
 use crate::model::vec3::Vec3;
 
 /// A JSON value with its objects in text order (repeated keys kept).
@@ -97,6 +99,27 @@ impl<'de> Visitor<'de> for JsonVisitor {
             items.push((k, v));
         }
         Ok(Json::Obj(items))
+    }
+}
+
+/// The table a name gives, as `kisstime simulate --table` and a study's `[table]` take
+/// it: `9ft` is pooltool's 9-ft pocket table ([`Table::nine_foot`]), `rectangle` its
+/// playing surface with four plain rails and no pockets, and anything else the path of a
+/// JSON table ([`Table::from_json`]). Errors name the file.
+pub fn table_by_name(name: &str) -> Result<Table, Error> {
+    match name {
+        "9ft" => Ok(Table::nine_foot()),
+        "rectangle" => {
+            let s = PocketTableSpecs::default();
+            Table::rectangle(s.w, s.l, s.cushion_height).map_err(Error::from)
+        }
+        path => {
+            let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+                path: path.to_owned(),
+                source,
+            })?;
+            Table::from_json(&text).map_err(|e| InputError::new(e.to_string()).in_file(path).into())
+        }
     }
 }
 

@@ -65,7 +65,8 @@ impl Default for BallParams {
 
 impl BallParams {
     /// Checks that every constant is finite, the positive ones (m, R, μ_s, μ_r, μ_sp, g)
-    /// strictly positive, and the restitutions and friction coefficients in `[0, 1]`
+    /// strictly positive, as are the decelerations μ_s g, μ_r g, μ_sp g (no underflow to 0),
+    /// and the restitutions and friction coefficients in `[0, 1]`
     /// (restitution) or `≥ 0` (friction). The error names the first bad field.
     pub fn validate(&self) -> Result<(), SimError> {
         for (name, v) in [
@@ -75,6 +76,16 @@ impl BallParams {
             ("u_r", self.u_r),
             ("u_sp", self.u_sp),
             ("g", self.g),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(SimError::Param { name, value: v });
+            }
+        }
+        // each is positive; their products, the decelerations, must not underflow to 0
+        for (name, v) in [
+            ("u_s * g", self.u_s * self.g),
+            ("u_r * g", self.u_r * self.g),
+            ("u_sp * g", self.u_sp * self.g),
         ] {
             if !(v.is_finite() && v > 0.0) {
                 return Err(SimError::Param { name, value: v });

@@ -1,36 +1,50 @@
-//! A shot study's configuration: one table, one intended shot and the cue noise, as a
-//! TOML file (the "scenario" file of `kisstime shots`).
+//! A shot study's configuration: one table, one layout, one intended shot, the cue noise
+//! and, optionally, where the cue ball should end up, as a TOML file (the "scenario" of
+//! `kisstime shots`).
 //!
+//! The frame is the simulator's, pooltool's: on the 9-ft table x runs **across** (0 to
+//! w = 1.27 m) and y **along** (0 to l = 2.54 m), the origin at a corner of the playing
+//! surface (the cushion noses), the head rail at y = 0; angles counter-clockwise from +x.
 //! The format (every length in metres, angles in degrees; `examples/study.toml` is the
 //! built-in study and a complete example):
 //!
 //! ```toml
-//! [table]            # the playing area between the cushion noses: [0, length] × [0, width]
-//! length = 2.54
-//! width = 1.27
+//! [table]            # optional: "9ft" (the default), "rectangle", or a JSON table file
+//! kind = "9ft"       #   (the format of shared/fullshots/table.json; relative paths are
+//!                    #   taken from the study file's folder)
 //!
-//! [physics]          # optional, each key too: pooltool's defaults
+//! [physics]          # optional, each key too: pooltool 0.6.0's defaults
 //! radius = 0.028575
-//! mu_s = 0.2
-//! mu_r = 0.01
-//! mu_sp = 0.0126873  # default 0.444 × radius
-//! g = 9.81
 //! ball_mass = 0.170097
+//! mu_s = 0.2         # sliding friction
+//! mu_r = 0.01        # rolling resistance
+//! mu_sp = 0.0127     # spinning friction, a length (default 0.444 × radius)
+//! e_b = 0.95         # ball–ball restitution
+//! e_c = 0.85         # cushion restitution
+//! f_c = 0.2          # cushion friction
+//! g = 9.81
 //! cue_mass = 0.567
+//! cue_end_mass = 0.0056699   # squirt (default ball_mass / 30)
 //!
-//! [[balls]]          # two or more; centres within the table, no two overlapping
-//! id = 0
-//! x = 0.6
-//! y = 0.4
+//! [[balls]]          # two or more, in pooltool's ball order (it decides exact ties);
+//! id = "cue"         # ids are names or integers
+//! x = 1.18
+//! y = 1.19
 //!
-//! [shot]
-//! cue_ball = 0       # the ball the cue strikes
-//! object_ball = 1    # the ball the player means to hit first
+//! [shot]             # pooltool's Cue.set_state conventions (see `CueStrike`)
+//! cue_ball = "cue"   # the ball the cue strikes
+//! object_ball = "7"  # the ball the player means to pot
+//! pocket = "lb"      # optional: the pocket it is called in (a pocket id of the table)
 //! v0 = 1.5           # cue speed, m/s
-//! phi = 20.0         # aim: direction of travel, counterclockwise from +x
+//! phi = 201.75       # stroke azimuth
 //! theta = 5.0        # cue elevation
-//! a = 0.0            # tip offset sideways (fraction of R, + = shooter's left)
-//! b = 0.2            # tip offset up (fraction of R, + = follow, − = draw)
+//! a = 0.0            # tip contact point sideways, fraction of R (+ = shooter's left)
+//! b = 0.2            # tip contact point up, fraction of R (+ = follow, − = draw)
+//!
+//! [target]           # optional: position play, the circle the cue ball should stop in
+//! x = 1.0
+//! y = 1.3
+//! radius = 0.2
 //!
 //! [noise]            # optional, each key too: the standard deviations, times `factor`
 //! factor = 1.0
@@ -42,18 +56,18 @@
 //! ```
 //!
 //! Unknown keys, missing keys, numbers that are not finite, balls that overlap or lie off
-//! the table, a negative speed … are [`Error::Input`] errors naming the file, the key and,
-//! where it applies, the ball.
+//! the table, a strike off the ball, an unknown pocket … are [`Error::Input`] errors naming
+//! the file, the key and, where it applies, the ball.
 
 use serde::Deserialize;
 
-use super::rectangle::Rectangle;
-use super::strike::{DEFAULT_BALL_MASS, DEFAULT_CUE_MASS, Masses, Strike};
-use crate::error::{Error, InputError};
-use crate::model::{
-    Ball, DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS, Params,
-};
-use crate::query::ball_ball::CONTACT_TOL;
+use crate::error::{Error, InputError, SimError};
+use crate::io::table_json::table_by_name;
+use crate::model::ball_state::BallState;
+use crate::model::sim_params::{BallParams, CueParams, SimParams};
+use crate::model::table::Table;
+use crate::resolve::stick_ball::CueStrike;
+use crate::simulate::check::check_layout;
 
 /// The built-in study, `examples/study.toml`, as text.
 pub const BUILTIN_TOML: &str = include_str!("../../examples/study.toml");
@@ -122,14 +136,32 @@ impl Noise {
 }
 
 /// A ball of the layout.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Spot {
-    /// Ball id.
-    pub id: i64,
+    /// Ball id (a name, or an integer written as text).
+    pub id: String,
     /// Centre, x (m).
     pub x: f64,
     /// Centre, y (m).
     pub y: f64,
+}
+
+/// Position play: the circle the cue ball should come to rest in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Target {
+    /// Centre, x (m).
+    pub x: f64,
+    /// Centre, y (m).
+    pub y: f64,
+    /// Radius (m).
+    pub radius: f64,
+}
+
+impl Target {
+    /// Whether `(x, y)` lies in the circle (its edge included).
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        (x - self.x).powi(2) + (y - self.y).powi(2) <= self.radius * self.radius
+    }
 }
 
 /// A validated shot study (module docs).
@@ -137,61 +169,87 @@ pub struct Spot {
 pub struct StudyConfig {
     /// Where errors are reported from: the file name or [`BUILTIN_NAME`].
     pub source: String,
-    /// The playing area.
-    pub table: Rectangle,
-    /// Ball radius and friction.
-    pub params: Params,
-    /// Ball and cue mass.
-    pub masses: Masses,
-    /// The balls, in file order.
+    /// The table's name as the file gives it (`9ft`, `rectangle`, a file).
+    pub table_name: String,
+    /// The table.
+    pub table: Table,
+    /// The balls', cue's and resolver's constants.
+    pub params: SimParams,
+    /// The balls, in file order (pooltool's ball order).
     pub balls: Vec<Spot>,
-    /// The cue ball's id.
-    pub cue_ball: i64,
-    /// The intended object ball's id.
-    pub object_ball: i64,
+    /// The cue ball's index in `balls`.
+    pub cue: usize,
+    /// The intended object ball's index in `balls`.
+    pub intended: usize,
+    /// The pocket it is called in: an index into `table.pockets`.
+    pub pocket: Option<usize>,
     /// The intended strike.
-    pub shot: Strike,
+    pub shot: CueStrike,
+    /// Where the cue ball should stop, if the study says.
+    pub target: Option<Target>,
     /// The file's noise scale factor.
     pub noise_factor: f64,
     /// The file's standard deviations (before `noise_factor`).
     pub noise: Noise,
 }
 
+/// A ball id in TOML: a name or an integer.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawId {
+    Int(i64),
+    Name(String),
+}
+
+impl RawId {
+    fn text(&self) -> String {
+        match self {
+            RawId::Int(i) => i.to_string(),
+            RawId::Name(s) => s.clone(),
+        }
+    }
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawFile {
+    #[serde(default)]
     table: RawTable,
     #[serde(default)]
     physics: RawPhysics,
     balls: Vec<RawBall>,
     shot: RawShot,
+    target: Option<RawTarget>,
     #[serde(default)]
     noise: RawNoise,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawTable {
-    length: f64,
-    width: f64,
+    kind: Option<String>,
 }
 
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawPhysics {
     radius: Option<f64>,
+    ball_mass: Option<f64>,
     mu_s: Option<f64>,
     mu_r: Option<f64>,
     mu_sp: Option<f64>,
+    e_b: Option<f64>,
+    e_c: Option<f64>,
+    f_c: Option<f64>,
     g: Option<f64>,
-    ball_mass: Option<f64>,
     cue_mass: Option<f64>,
+    cue_end_mass: Option<f64>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawBall {
-    id: i64,
+    id: RawId,
     x: f64,
     y: f64,
 }
@@ -199,13 +257,22 @@ struct RawBall {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawShot {
-    cue_ball: i64,
-    object_ball: i64,
+    cue_ball: RawId,
+    object_ball: RawId,
+    pocket: Option<String>,
     v0: f64,
     phi: f64,
     theta: f64,
     a: f64,
     b: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTarget {
+    x: f64,
+    y: f64,
+    radius: f64,
 }
 
 #[derive(Deserialize, Default)]
@@ -219,64 +286,65 @@ struct RawNoise {
     b: Option<f64>,
 }
 
+/// What [`StudyConfig::assemble`] builds a study from: the parts every scenario format
+/// gives, with the keys to name in errors.
+pub(crate) struct Parts {
+    pub source: String,
+    pub table_name: String,
+    pub table: Table,
+    pub params: SimParams,
+    pub balls: Vec<Spot>,
+    pub cue: String,
+    pub intended: String,
+    pub pocket: Option<String>,
+    pub shot: CueStrike,
+    pub target: Option<Target>,
+    pub noise_factor: f64,
+    pub noise: Noise,
+    /// The keys of the cue ball, the object ball and the pocket, and the balls' list.
+    pub keys: Keys,
+}
+
+/// The names a format gives its keys, for error messages.
+pub(crate) struct Keys {
+    pub cue: &'static str,
+    pub intended: &'static str,
+    pub pocket: &'static str,
+    pub balls: &'static str,
+    pub shot: &'static str,
+}
+
 impl StudyConfig {
     /// The built-in study (`examples/study.toml`, compiled in).
     pub fn builtin() -> StudyConfig {
-        StudyConfig::parse(BUILTIN_TOML, BUILTIN_NAME).expect("the built-in study is valid")
+        StudyConfig::parse(BUILTIN_TOML, BUILTIN_NAME, None).expect("the built-in study is valid")
     }
 
-    /// Reads and validates a scenario file.
+    /// Reads and validates a scenario file (a table file it names is taken relative to
+    /// the scenario's folder).
     pub fn read(path: &std::path::Path) -> Result<StudyConfig, Error> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
             path: path.display().to_string(),
             source,
         })?;
-        StudyConfig::parse(&text, &path.display().to_string())
+        StudyConfig::parse(&text, &path.display().to_string(), path.parent())
     }
 
-    /// Parses and validates scenario text; errors name `source` as the file.
-    pub fn parse(text: &str, source: &str) -> Result<StudyConfig, Error> {
-        let raw: RawFile = toml::from_str(text).map_err(|e| {
-            let mut message = e.message().trim().to_owned();
-            let mut line = None;
-            if let Some(span) = e.span() {
-                let start = span.start.min(text.len());
-                line = Some(text[..start].matches('\n').count() as u64 + 1);
-                // name the offending text when the message does not (e.g. "duplicate key")
-                let at = text
-                    .get(start..span.end.min(text.len()))
-                    .and_then(|t| t.lines().next())
-                    .unwrap_or("")
-                    .trim();
-                if !at.is_empty() && at.len() <= 60 && !message.contains(at) {
-                    message = format!("{message} (at `{at}`)");
-                }
-            }
-            let mut ie = InputError::new(message).in_file(source);
-            if let Some(line) = line {
-                ie = ie.at_line(line);
-            }
-            Error::from(ie)
-        })?;
+    /// Parses and validates scenario text; errors name `source` as the file. A table file
+    /// is looked for relative to `dir` (the working directory when `None`).
+    pub fn parse(
+        text: &str,
+        source: &str,
+        dir: Option<&std::path::Path>,
+    ) -> Result<StudyConfig, Error> {
+        let raw: RawFile = toml::from_str(text).map_err(|e| toml_error(&e, text, source))?;
         let err = |msg: String| Error::from(InputError::new(msg).in_file(source));
-        let ball_err =
-            |id: i64, msg: String| Error::from(InputError::new(msg).in_file(source).at_ball(id));
-
         let finite = |key: &str, v: f64| -> Result<f64, Error> {
             if v.is_finite() {
                 Ok(v)
             } else {
                 Err(err(format!(
                     "key `{key}` is {v}, it must be a finite number"
-                )))
-            }
-        };
-        let positive = |key: &str, v: f64| -> Result<f64, Error> {
-            if v.is_finite() && v > 0.0 {
-                Ok(v)
-            } else {
-                Err(err(format!(
-                    "key `{key}` is {v}, it must be finite and greater than 0"
                 )))
             }
         };
@@ -290,135 +358,50 @@ impl StudyConfig {
             }
         };
 
-        let ph = &raw.physics;
-        let radius = positive("physics.radius", ph.radius.unwrap_or(DEFAULT_RADIUS))?;
-        let params = Params {
-            radius,
-            mu_s: positive("physics.mu_s", ph.mu_s.unwrap_or(DEFAULT_MU_S))?,
-            mu_r: positive("physics.mu_r", ph.mu_r.unwrap_or(DEFAULT_MU_R))?,
-            mu_sp: positive(
-                "physics.mu_sp",
-                ph.mu_sp.unwrap_or(DEFAULT_MU_SP_PER_RADIUS * radius),
-            )?,
-            g: positive("physics.g", ph.g.unwrap_or(DEFAULT_G))?,
-        };
-        // each key is fine; their products (the decelerations) must be too
-        params
-            .validate()
-            .map_err(|e| err(format!("keys of `physics`: {e}")))?;
-        let masses = Masses {
-            ball: positive(
-                "physics.ball_mass",
-                ph.ball_mass.unwrap_or(DEFAULT_BALL_MASS),
-            )?,
-            cue: positive("physics.cue_mass", ph.cue_mass.unwrap_or(DEFAULT_CUE_MASS))?,
+        let table_name = raw.table.kind.clone().unwrap_or_else(|| "9ft".to_owned());
+        let table = match table_name.as_str() {
+            "9ft" | "rectangle" => table_by_name(&table_name)?,
+            file => {
+                let path = match dir {
+                    Some(d) if !std::path::Path::new(file).is_absolute() => d.join(file),
+                    _ => std::path::PathBuf::from(file),
+                };
+                table_by_name(&path.display().to_string()).map_err(|e| match e {
+                    Error::Io { path, source } => err(format!(
+                        "key `table.kind`: cannot read the table file {path}: {source}"
+                    )),
+                    other => other,
+                })?
+            }
         };
 
-        let table = Rectangle {
-            length: positive("table.length", raw.table.length)?,
-            width: positive("table.width", raw.table.width)?,
-        };
-        for (key, extent) in [("table.length", table.length), ("table.width", table.width)] {
-            if extent <= 2.0 * radius {
-                return Err(err(format!(
-                    "key `{key}` is {extent}, the table must be wider than a ball (2R = {})",
-                    2.0 * radius
-                )));
-            }
-        }
+        let params = physics(&raw.physics).map_err(err)?;
 
-        if raw.balls.len() < 2 {
-            return Err(err(format!(
-                "key `balls`: a study needs at least 2 balls, this one has {}",
-                raw.balls.len()
-            )));
-        }
-        let mut balls: Vec<Spot> = Vec::with_capacity(raw.balls.len());
-        for (k, b) in raw.balls.iter().enumerate() {
-            for (name, v, hi) in [("x", b.x, table.length), ("y", b.y, table.width)] {
-                let key = format!("balls[{k}].{name}");
-                if !v.is_finite() {
-                    return Err(ball_err(
-                        b.id,
-                        format!("key `{key}` is {v}, it must be a finite number"),
-                    ));
-                }
-                if v < radius || v > hi - radius {
-                    return Err(ball_err(
-                        b.id,
-                        format!(
-                            "key `{key}` is {v}: the ball is off the table (its centre must be \
-                             within [{radius}, {}])",
-                            hi - radius
-                        ),
-                    ));
-                }
-            }
-            if let Some(prev) = balls.iter().position(|p| p.id == b.id) {
-                return Err(ball_err(
-                    b.id,
-                    format!("key `balls[{k}].id`: the id {} is also balls[{prev}]", b.id),
-                ));
-            }
-            for (j, p) in balls.iter().enumerate() {
-                let d = ((b.x - p.x).powi(2) + (b.y - p.y).powi(2)).sqrt();
-                if d < 2.0 * radius - CONTACT_TOL {
-                    return Err(ball_err(
-                        b.id,
-                        format!(
-                            "key `balls[{k}]`: the ball overlaps ball {} (balls[{j}]): their \
-                             centres are {d} m apart, less than 2R = {}",
-                            p.id,
-                            2.0 * radius
-                        ),
-                    ));
-                }
-            }
-            balls.push(Spot {
-                id: b.id,
+        let balls = raw
+            .balls
+            .iter()
+            .map(|b| Spot {
+                id: b.id.text(),
                 x: b.x,
                 y: b.y,
-            });
-        }
-
+            })
+            .collect();
         let s = &raw.shot;
-        for (key, id) in [
-            ("shot.cue_ball", s.cue_ball),
-            ("shot.object_ball", s.object_ball),
-        ] {
-            if !balls.iter().any(|b| b.id == id) {
-                return Err(err(format!(
-                    "key `{key}` is {id}, which is not the id of any of the balls"
-                )));
-            }
-        }
-        if s.cue_ball == s.object_ball {
-            return Err(err(format!(
-                "key `shot.object_ball` is {}, the cue ball itself",
-                s.object_ball
-            )));
-        }
-        let shot = Strike {
-            v0: positive("shot.v0", s.v0)?,
+        let shot = CueStrike {
+            v0: finite("shot.v0", s.v0)?,
             phi: finite("shot.phi", s.phi)?,
             theta: finite("shot.theta", s.theta)?,
             a: finite("shot.a", s.a)?,
             b: finite("shot.b", s.b)?,
         };
-        if !(0.0..90.0).contains(&shot.theta) {
-            return Err(err(format!(
-                "key `shot.theta` is {}, the cue elevation must be in [0, 90) degrees",
-                shot.theta
-            )));
-        }
-        if shot.a * shot.a + shot.b * shot.b > 1.0 {
-            return Err(err(format!(
-                "keys `shot.a` = {} and `shot.b` = {}: the tip must hit the ball \
-                 (a² + b² ≤ 1)",
-                shot.a, shot.b
-            )));
-        }
-
+        let target = match &raw.target {
+            Some(t) => Some(Target {
+                x: finite("target.x", t.x)?,
+                y: finite("target.y", t.y)?,
+                radius: non_negative("target.radius", t.radius)?,
+            }),
+            None => None,
+        };
         let n = &raw.noise;
         let d = Noise::default();
         let noise = Noise {
@@ -429,41 +412,275 @@ impl StudyConfig {
             b: non_negative("noise.b", n.b.unwrap_or(d.b))?,
         };
         let noise_factor = non_negative("noise.factor", n.factor.unwrap_or(1.0))?;
-
-        Ok(StudyConfig {
+        StudyConfig::assemble(Parts {
             source: source.to_owned(),
+            table_name,
             table,
             params,
-            masses,
             balls,
-            cue_ball: s.cue_ball,
-            object_ball: s.object_ball,
+            cue: s.cue_ball.text(),
+            intended: s.object_ball.text(),
+            pocket: s.pocket.clone(),
             shot,
+            target,
             noise_factor,
             noise,
+            keys: Keys {
+                cue: "shot.cue_ball",
+                intended: "shot.object_ball",
+                pocket: "shot.pocket",
+                balls: "balls",
+                shot: "shot",
+            },
         })
     }
 
-    /// The cue ball's position.
-    pub fn cue_spot(&self) -> Spot {
-        *self
+    /// Checks the parts every format shares and builds the study: at least two balls with
+    /// distinct ids, each on the table and none overlapping another, the cue and object
+    /// balls among them and distinct, the pocket one of the table's, the strike on the
+    /// ball (`a² + b² ≤ 1`), `0 ≤ θ < 90°`, `V0 > 0`.
+    pub(crate) fn assemble(p: Parts) -> Result<StudyConfig, Error> {
+        let source = p.source.as_str();
+        let err = |msg: String| Error::from(InputError::new(msg).in_file(source));
+        let k = &p.keys;
+        if p.balls.len() < 2 {
+            return Err(err(format!(
+                "key `{}`: a study needs at least 2 balls, this one has {}",
+                k.balls,
+                p.balls.len()
+            )));
+        }
+        for (i, b) in p.balls.iter().enumerate() {
+            if let Some(prev) = p.balls[..i].iter().position(|q| q.id == b.id) {
+                return Err(err(format!(
+                    "key `{}[{i}].id`: ball \"{}\" is also {}[{prev}]",
+                    k.balls, b.id, k.balls
+                )));
+            }
+            for (name, v) in [("x", b.x), ("y", b.y)] {
+                if !v.is_finite() {
+                    return Err(err(format!(
+                        "key `{}[{i}].{name}` (ball \"{}\") is {v}, it must be a finite number",
+                        k.balls, b.id
+                    )));
+                }
+            }
+        }
+        let r = p.params.ball.r;
+        let states: Vec<BallState> = p
             .balls
             .iter()
-            .find(|b| b.id == self.cue_ball)
-            .expect("validated")
+            .map(|b| BallState::at_rest(b.x, b.y, r))
+            .collect();
+        check_layout(&p.table, r, &states).map_err(|e| match e {
+            SimError::Ball { index, reason } => err(format!(
+                "key `{}[{index}]` (ball \"{}\"): {reason}",
+                k.balls, p.balls[index].id
+            )),
+            SimError::Overlap {
+                first,
+                second,
+                depth,
+            } => err(format!(
+                "key `{}[{second}]` (ball \"{}\"): it overlaps ball \"{}\" ({}[{first}]) by \
+                 {depth:.3e} m: their centres are less than 2R = {} apart",
+                k.balls,
+                p.balls[second].id,
+                p.balls[first].id,
+                k.balls,
+                2.0 * r
+            )),
+            other => err(other.to_string()),
+        })?;
+        let find = |key: &str, id: &str| {
+            p.balls.iter().position(|b| b.id == id).ok_or_else(|| {
+                err(format!(
+                    "key `{key}` is \"{id}\", which is not the id of any of the balls"
+                ))
+            })
+        };
+        let cue = find(k.cue, &p.cue)?;
+        let intended = find(k.intended, &p.intended)?;
+        if cue == intended {
+            return Err(err(format!(
+                "key `{}` is \"{}\", the cue ball itself",
+                k.intended, p.intended
+            )));
+        }
+        let pocket =
+            match &p.pocket {
+                Some(id) => Some(p.table.pocket_ids.iter().position(|q| q == id).ok_or_else(
+                    || {
+                        err(format!(
+                            "key `{}` is \"{id}\", which is not a pocket of the table \
+                             (its pockets: {})",
+                            k.pocket,
+                            if p.table.pocket_ids.is_empty() {
+                                "none".to_owned()
+                            } else {
+                                p.table.pocket_ids.join(", ")
+                            }
+                        ))
+                    },
+                )?),
+                None => None,
+            };
+        let s = p.shot;
+        if s.v0 <= 0.0 || s.v0.is_nan() {
+            return Err(err(format!(
+                "key `{}.v0` is {}, the cue speed must be greater than 0",
+                k.shot, s.v0
+            )));
+        }
+        if !(0.0..90.0).contains(&s.theta) {
+            return Err(err(format!(
+                "key `{}.theta` is {}, the cue elevation must be in [0, 90) degrees",
+                k.shot, s.theta
+            )));
+        }
+        if s.a * s.a + s.b * s.b > 1.0 {
+            return Err(err(format!(
+                "keys `{0}.a` = {1} and `{0}.b` = {2}: the tip must hit the ball (a² + b² ≤ 1)",
+                k.shot, s.a, s.b
+            )));
+        }
+        Ok(StudyConfig {
+            source: p.source,
+            table_name: p.table_name,
+            table: p.table,
+            params: p.params,
+            balls: p.balls,
+            cue,
+            intended,
+            pocket,
+            shot: s,
+            target: p.target,
+            noise_factor: p.noise_factor,
+            noise: p.noise,
+        })
     }
 
-    /// The object balls (every ball but the cue ball) at rest, with their ids.
-    pub fn object_balls(&self) -> Vec<(i64, Ball)> {
+    /// The balls at rest, in order (the simulator's input).
+    pub fn initial(&self) -> Vec<BallState> {
+        let r = self.params.ball.r;
         self.balls
             .iter()
-            .filter(|b| b.id != self.cue_ball)
-            .map(|b| (b.id, Ball::at_rest(b.x, b.y)))
+            .map(|b| BallState::at_rest(b.x, b.y, r))
             .collect()
+    }
+
+    /// The cue ball's id.
+    pub fn cue_id(&self) -> &str {
+        &self.balls[self.cue].id
+    }
+
+    /// The intended object ball's id.
+    pub fn intended_id(&self) -> &str {
+        &self.balls[self.intended].id
+    }
+
+    /// The called pocket's id, if any.
+    pub fn pocket_id(&self) -> Option<&str> {
+        self.pocket.map(|k| self.table.pocket_ids[k].as_str())
     }
 
     /// The standard deviations in effect: the file's, times its factor.
     pub fn sigma(&self) -> Noise {
         self.noise.scaled(self.noise_factor)
     }
+}
+
+/// The simulator's parameters from `[physics]`: pooltool's defaults for every key left
+/// out; the message names the bad key.
+fn physics(ph: &RawPhysics) -> Result<SimParams, String> {
+    let d = BallParams::default();
+    let c = CueParams::default();
+    let r = ph.radius.unwrap_or(d.r);
+    let m = ph.ball_mass.unwrap_or(d.m);
+    let ball = BallParams {
+        m,
+        r,
+        u_s: ph.mu_s.unwrap_or(d.u_s),
+        u_r: ph.mu_r.unwrap_or(d.u_r),
+        u_sp: ph.mu_sp.unwrap_or(d.u_sp / d.r * r),
+        e_b: ph.e_b.unwrap_or(d.e_b),
+        e_c: ph.e_c.unwrap_or(d.e_c),
+        f_c: ph.f_c.unwrap_or(d.f_c),
+        g: ph.g.unwrap_or(d.g),
+        ..d
+    };
+    let cue = CueParams {
+        mass: ph.cue_mass.unwrap_or(c.mass),
+        end_mass: ph.cue_end_mass.unwrap_or(m / 30.0),
+        ..c
+    };
+    let params = SimParams {
+        ball,
+        cue,
+        ..SimParams::default()
+    };
+    params.validate().map_err(|e| match e {
+        SimError::Param { name, value } => {
+            let key = match name {
+                "m" => "ball_mass",
+                "R" => "radius",
+                "u_s" => "mu_s",
+                "u_r" => "mu_r",
+                "u_sp" => "mu_sp",
+                "cue mass" => "cue_mass",
+                "cue end_mass" => "cue_end_mass",
+                "u_s * g" => "mu_s * g",
+                "u_r * g" => "mu_r * g",
+                "u_sp * g" => "mu_sp * g",
+                other => other,
+            };
+            let range = match name {
+                "e_b" | "e_c" => "in (0, 1]",
+                "f_c" => "finite and not negative",
+                _ => "finite and greater than 0",
+            };
+            if key.contains(" * ") {
+                format!(
+                    "keys of `physics`: {key} = {value}, the deceleration must be finite and \
+                     greater than 0"
+                )
+            } else {
+                format!("key `physics.{key}` is {value}, it must be {range}")
+            }
+        }
+        other => format!("key `physics`: {other}"),
+    })?;
+    Ok(params)
+}
+
+/// A TOML syntax or schema error, located at its line, naming the offending text.
+fn toml_error(e: &toml::de::Error, text: &str, source: &str) -> Error {
+    let mut message = e.message().trim().to_owned();
+    let mut line = None;
+    if let Some(span) = e.span() {
+        let start = span.start.min(text.len());
+        line = Some(text[..start].matches('\n').count() as u64 + 1);
+        // name the offending text when the message does not (e.g. "duplicate key")
+        let at = text
+            .get(start..span.end.min(text.len()))
+            .and_then(|t| t.lines().next())
+            .unwrap_or("")
+            .trim();
+        if !at.is_empty() && at.len() <= 60 && !message.contains(at) {
+            message = format!("{message} (at `{at}`)");
+        }
+        // and the key whose value it is, when the line assigns one
+        let line_text = text[..start].rsplit('\n').next().unwrap_or("");
+        if let Some((key, _)) = line_text.split_once('=') {
+            let key = key.trim();
+            if !key.is_empty() && !key.starts_with('[') && !message.contains(&format!("`{key}`")) {
+                message = format!("key `{key}`: {message}");
+            }
+        }
+    }
+    let mut ie = InputError::new(message).in_file(source);
+    if let Some(line) = line {
+        ie = ie.at_line(line);
+    }
+    Error::from(ie)
 }

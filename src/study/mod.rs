@@ -1,27 +1,29 @@
 //! Monte Carlo shot studies: one table, one intended shot, re-played many times under cue
-//! noise, and what the cue ball meets first.
+//! noise (or for given strikes), every sample from the strike to rest on the simulator,
+//! and what came of it: the first contact, the balls potted, where the cue ball ended.
 //!
-//! - [`config`]: the study file (TOML) and the built-in study;
-//! - [`strike`], [`cue_ball`], [`rectangle`]: the first-contact model — the cue strike
-//!   without squirt, the cue ball's 2-D motion, the rectangular table's cushion lines (the
-//!   simulator's physics, which the study is to move onto, is in [`crate::resolve`],
-//!   [`crate::motion`], [`crate::query`]);
+//! - [`config`]: the study file (TOML, the simulator's frame) and the built-in study;
+//! - [`reference`](mod@reference): the reference format of `shared/studies` (pooltool's scenario JSON,
+//!   its outcome columns);
 //! - [`noise`]: each sample's noisy strike;
-//! - [`run`]: the batch-driven loop over samples, and one sample on its own;
+//! - [`run`]: the driver over samples on the event loop ([`crate::simulate`]), to rest or
+//!   to the first contact;
 //! - [`stats`]: counts, Wilson intervals and summary statistics.
 //!
-//! Presentation — the text summary, the per-sample CSV and the picture — is the command
-//! line's (`src/cli/`).
+//! The strike is pooltool 0.6.0's (`instantaneous_point` with squirt,
+//! [`crate::resolve::stick_ball`]). Presentation — the text and JSON summary, the
+//! per-sample CSV and the picture — is the command line's (`src/cli/`).
 
 pub mod config;
-pub mod cue_ball;
 pub mod noise;
-pub mod rectangle;
+pub mod reference;
 pub mod run;
 pub mod stats;
-pub mod strike;
 
-pub use config::{BUILTIN_NAME, BUILTIN_TOML, Noise, Spot, StudyConfig};
-pub use noise::noisy_strike;
-pub use run::{CHUNK, Outcome, SAMPLE_COLUMNS, Sample, grazes, run_study, simulate_one};
-pub use stats::{Class, Stats, Summary, wilson};
+pub use config::{BUILTIN_NAME, BUILTIN_TOML, Noise, Spot, StudyConfig, Target};
+pub use noise::{clamped, noisy_strike};
+pub use reference::{REFERENCE_COLUMNS, write_reference_csv};
+pub use run::{
+    CHUNK, FirstContact, Pot, RunOptions, Sample, Until, run_strikes, run_study, simulate_sample,
+};
+pub use stats::{Class, Result4, Stats, Summary, potted_as_called, wilson};

@@ -1,32 +1,51 @@
 //! The cue noise: sample `i`'s strike, drawn from a PCG generator seeded by `(seed, i)`
-//! only, so results do not depend on the backend, the thread count or the chunking.
+//! only, so results do not depend on the thread count, the chunking or how many samples
+//! are drawn (the first `n` samples of a larger study are the study of `n`).
 
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 
 use super::config::{Noise, StudyConfig};
-use super::strike::Strike;
+use crate::resolve::stick_ball::CueStrike;
 
 /// The noisy strike of sample `i`: the intended strike plus `sigma` times five standard
-/// normals (drawn in the order `v0, phi, theta, a, b`), with the offsets' σ (metres) divided by R, then clamped into the
-/// physical range ([`Strike::clamped`]).
-pub fn noisy_strike(config: &StudyConfig, sigma: &Noise, seed: u64, i: u64) -> Strike {
+/// normals (drawn in the order `v0, phi, theta, a, b`), with the offsets' σ (metres)
+/// divided by R, then clamped into the physical range ([`clamped`]).
+pub fn noisy_strike(config: &StudyConfig, sigma: &Noise, seed: u64, i: u64) -> CueStrike {
     let mut rng = Pcg64Mcg::seed_from_u64(mix(seed, i));
     let mut z = [0.0f64; 5];
     for v in &mut z {
         *v = StandardNormal.sample(&mut rng);
     }
     let s = config.shot;
-    let r = config.params.radius;
-    Strike {
+    let r = config.params.ball.r;
+    clamped(CueStrike {
         v0: s.v0 + sigma.v0 * z[0],
         phi: s.phi + sigma.phi * z[1],
         theta: s.theta + sigma.theta * z[2],
         a: s.a + sigma.a / r * z[3],
         b: s.b + sigma.b / r * z[4],
+    })
+}
+
+/// The strike with V0 ≥ 0, θ in [0°, 90°] and the tip on the ball (a² + b² ≤ 1, scaled
+/// back onto the rim when noise pushed it off).
+pub fn clamped(s: CueStrike) -> CueStrike {
+    let mut s = s;
+    s.v0 = s.v0.max(0.0);
+    s.theta = s.theta.clamp(0.0, 90.0);
+    let rho = (s.a * s.a + s.b * s.b).sqrt();
+    if rho > 1.0 {
+        s.a /= rho;
+        s.b /= rho;
+        // the division can leave a² + b² one ulp above 1
+        while s.a * s.a + s.b * s.b > 1.0 {
+            s.a *= 1.0 - f64::EPSILON;
+            s.b *= 1.0 - f64::EPSILON;
+        }
     }
-    .clamped()
+    s
 }
 
 /// SplitMix64's finaliser.

@@ -1,250 +1,332 @@
-//! The study's driver: every sample from the strike to what the cue ball meets first.
+//! The study's driver: every sample from its strike to rest (or to the cue ball's first
+//! contact) on the simulator's event loop ([`EventLoop`], pooltool 0.6.0's physics), Rayon
+//! over samples, one loop per worker, and what each sample came to ([`Sample`]).
 //!
-//! Every sample is one table of a [`Batch`] (table id = sample index, ball ids = the
-//! study's). Step after step, the still-running samples of a chunk go to the engine
-//! together, which answers each table's next ball–ball contact within the cue ball's current
-//! motion (the per-pair horizon ends there); per sample the earliest of that contact, the
-//! cue ball reaching a cushion line, and the end of the motion decides: a contact or a
-//! cushion ends the sample, the end of a motion advances the cue ball to its next state
-//! (sliding → rolling → still) and the sample goes round again. Only the cue ball moves;
-//! nothing is resolved after the first contact.
+//! Per sample the loop runs as `kisstime simulate` runs a table; the driver only watches
+//! the events go by: the cue ball's first contact (the first event after the strike that
+//! involves it, other than its own sliding → rolling), every `ball_pocket` in order, and
+//! the end (the cue ball's final position, the event count, the last event's time, a cut
+//! by the event or time cap). With [`Until::FirstContact`] the loop stops at that first
+//! contact: the cheaper study of what the cue ball meets first, on the same code.
+
+use rayon::prelude::*;
 
 use super::config::{Noise, StudyConfig};
-use super::cue_ball::end_of_motion;
 use super::noise::noisy_strike;
-use super::rectangle::{Cushion, cushion_time};
-use super::strike::{Strike, cue_strike};
-use crate::batch::Batch;
-use crate::engine::Engine;
-use crate::error::Error;
-use crate::model::{Ball, Vec2, dot, norm};
-use crate::motion::ball_path;
-use crate::query::pair_contact;
+use crate::error::{Error, InputError, SimError};
+use crate::motion::evolve::evolve;
+use crate::resolve::stick_ball::CueStrike;
+use crate::simulate::event_loop::{EventLoop, Limits};
+use crate::simulate::events::{Cut, Event, EventKind};
 
-/// Samples handed to the engine at a time (memory stays bounded whatever the sample count).
-pub const CHUNK: usize = 65_536;
+/// Samples simulated between two progress reports (memory stays bounded by the results).
+pub const CHUNK: usize = 16_384;
 
-/// What ended a sample.
+/// How far each sample runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Until {
+    /// Every ball at rest (or a cap): the full outcome.
+    #[default]
+    Rest,
+    /// The cue ball's first contact: only [`Sample::first`] and what goes with it.
+    FirstContact,
+}
+
+/// What the cue ball met first (the reference's `first_contact`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Outcome {
-    /// The cue ball touched this ball first.
-    Ball(i64),
-    /// The cue ball reached this cushion before touching any ball.
-    Cushion(Cushion),
-    /// The cue ball stopped without touching anything.
+pub enum FirstContact {
+    /// A ball: its index in the study's balls.
+    Ball(u32),
+    /// A cushion: a straight segment (`circular` false) or a jaw arc, its index in the
+    /// table's list.
+    Cushion {
+        /// Whether it is a jaw arc.
+        circular: bool,
+        /// The segment's or arc's index.
+        index: u32,
+    },
+    /// A pocket, its index.
+    Pocket(u32),
+    /// The cue ball stopped (rolling → spinning or stationary, spinning → stationary)
+    /// before touching anything.
     Stopped,
+    /// No event after the strike involved the cue ball (V0 = 0, or a cap came first).
+    Nothing,
 }
 
-impl Outcome {
-    /// `ball`, `cushion` or `stopped`.
-    pub fn kind(self) -> &'static str {
-        match self {
-            Outcome::Ball(_) => "ball",
-            Outcome::Cushion(_) => "cushion",
-            Outcome::Stopped => "stopped",
-        }
-    }
-}
-
-/// The result of one sample.
+/// A ball that went into a pocket.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Sample {
-    /// What ended it.
-    pub outcome: Outcome,
-    /// When, in seconds after the strike.
+pub struct Pot {
+    /// The ball's index in the study's balls.
+    pub ball: u32,
+    /// The pocket's index in the table's pockets.
+    pub pocket: u32,
+    /// When, s after the strike.
     pub t: f64,
+}
+
+/// What one sample came to.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sample {
+    /// The strike it was given.
+    pub strike: CueStrike,
+    /// What the cue ball met first.
+    pub first: FirstContact,
+    /// When, s after the strike (NaN for [`FirstContact::Nothing`]).
+    pub first_t: f64,
     /// The cue ball's centre then.
-    pub cue: Vec2,
-    /// The cue ball's speed then, m/s.
-    pub speed: f64,
-    /// The contact point: on the object ball (halfway between the centres) for a ball, on
-    /// the cushion nose for a cushion; NaN when the cue ball stopped.
-    pub contact: Vec2,
+    pub contact_cue: (f64, f64),
+    /// The cue ball's speed just before, m/s.
+    pub contact_speed: f64,
+    /// Where it touched: halfway between the centres for a ball, the nearest point of the
+    /// segment or jaw for a cushion; NaN otherwise.
+    pub contact_point: (f64, f64),
     /// For a ball: the cut angle in degrees, the signed angle from the cue ball's velocity
-    /// at contact to the line of centres (cue ball to object ball): 0 is a full-ball hit,
-    /// positive sends the object ball to the left of the cue ball's direction
-    /// (counterclockwise seen from above), ±90 a graze. NaN otherwise.
-    pub cut: f64,
+    /// just before contact to the line of centres (cue ball to object ball): 0 is a full
+    /// hit, positive sends the object ball to the left of the cue ball's direction
+    /// (counter-clockwise seen from above), ±90 a graze. NaN otherwise.
+    pub cut_angle: f64,
+    /// The balls pocketed, in order (empty with [`Until::FirstContact`], unless the first
+    /// contact was a pocket).
+    pub potted: Vec<Pot>,
+    /// The cue ball's centre at the end (the pocket's centre if it was potted).
+    pub cue_final: (f64, f64),
+    /// Events, the strike included (pooltool's count, its two null events left out).
+    pub n_events: usize,
+    /// The time of the last event, s.
+    pub duration: f64,
+    /// Why the sample was cut short, if a cap stopped it.
+    pub cut: Option<Cut>,
 }
 
-/// The columns of a per-sample table (the CLI's `-o samples.csv`): the noisy strike, the
-/// outcome, the ball or cushion, the time, the cue ball's centre and speed, the contact
-/// point, and the cut angle.
-pub const SAMPLE_COLUMNS: &str = "sample,v0,phi,theta,a,b,outcome,ball,cushion,t,cue_x,cue_y,speed,contact_x,contact_y,cut_angle";
-
-/// What one step of a sample decided.
-enum Step {
-    Done(Sample),
-    /// The cue ball's next motion, and the time it starts.
-    Next(Ball, f64),
-}
-
-/// One step of a sample whose cue ball is `cue` at time `elapsed`, given the first ball
-/// contact within its current motion (`(t, object id)`, times relative to the step).
-fn step(config: &StudyConfig, cue: &Ball, elapsed: f64, hit: Option<(f64, i64)>) -> Step {
-    let p = &config.params;
-    let path = ball_path(cue, p);
-    if !cue.state.translates() {
-        let at = Vec2::new(cue.x, cue.y);
-        return Step::Done(Sample {
-            outcome: Outcome::Stopped,
-            t: elapsed,
-            cue: at,
-            speed: 0.0,
-            contact: Vec2::new(f64::NAN, f64::NAN),
-            cut: f64::NAN,
-        });
-    }
-    let cushion = cushion_time(&path, &config.table, p.radius, path.tmax);
-    let at = |t: f64| path.at(t);
-    // a ball contact wins a tie with a cushion
-    if let Some((t, id)) = hit.filter(|&(t, _)| cushion.is_none_or(|(tc, _)| t <= tc)) {
-        let spot = config
-            .balls
+impl Sample {
+    /// The pocket ball `ball` (an index in the study's balls) went into, if it did.
+    pub fn pocket_of(&self, ball: usize) -> Option<usize> {
+        self.potted
             .iter()
-            .find(|b| b.id == id)
-            .expect("the engine answers with the config's ids");
-        let centre = at(t);
-        let object = Vec2::new(spot.x, spot.y);
-        let v = path.velocity_at(t);
-        let n = object - centre;
-        let cut = (v.x * n.y - v.y * n.x).atan2(dot(v, n)).to_degrees();
-        return Step::Done(Sample {
-            outcome: Outcome::Ball(id),
-            t: elapsed + t,
-            cue: centre,
-            speed: norm(v),
-            contact: 0.5 * (centre + object),
-            cut,
-        });
+            .find(|p| p.ball as usize == ball)
+            .map(|p| p.pocket as usize)
     }
-    if let Some((t, c)) = cushion {
-        let centre = at(t);
-        return Step::Done(Sample {
-            outcome: Outcome::Cushion(c),
-            t: elapsed + t,
-            cue: centre,
-            speed: norm(path.velocity_at(t)),
-            contact: centre + p.radius * c.normal(),
-            cut: f64::NAN,
-        });
+
+    /// When ball `ball` was pocketed, if it was.
+    pub fn pot_time(&self, ball: usize) -> Option<f64> {
+        self.potted
+            .iter()
+            .find(|p| p.ball as usize == ball)
+            .map(|p| p.t)
     }
-    let (next, dt) = end_of_motion(cue, p);
-    Step::Next(next, elapsed + dt)
 }
 
-/// Runs the study: `samples` noisy strikes from `seed`, every ball contact answered by
-/// `engine`. `progress(done, total)` is called after each chunk. The samples come back in
-/// index order. A study whose samples would not fit the available memory is refused
-/// before it starts ([`Error::TooLarge`]).
+/// How a study runs.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct RunOptions {
+    /// How far each sample runs.
+    pub until: Until,
+    /// The per-sample event and time caps.
+    pub limits: Limits,
+}
+
+/// Runs the study: `samples` noisy strikes drawn from `seed` ([`noisy_strike`]). See
+/// [`run_strikes`].
 pub fn run_study(
     config: &StudyConfig,
     sigma: &Noise,
     samples: usize,
     seed: u64,
-    engine: &mut Engine,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<Sample>, Error> {
+    run_with(
+        config,
+        samples,
+        &|i| noisy_strike(config, sigma, seed, i as u64),
+        options,
+        progress,
+    )
+}
+
+/// Runs the given strikes, in order, without noise. `progress(done, total)` is called
+/// after each [`CHUNK`]; the samples come back in input order whatever the thread count.
+/// A study whose results would not fit the available memory is refused before it starts
+/// ([`Error::TooLarge`]); a strike the simulator refuses (not finite, V0 < 0, a² + b² > 1)
+/// is an [`Error::Input`] naming its position.
+pub fn run_strikes(
+    config: &StudyConfig,
+    strikes: &[CueStrike],
+    options: &RunOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<Sample>, Error> {
+    run_with(config, strikes.len(), &|i| strikes[i], options, progress)
+}
+
+fn run_with(
+    config: &StudyConfig,
+    samples: usize,
+    strike: &(dyn Fn(usize) -> CueStrike + Sync),
+    options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
     crate::limits::check_memory(
         &format!("a study of {samples} samples"),
         (samples as u64).saturating_mul(std::mem::size_of::<Sample>() as u64),
     )?;
+    let initial = config.initial();
+    // the parameters and the ball count, checked once (the workers' loops cannot fail)
+    EventLoop::new(&config.table, config.params, options.limits, initial.len())?;
     let mut out = Vec::with_capacity(samples);
-    let objects = config.object_balls();
-    let start = config.cue_spot();
-    let cue_id = config.cue_ball;
     let mut first = 0;
     while first < samples {
-        let n = CHUNK.min(samples - first);
-        let mut cue: Vec<Ball> = (0..n)
-            .map(|k| {
-                let s = noisy_strike(config, sigma, seed, (first + k) as u64);
-                cue_strike(start.x, start.y, &s, config.params.radius, &config.masses)
-            })
+        let end = samples.min(first + CHUNK);
+        let part: Result<Vec<Sample>, Error> = (first..end)
+            .into_par_iter()
+            .with_min_len(64)
+            .map_init(
+                || {
+                    EventLoop::new(&config.table, config.params, options.limits, initial.len())
+                        .expect("checked above")
+                },
+                |lp, i| {
+                    simulate_sample(lp, config, &initial, strike(i), options.until)
+                        .map_err(|e| Error::from(InputError::new(format!("sample {i}: {e}"))))
+                },
+            )
             .collect();
-        let mut elapsed = vec![0.0; n];
-        let mut done: Vec<Option<Sample>> = vec![None; n];
-        let mut active: Vec<usize> = (0..n).collect();
-        while !active.is_empty() {
-            // samples whose cue ball no longer moves need no engine
-            let mut moving = Vec::with_capacity(active.len());
-            for &k in &active {
-                if cue[k].state.translates() {
-                    moving.push(k);
-                } else if let Step::Done(s) = step(config, &cue[k], elapsed[k], None) {
-                    done[k] = Some(s);
-                }
-            }
-            if moving.is_empty() {
-                break;
-            }
-            let mut batch = Batch::new();
-            for &k in &moving {
-                batch.push_table(
-                    (first + k) as i64,
-                    std::iter::once((cue_id, cue[k])).chain(objects.iter().copied()),
-                )?;
-            }
-            let next = engine.next_collisions(&batch, &config.params)?;
-            let mut still = Vec::new();
-            for (nc, &k) in next.iter().zip(&moving) {
-                let hit = match (nc.status.is_contact(), nc.pair) {
-                    (true, Some((i, j))) => Some((nc.t, if i == cue_id { j } else { i })),
-                    _ => None,
-                };
-                match step(config, &cue[k], elapsed[k], hit) {
-                    Step::Done(s) => done[k] = Some(s),
-                    Step::Next(ball, t) => {
-                        cue[k] = ball;
-                        elapsed[k] = t;
-                        still.push(k);
-                    }
-                }
-            }
-            active = still;
-        }
-        out.extend(done.into_iter().map(|s| s.expect("every sample ends")));
-        first += n;
+        out.extend(part?);
+        first = end;
         progress(first, samples);
     }
     Ok(out)
 }
 
-/// One sample on its own, on the CPU in f64, with the balls touching at the centre distance
-/// `contact_distance` (normally `2R`): the reference for checks, and, with `2R ± δ`, the
-/// test of whether a sample grazes a ball within `δ` ([`grazes`]).
-pub fn simulate_one(config: &StudyConfig, strike: &Strike, contact_distance: f64) -> Sample {
-    let p = &config.params;
-    let start = config.cue_spot();
-    let mut cue = cue_strike(start.x, start.y, strike, p.radius, &config.masses);
-    let mut elapsed = 0.0;
-    let objects = config.object_balls();
-    loop {
-        let mut hit: Option<(f64, i64)> = None;
-        if cue.state.translates() {
-            let cp = ball_path(&cue, p);
-            for (id, ball) in &objects {
-                let c = pair_contact(&cp, &ball_path(ball, p), 0.5 * contact_distance);
-                if c.status.is_contact() && hit.is_none_or(|(t, _)| c.t < t) {
-                    hit = Some((c.t, *id));
-                }
-            }
-        }
-        match step(config, &cue, elapsed, hit) {
-            Step::Done(s) => return s,
-            Step::Next(ball, t) => {
-                cue = ball;
-                elapsed = t;
-            }
-        }
+/// The cue ball's first contact in `ev`, if `ev` is one (spec of the reference's
+/// `first_contact`): ball–ball with the cue ball, a cushion or jaw, a pocket, or the cue
+/// ball stopping. The strike and the cue ball's own sliding → rolling are not.
+fn first_contact_of(ev: &Event, cue: u32) -> Option<FirstContact> {
+    let involves = ev.ball == cue || (ev.kind == EventKind::BallBall && ev.other == cue);
+    if !involves {
+        return None;
+    }
+    match ev.kind {
+        EventKind::BallBall => Some(FirstContact::Ball(if ev.ball == cue {
+            ev.other
+        } else {
+            ev.ball
+        })),
+        EventKind::BallLinearCushion => Some(FirstContact::Cushion {
+            circular: false,
+            index: ev.other,
+        }),
+        EventKind::BallCircularCushion => Some(FirstContact::Cushion {
+            circular: true,
+            index: ev.other,
+        }),
+        EventKind::BallPocket => Some(FirstContact::Pocket(ev.other)),
+        EventKind::RollingSpinning
+        | EventKind::RollingStationary
+        | EventKind::SpinningStationary => Some(FirstContact::Stopped),
+        EventKind::StickBall | EventKind::SlidingRolling => None,
     }
 }
 
-/// Whether the outcome of `strike` changes when the balls' contact distance moves from
-/// `2R − δ/2` to `2R + δ/2`: the sample grazes a ball within `δ`, and a backend computing
-/// within that margin may classify it either way.
-pub fn grazes(config: &StudyConfig, strike: &Strike, delta: f64) -> bool {
-    let d = 2.0 * config.params.radius;
-    simulate_one(config, strike, d - 0.5 * delta).outcome
-        != simulate_one(config, strike, d + 0.5 * delta).outcome
+/// One sample on `lp`: the balls `initial`, `strike` on the study's cue ball, run
+/// [`Until`] the end asked for. Errors only on a strike the loop refuses.
+pub fn simulate_sample(
+    lp: &mut EventLoop<'_>,
+    config: &StudyConfig,
+    initial: &[crate::model::ball_state::BallState],
+    strike: CueStrike,
+    until: Until,
+) -> Result<Sample, SimError> {
+    let cue = config.cue;
+    lp.reset(initial, Some((cue, strike)))?;
+    let mut s = Sample {
+        strike,
+        first: FirstContact::Nothing,
+        first_t: f64::NAN,
+        contact_cue: (f64::NAN, f64::NAN),
+        contact_speed: f64::NAN,
+        contact_point: (f64::NAN, f64::NAN),
+        cut_angle: f64::NAN,
+        potted: Vec::new(),
+        cue_final: (initial[cue].r.x, initial[cue].r.y),
+        n_events: 0,
+        duration: 0.0,
+        cut: None,
+    };
+    let mut found = false;
+    loop {
+        // the cue ball before the event, for its velocity at the first contact (its state
+        // holds at the loop's time, whatever its own time stamp)
+        let (before, t0) = (lp.balls()[cue], lp.time());
+        let Some(ev) = lp.step() else { break };
+        if ev.kind == EventKind::BallPocket {
+            s.potted.push(Pot {
+                ball: ev.ball,
+                pocket: ev.other,
+                t: ev.t,
+            });
+        }
+        if found {
+            continue;
+        }
+        if let Some(first) = first_contact_of(&ev, cue as u32) {
+            found = true;
+            let balls = lp.balls();
+            let at = balls[cue].r;
+            let v = evolve(&before, ev.t - t0, &config.params.ball).v;
+            s.first = first;
+            s.first_t = ev.t;
+            s.contact_cue = (at.x, at.y);
+            s.contact_speed = v.x.hypot(v.y);
+            s.contact_point = contact_point(config, first, (at.x, at.y));
+            if let FirstContact::Ball(k) = first {
+                let o = balls[k as usize].r;
+                let (nx, ny) = (o.x - at.x, o.y - at.y);
+                s.contact_point = (0.5 * (at.x + o.x), 0.5 * (at.y + o.y));
+                s.cut_angle = (v.x * ny - v.y * nx)
+                    .atan2(v.x * nx + v.y * ny)
+                    .to_degrees();
+            }
+            if until == Until::FirstContact {
+                break;
+            }
+        }
+    }
+    let end = lp.balls()[cue].r;
+    let outcome = lp.outcome();
+    s.cue_final = (end.x, end.y);
+    s.n_events = outcome.n_events;
+    s.duration = outcome.t_end;
+    s.cut = outcome.cut;
+    Ok(s)
+}
+
+/// Where a cue ball centred at `(x, y)` touches the cushion of `first` (the nearest point
+/// of the segment, or of the jaw's circle); NaN for anything but a cushion.
+fn contact_point(config: &StudyConfig, first: FirstContact, (x, y): (f64, f64)) -> (f64, f64) {
+    match first {
+        FirstContact::Cushion {
+            circular: false,
+            index,
+        } => {
+            let seg = &config.table.linear[index as usize];
+            let (dx, dy) = (seg.p2.x - seg.p1.x, seg.p2.y - seg.p1.y);
+            let u = ((x - seg.p1.x) * dx + (y - seg.p1.y) * dy) / (dx * dx + dy * dy);
+            let u = u.clamp(0.0, 1.0);
+            (seg.p1.x + u * dx, seg.p1.y + u * dy)
+        }
+        FirstContact::Cushion {
+            circular: true,
+            index,
+        } => {
+            let arc = &config.table.circular[index as usize];
+            let (dx, dy) = (x - arc.center.x, y - arc.center.y);
+            let d = dx.hypot(dy);
+            (
+                arc.center.x + arc.radius * dx / d,
+                arc.center.y + arc.radius * dy / d,
+            )
+        }
+        _ => (f64::NAN, f64::NAN),
+    }
 }

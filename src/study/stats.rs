@@ -1,8 +1,9 @@
-//! What a study found: counts per first-contact class with Wilson intervals, and summary
-//! statistics of the intended ball's contacts.
+//! What a study found: counts per first contact and per outcome (pot, scratch, …), the
+//! Wilson intervals that go with them, and summary statistics (times, the cut angle, where
+//! the cue ball ends).
 
 use super::config::StudyConfig;
-use super::run::{Outcome, Sample};
+use super::run::{FirstContact, Sample, Until};
 
 /// Summary statistics of a set of values.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,25 +79,87 @@ pub fn wilson(k: usize, n: usize) -> (f64, f64) {
     (lo, hi)
 }
 
-/// An outcome class of the summary: a ball, any cushion, or stopped.
+/// A first-contact class of the summary: a ball, any cushion, a pocket, stopped, nothing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Class {
-    /// The cue ball touched this ball first.
-    Ball(i64),
-    /// The cue ball reached a cushion first.
+    /// The cue ball touched this ball (its index in the study's balls) first.
+    Ball(usize),
+    /// The cue ball reached a cushion or a jaw first.
     Cushion,
+    /// The cue ball fell into a pocket before touching anything.
+    Pocket,
     /// The cue ball stopped without touching anything.
     Stopped,
+    /// No event involved the cue ball.
+    Nothing,
 }
 
 impl Class {
-    /// The class of an outcome.
-    pub fn of(o: Outcome) -> Class {
-        match o {
-            Outcome::Ball(id) => Class::Ball(id),
-            Outcome::Cushion(_) => Class::Cushion,
-            Outcome::Stopped => Class::Stopped,
+    /// The class of a first contact.
+    pub fn of(f: FirstContact) -> Class {
+        match f {
+            FirstContact::Ball(k) => Class::Ball(k as usize),
+            FirstContact::Cushion { .. } => Class::Cushion,
+            FirstContact::Pocket(_) => Class::Pocket,
+            FirstContact::Stopped => Class::Stopped,
+            FirstContact::Nothing => Class::Nothing,
         }
+    }
+}
+
+/// The outcome of a sample run to rest, as a player counts it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Result4 {
+    /// The intended ball went in (in the called pocket, if the study calls one) and the
+    /// cue ball stayed up.
+    Pot,
+    /// The intended ball went in, and so did the cue ball.
+    PotScratch,
+    /// The cue ball went in, the intended ball did not.
+    Scratch,
+    /// Neither.
+    Miss,
+}
+
+impl Result4 {
+    /// Every outcome, in report order.
+    pub const ALL: [Result4; 4] = [
+        Result4::Pot,
+        Result4::PotScratch,
+        Result4::Scratch,
+        Result4::Miss,
+    ];
+
+    /// `pot`, `pot+scratch`, `scratch`, `miss`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Result4::Pot => "pot",
+            Result4::PotScratch => "pot+scratch",
+            Result4::Scratch => "scratch",
+            Result4::Miss => "miss",
+        }
+    }
+
+    /// The outcome of `s` in `config`.
+    pub fn of(config: &StudyConfig, s: &Sample) -> Result4 {
+        let potted = potted_as_called(config, s);
+        let scratch = s.pocket_of(config.cue).is_some();
+        match (potted, scratch) {
+            (true, false) => Result4::Pot,
+            (true, true) => Result4::PotScratch,
+            (false, true) => Result4::Scratch,
+            (false, false) => Result4::Miss,
+        }
+    }
+}
+
+/// Whether the intended ball went in: into the called pocket if the study calls one, into
+/// any pocket otherwise.
+pub fn potted_as_called(config: &StudyConfig, s: &Sample) -> bool {
+    match (s.pocket_of(config.intended), config.pocket) {
+        (Some(p), Some(called)) => p == called,
+        (Some(_), None) => true,
+        (None, _) => false,
     }
 }
 
@@ -105,59 +168,161 @@ impl Class {
 pub struct Summary {
     /// Samples.
     pub samples: usize,
-    /// The intended object ball.
-    pub intended: i64,
-    /// Count per class: every object ball (in id order), then cushion, then stopped.
-    pub counts: Vec<(Class, usize)>,
-    /// Time to contact with the intended ball, over the samples that hit it first.
-    pub time: Option<Stats>,
-    /// Cut angle on the intended ball, degrees.
-    pub cut: Option<Stats>,
+    /// How far they ran.
+    pub until: Until,
+    /// First contacts: every object ball (in the study's order), then cushion, pocket,
+    /// stopped and nothing, each with its count.
+    pub first: Vec<(Class, usize)>,
+    /// Time to the first contact with the intended ball, over the samples that hit it first.
+    pub contact_time: Option<Stats>,
+    /// Cut angle on the intended ball, degrees, over the same samples.
+    pub cut_angle: Option<Stats>,
+    /// Samples per outcome, in [`Result4::ALL`]'s order (to rest only).
+    pub results: [usize; 4],
+    /// Samples where the intended ball went into each pocket (index, count; pockets that
+    /// took it, in table order).
+    pub intended_pockets: Vec<(usize, usize)>,
+    /// Samples where the cue ball went in.
+    pub scratches: usize,
+    /// Samples where the cue ball went into each pocket (index, count; pockets that took
+    /// it, in table order).
+    pub scratch_pockets: Vec<(usize, usize)>,
+    /// Samples where the cue ball touched no ball at all (a foul).
+    pub no_ball_hit: usize,
+    /// Every other object ball that was pocketed: (index, samples).
+    pub others_potted: Vec<(usize, usize)>,
+    /// Time from the strike to the intended ball's pot, over the samples that pot it.
+    pub pot_time: Option<Stats>,
+    /// The cue ball's final x and y over the samples where it stayed on the table.
+    pub cue_final: Option<(Stats, Stats)>,
+    /// Of those, how many stopped in the study's target circle.
+    pub in_target: Option<usize>,
+    /// Samples cut by the event or time cap (still counted everywhere above, with the
+    /// state they reached).
+    pub cut: usize,
+    /// Events per sample.
+    pub events: Option<Stats>,
+    /// Duration of a sample, s.
+    pub duration: Option<Stats>,
 }
 
 impl Summary {
-    /// Counts and statistics of `samples`.
-    pub fn of(config: &StudyConfig, samples: &[Sample]) -> Summary {
-        let mut ids: Vec<i64> = config
-            .balls
-            .iter()
-            .map(|b| b.id)
-            .filter(|&id| id != config.cue_ball)
-            .collect();
-        ids.sort_unstable();
-        let mut counts: Vec<(Class, usize)> = ids
-            .into_iter()
+    /// Counts and statistics of `samples`, run as `until` says.
+    pub fn of(config: &StudyConfig, samples: &[Sample], until: Until) -> Summary {
+        let mut first: Vec<(Class, usize)> = (0..config.balls.len())
+            .filter(|&k| k != config.cue)
             .map(Class::Ball)
-            .chain([Class::Cushion, Class::Stopped])
+            .chain([
+                Class::Cushion,
+                Class::Pocket,
+                Class::Stopped,
+                Class::Nothing,
+            ])
             .map(|c| (c, 0))
             .collect();
-        let mut times = Vec::new();
+        let mut contact_times = Vec::new();
         let mut cuts = Vec::new();
+        let mut results = [0usize; 4];
+        let mut intended_pockets = vec![0usize; config.table.pockets.len()];
+        let mut scratch_pockets = vec![0usize; config.table.pockets.len()];
+        let mut potted = vec![0usize; config.balls.len()];
+        let (mut scratches, mut no_ball_hit, mut cut, mut in_target) = (0, 0, 0, 0);
+        let mut pot_times = Vec::new();
+        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        let mut events = Vec::with_capacity(samples.len());
+        let mut durations = Vec::with_capacity(samples.len());
         for s in samples {
-            let class = Class::of(s.outcome);
-            if let Some(c) = counts.iter_mut().find(|(k, _)| *k == class) {
+            let class = Class::of(s.first);
+            if let Some(c) = first.iter_mut().find(|(k, _)| *k == class) {
                 c.1 += 1;
             }
-            if s.outcome == Outcome::Ball(config.object_ball) {
-                times.push(s.t);
-                cuts.push(s.cut);
+            if !matches!(class, Class::Ball(_)) {
+                no_ball_hit += 1;
+            }
+            if class == Class::Ball(config.intended) {
+                contact_times.push(s.first_t);
+                cuts.push(s.cut_angle);
+            }
+            cut += usize::from(s.cut.is_some());
+            events.push(s.n_events as f64);
+            durations.push(s.duration);
+            if until == Until::FirstContact {
+                continue;
+            }
+            let r = Result4::of(config, s);
+            results[Result4::ALL.iter().position(|&x| x == r).unwrap_or(3)] += 1;
+            for pot in &s.potted {
+                potted[pot.ball as usize] += 1;
+            }
+            if let Some(p) = s.pocket_of(config.intended) {
+                intended_pockets[p] += 1;
+            }
+            if let Some(t) = s.pot_time(config.intended) {
+                pot_times.push(t);
+            }
+            if let Some(p) = s.pocket_of(config.cue) {
+                scratches += 1;
+                scratch_pockets[p] += 1;
+            } else {
+                xs.push(s.cue_final.0);
+                ys.push(s.cue_final.1);
+                if config
+                    .target
+                    .is_some_and(|t| t.contains(s.cue_final.0, s.cue_final.1))
+                {
+                    in_target += 1;
+                }
             }
         }
         Summary {
             samples: samples.len(),
-            intended: config.object_ball,
-            counts,
-            time: Stats::of(&times),
-            cut: Stats::of(&cuts),
+            until,
+            first,
+            contact_time: Stats::of(&contact_times),
+            cut_angle: Stats::of(&cuts),
+            results,
+            intended_pockets: intended_pockets
+                .into_iter()
+                .enumerate()
+                .filter(|&(_, n)| n > 0)
+                .collect(),
+            scratches,
+            scratch_pockets: scratch_pockets
+                .into_iter()
+                .enumerate()
+                .filter(|&(_, n)| n > 0)
+                .collect(),
+            no_ball_hit,
+            others_potted: potted
+                .into_iter()
+                .enumerate()
+                .filter(|&(k, n)| n > 0 && k != config.cue && k != config.intended)
+                .collect(),
+            pot_time: Stats::of(&pot_times),
+            cue_final: Stats::of(&xs).zip(Stats::of(&ys)),
+            in_target: config.target.map(|_| in_target),
+            cut,
+            events: Stats::of(&events),
+            duration: Stats::of(&durations),
         }
     }
 
-    /// The count of a class.
+    /// The count of a first-contact class.
     pub fn count(&self, class: Class) -> usize {
-        self.counts
+        self.first
             .iter()
             .find(|(c, _)| *c == class)
             .map_or(0, |c| c.1)
+    }
+
+    /// The count of an outcome.
+    pub fn result(&self, r: Result4) -> usize {
+        self.results[Result4::ALL.iter().position(|&x| x == r).unwrap_or(3)]
+    }
+
+    /// Samples where the intended ball went in (any pocket).
+    pub fn intended_potted(&self) -> usize {
+        self.intended_pockets.iter().map(|p| p.1).sum()
     }
 }
 
