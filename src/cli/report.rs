@@ -251,101 +251,24 @@ pub fn summary_text(run: &Run<'_>, s: &Summary) -> String {
     out
 }
 
-/// Statistics as JSON (`null` when there are none).
-fn stats_json(st: Option<&Stats>) -> Value {
-    match st {
-        Some(s) => json!({
-            "n": s.n, "mean": s.mean, "std": s.std, "p5": s.p5, "p50": s.p50, "p95": s.p95
-        }),
-        None => Value::Null,
-    }
-}
-
-/// A count as JSON: count, fraction and the Wilson 95 % interval.
-fn count_json(k: usize, n: usize) -> Value {
-    let (lo, hi) = wilson(k, n);
-    let frac = if n > 0 { k as f64 / n as f64 } else { 0.0 };
-    json!({"count": k, "fraction": frac, "ci95": [lo, hi]})
-}
-
-/// The summary as one JSON object (for scripts): the run, then every count with its
-/// fraction and interval, then the statistics.
+/// The summary as one JSON object (for scripts): the study's counts and statistics
+/// ([`Summary::to_json`]) with the run's description added (seed, noise or strike file,
+/// time, threads).
 pub fn summary_json(run: &Run<'_>, s: &Summary) -> String {
-    let c = run.scenario;
+    let mut v = s.to_json(run.scenario);
     let n = s.samples;
-    let first: serde_json::Map<String, Value> = s
-        .first
-        .iter()
-        .map(|&(class, k)| {
-            let key = match class {
-                Class::Ball(b) => c.balls[b].id.clone(),
-                Class::Cushion => "cushion".to_owned(),
-                Class::Pocket => "pocket".to_owned(),
-                Class::Stopped => "stopped".to_owned(),
-                Class::Nothing => "nothing".to_owned(),
-            };
-            (key, count_json(k, n))
-        })
-        .collect();
-    let mut v = json!({
-        "scenario": c.source,
-        "table": c.table_name,
-        "cue_ball": c.cue_id(),
-        "intended": c.intended_id(),
-        "called_pocket": c.pocket_id(),
-        "until": match s.until { Until::Rest => "rest", Until::FirstContact => "first-contact" },
-        "samples": n,
+    let extra = json!({
         "seed": run.sigma.map(|_| run.seed),
         "strikes": run.strikes.map(|p| p.display().to_string()),
         "noise": run.sigma.map(|g| json!({
             "V0": g.v0, "phi": g.phi, "theta": g.theta, "a_m": g.a, "b_m": g.b
         })),
-        "first_contact": first,
-        "contact_time_s": stats_json(s.contact_time.as_ref()),
-        "cut_angle_deg": stats_json(s.cut_angle.as_ref()),
-        "cut_by_cap": s.cut,
-        "events": stats_json(s.events.as_ref()),
-        "duration_s": stats_json(s.duration.as_ref()),
         "seconds": run.seconds,
         "samples_per_s": n as f64 / run.seconds.max(1e-9),
         "threads": run.threads,
     });
-    if s.until == Until::Rest {
-        let results: serde_json::Map<String, Value> = Result4::ALL
-            .iter()
-            .map(|&r| (r.name().to_owned(), count_json(s.result(r), n)))
-            .collect();
-        let pockets: serde_json::Map<String, Value> = s
-            .intended_pockets
-            .iter()
-            .map(|&(p, k)| (c.table.pocket_ids[p].clone(), count_json(k, n)))
-            .collect();
-        let others: serde_json::Map<String, Value> = s
-            .others_potted
-            .iter()
-            .map(|&(b, k)| (c.balls[b].id.clone(), count_json(k, n)))
-            .collect();
-        let extra = json!({
-            "outcome": results,
-            "intended_potted": count_json(s.intended_potted(), n),
-            "intended_pockets": pockets,
-            "scratch": count_json(s.scratches, n),
-            "scratch_pockets": s
-                .scratch_pockets
-                .iter()
-                .map(|&(p, k)| (c.table.pocket_ids[p].clone(), count_json(k, n)))
-                .collect::<serde_json::Map<String, Value>>(),
-            "others_potted": others,
-            "no_ball_hit": count_json(s.no_ball_hit, n),
-            "pot_time_s": stats_json(s.pot_time.as_ref()),
-            "cue_final_x": stats_json(s.cue_final.as_ref().map(|p| &p.0)),
-            "cue_final_y": stats_json(s.cue_final.as_ref().map(|p| &p.1)),
-            "target": c.target.map(|t| json!({"x": t.x, "y": t.y, "radius": t.radius})),
-            "in_target": s.in_target.map(|k| count_json(k, n)),
-        });
-        if let (Value::Object(m), Value::Object(e)) = (&mut v, extra) {
-            m.extend(e);
-        }
+    if let (Value::Object(m), Value::Object(e)) = (&mut v, extra) {
+        m.extend(e);
     }
     v.to_string()
 }

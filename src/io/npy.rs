@@ -204,6 +204,49 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
     rows.into_batch("row", |e, row| e.in_file(file).at_row(row))
 }
 
+/// A batch from the structured input's columns held in memory (what the Python package
+/// hands over from NumPy): row `r` is `table[r]`, `ball[r]`, `state[r]` and
+/// `numbers[k][r]` for `x, y, vx, vy, wx, wy, wz`. Every row is checked and located
+/// exactly as [`read_batch_npy`] checks a file's rows, with `source` in place of the file
+/// name, so that the messages are the command line's.
+pub fn batch_from_columns(
+    source: &str,
+    table: &[i64],
+    ball: &[i64],
+    state: &[i64],
+    numbers: [&[f64]; 7],
+) -> Result<Batch, Error> {
+    let n = table.len();
+    if ball.len() != n || state.len() != n || numbers.iter().any(|c| c.len() != n) {
+        return Err(InputError::new(format!(
+            "columns of different lengths: {n} table ids, {} ball ids, {} states, {} x",
+            ball.len(),
+            state.len(),
+            numbers[0].len()
+        ))
+        .in_file(source)
+        .into());
+    }
+    let mut rows = BallRows::default();
+    rows.reserve(n)?;
+    for r in 0..n {
+        let row = r as u64;
+        let v = [
+            numbers[0][r],
+            numbers[1][r],
+            numbers[2][r],
+            numbers[3][r],
+            numbers[4][r],
+            numbers[5][r],
+            numbers[6][r],
+        ];
+        let b = make_ball(state[r] as f64, v)
+            .map_err(|m| locate(InputError::new(m), source, row, table[r], ball[r]))?;
+        rows.push(table[r], ball[r], b, row)?;
+    }
+    rows.into_batch("row", |e, row| e.in_file(source).at_row(row))
+}
+
 /// The type string each field of the structured input must have: int64 ids and state,
 /// float64 numbers.
 fn field_type(name: &str) -> &'static str {

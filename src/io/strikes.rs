@@ -121,6 +121,55 @@ pub fn read_sample_strikes(path: &Path) -> Result<Vec<SampleStrike>, Error> {
     sample_strikes(rows, &name, format)
 }
 
+/// A study's strikes from columns held in memory (the Python package's arrays), checked
+/// and located as [`read_sample_strikes`] checks a `.npy` file's rows (`source` in place
+/// of the file name): `sample[r]` and `v[k][r]` for `V0, phi, theta, a, b`.
+pub fn sample_strikes_from_columns(
+    source: &str,
+    sample: &[i64],
+    v: [&[f64]; 5],
+) -> Result<Vec<SampleStrike>, Error> {
+    let rows = rows_from_columns(source, sample, None, v)?;
+    sample_strikes(rows, source, Format::Npy)
+}
+
+/// `kisstime simulate`'s strikes from columns held in memory (`table[r]`, `ball[r]`,
+/// `v[k][r]` for `V0, phi, theta, a, b`), located by row as in a `.npy` file; check them
+/// with [`match_strikes`] (format [`Format::Npy`]).
+pub fn strike_rows_from_columns(
+    source: &str,
+    table: &[i64],
+    ball: &[i64],
+    v: [&[f64]; 5],
+) -> Result<Vec<StrikeRow>, Error> {
+    rows_from_columns(source, table, Some(ball), v)
+}
+
+fn rows_from_columns(
+    source: &str,
+    ids: &[i64],
+    balls: Option<&[i64]>,
+    v: [&[f64]; 5],
+) -> Result<Vec<StrikeRow>, Error> {
+    let n = ids.len();
+    if balls.is_some_and(|b| b.len() != n) || v.iter().any(|c| c.len() != n) {
+        return Err(InputError::new("strike columns of different lengths")
+            .in_file(source)
+            .into());
+    }
+    Ok((0..n)
+        .map(|r| {
+            let ball = balls.map_or(0, |b| b[r]);
+            row(
+                ids[r],
+                ball,
+                [v[0][r], v[1][r], v[2][r], v[3][r], v[4][r]],
+                r as u64,
+            )
+        })
+        .collect())
+}
+
 /// Checks the rows of a study's strike file (see [`read_sample_strikes`]).
 fn sample_strikes(
     rows: Vec<StrikeRow>,

@@ -2,6 +2,8 @@
 //! Wilson intervals that go with them, and summary statistics (times, the cut angle, where
 //! the cue ball ends).
 
+use serde_json::{Value, json};
+
 use super::config::StudyConfig;
 use super::run::{FirstContact, Sample, Until};
 
@@ -323,6 +325,95 @@ impl Summary {
     /// Samples where the intended ball went in (any pocket).
     pub fn intended_potted(&self) -> usize {
         self.intended_pockets.iter().map(|p| p.1).sum()
+    }
+}
+
+/// Statistics as JSON (`null` when there are none).
+fn stats_json(st: Option<&Stats>) -> Value {
+    match st {
+        Some(s) => json!({
+            "n": s.n, "mean": s.mean, "std": s.std, "p5": s.p5, "p50": s.p50, "p95": s.p95
+        }),
+        None => Value::Null,
+    }
+}
+
+/// A count as JSON: count, fraction and the Wilson 95 % interval.
+fn count_json(k: usize, n: usize) -> Value {
+    let (lo, hi) = wilson(k, n);
+    let frac = if n > 0 { k as f64 / n as f64 } else { 0.0 };
+    json!({"count": k, "fraction": frac, "ci95": [lo, hi]})
+}
+
+impl Summary {
+    /// The summary as a JSON object (what `kisstime shots --json` prints, less the run's
+    /// description, and what the Python package returns): every count as `{count,
+    /// fraction, ci95}`, every statistic as `{n, mean, std, p5, p50, p95}` (`null` when no
+    /// sample has it), balls and pockets by their ids. The outcome keys (`outcome`,
+    /// `intended_potted`, `scratch`, …) are there only for a study run to rest.
+    pub fn to_json(&self, c: &StudyConfig) -> Value {
+        let s = self;
+        let n = s.samples;
+        let first: serde_json::Map<String, Value> = s
+            .first
+            .iter()
+            .map(|&(class, k)| {
+                let key = match class {
+                    Class::Ball(b) => c.balls[b].id.clone(),
+                    Class::Cushion => "cushion".to_owned(),
+                    Class::Pocket => "pocket".to_owned(),
+                    Class::Stopped => "stopped".to_owned(),
+                    Class::Nothing => "nothing".to_owned(),
+                };
+                (key, count_json(k, n))
+            })
+            .collect();
+        let mut v = json!({
+            "scenario": c.source,
+            "table": c.table_name,
+            "cue_ball": c.cue_id(),
+            "intended": c.intended_id(),
+            "called_pocket": c.pocket_id(),
+            "until": match s.until { Until::Rest => "rest", Until::FirstContact => "first-contact" },
+            "samples": n,
+            "first_contact": first,
+            "contact_time_s": stats_json(s.contact_time.as_ref()),
+            "cut_angle_deg": stats_json(s.cut_angle.as_ref()),
+            "cut_by_cap": s.cut,
+            "events": stats_json(s.events.as_ref()),
+            "duration_s": stats_json(s.duration.as_ref()),
+        });
+        if s.until == Until::Rest {
+            let ids =
+                |list: &[(usize, usize)], names: &[String]| -> serde_json::Map<String, Value> {
+                    list.iter()
+                        .map(|&(i, k)| (names[i].clone(), count_json(k, n)))
+                        .collect()
+                };
+            let ball_ids: Vec<String> = c.balls.iter().map(|b| b.id.clone()).collect();
+            let results: serde_json::Map<String, Value> = Result4::ALL
+                .iter()
+                .map(|&r| (r.name().to_owned(), count_json(s.result(r), n)))
+                .collect();
+            let extra = json!({
+                "outcome": results,
+                "intended_potted": count_json(s.intended_potted(), n),
+                "intended_pockets": ids(&s.intended_pockets, &c.table.pocket_ids),
+                "scratch": count_json(s.scratches, n),
+                "scratch_pockets": ids(&s.scratch_pockets, &c.table.pocket_ids),
+                "others_potted": ids(&s.others_potted, &ball_ids),
+                "no_ball_hit": count_json(s.no_ball_hit, n),
+                "pot_time_s": stats_json(s.pot_time.as_ref()),
+                "cue_final_x": stats_json(s.cue_final.as_ref().map(|p| &p.0)),
+                "cue_final_y": stats_json(s.cue_final.as_ref().map(|p| &p.1)),
+                "target": c.target.map(|t| json!({"x": t.x, "y": t.y, "radius": t.radius})),
+                "in_target": s.in_target.map(|k| count_json(k, n)),
+            });
+            if let (Value::Object(m), Value::Object(e)) = (&mut v, extra) {
+                m.extend(e);
+            }
+        }
+        v
     }
 }
 

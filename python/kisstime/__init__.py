@@ -1,0 +1,481 @@
+"""kisstime: billiards physics at scale, from Python.
+
+Exact ball-ball collision times for every pair of many tables (``pair_times``,
+``next_collisions``), pooltool 0.6.0's event-based simulation of whole shots from the cue
+strike to rest (``simulate``), and Monte Carlo shot studies (``shot_study``), all with NumPy
+arrays in and out. The computation is the kisstime Rust library's, the same code as the
+``kisstime`` command line: for the same input the arrays are the command line's ``.npy``
+outputs, bit for bit.
+
+Every long call releases the GIL and can be interrupted with Ctrl-C (between chunks of
+tables or samples). Bad input raises ``ValueError`` with the command line's message (the
+input is named ``balls`` or ``strikes`` where the command line names the file), a GPU
+failure ``RuntimeError``, an unreadable file ``OSError``.
+
+Balls are a structured array of :data:`BALL_DTYPE` (``table, ball, state, x, y, vx, vy,
+wx, wy, wz``: int64 ids and motion-state code, float64 numbers in m, m/s, rad/s; rows in
+any order), or a dict of those 1-D columns. Motion-state codes are pooltool's: 0
+stationary, 1 spinning, 2 sliding, 3 rolling, 4 pocketed (:data:`STATES`).
+
+Past one machine, :mod:`kisstime.dask` spreads a study over a Dask cluster; pooltool users
+convert systems with :mod:`kisstime.pooltool`.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+from dataclasses import dataclass, field
+from typing import Any, Mapping, NamedTuple, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _kisstime
+
+__all__ = [
+    "BALL_DTYPE",
+    "STRIKE_DTYPE",
+    "SAMPLE_STRIKE_DTYPE",
+    "PAIR_DTYPE",
+    "NEXT_DTYPE",
+    "STATES",
+    "EVENT_TYPES",
+    "pair_times",
+    "next_collisions",
+    "simulate",
+    "SimResult",
+    "table_ids",
+    "Scenario",
+    "scenario",
+    "Study",
+    "shot_study",
+    "SAMPLE_FIELDS",
+]
+
+#: The balls' structured dtype (the command line's ``.npy`` input layout).
+BALL_DTYPE = np.dtype(
+    [
+        ("table", "<i8"),
+        ("ball", "<i8"),
+        ("state", "<i8"),
+        ("x", "<f8"),
+        ("y", "<f8"),
+        ("vx", "<f8"),
+        ("vy", "<f8"),
+        ("wx", "<f8"),
+        ("wy", "<f8"),
+        ("wz", "<f8"),
+    ]
+)
+#: Cue strikes for :func:`simulate` (``kisstime simulate --strikes``): pooltool's
+#: ``Cue.set_state`` fields, V0 in m/s, phi and theta in degrees, a and b fractions of R.
+STRIKE_DTYPE = np.dtype(
+    [
+        ("table", "<i8"),
+        ("ball", "<i8"),
+        ("V0", "<f8"),
+        ("phi", "<f8"),
+        ("theta", "<f8"),
+        ("a", "<f8"),
+        ("b", "<f8"),
+    ]
+)
+#: Given strikes for :func:`shot_study` (``kisstime shots --strikes``).
+SAMPLE_STRIKE_DTYPE = np.dtype(
+    [
+        ("sample", "<i8"),
+        ("V0", "<f8"),
+        ("phi", "<f8"),
+        ("theta", "<f8"),
+        ("a", "<f8"),
+        ("b", "<f8"),
+    ]
+)
+#: :func:`pair_times`' output: ``t`` the first contact time in s (``inf`` if none within
+#: the horizon), ``status`` 0 none, 1 hit, 2 overlap, ``horizon`` the time both motions last.
+PAIR_DTYPE = np.dtype(
+    [
+        ("table", "<i8"),
+        ("i", "<i8"),
+        ("j", "<i8"),
+        ("t", "<f8"),
+        ("status", "<i8"),
+        ("horizon", "<f8"),
+    ]
+)
+#: :func:`next_collisions`' output: one row per table (``i = j = -1`` when none).
+NEXT_DTYPE = np.dtype(
+    [("table", "<i8"), ("t", "<f8"), ("i", "<i8"), ("j", "<i8"), ("status", "<i8")]
+)
+#: Motion-state codes.
+STATES = {"stationary": 0, "spinning": 1, "sliding": 2, "rolling": 3, "pocketed": 4}
+#: Event type codes of :func:`simulate`'s ``events`` (pooltool's ``EventType`` names).
+EVENT_TYPES = (
+    "stick_ball",
+    "ball_ball",
+    "ball_linear_cushion",
+    "ball_circular_cushion",
+    "ball_pocket",
+    "sliding_rolling",
+    "rolling_spinning",
+    "rolling_stationary",
+    "spinning_stationary",
+)
+
+_BALL_INT = ("table", "ball", "state")
+_BALL_NUM = ("x", "y", "vx", "vy", "wx", "wy", "wz")
+
+ArrayLike = Union[np.ndarray, Mapping[str, Any]]
+
+
+def _column(data: ArrayLike, name: str, dtype: str, what: str) -> np.ndarray:
+    """One 1-D C-contiguous column of a structured array or dict."""
+    try:
+        col = data[name]
+    except (KeyError, ValueError, IndexError):
+        raise ValueError(f"{what}: no column {name!r}") from None
+    arr = np.asarray(col)
+    if arr.ndim != 1:
+        raise ValueError(f"{what}: column {name!r} must be 1-D, it has shape {arr.shape}")
+    if dtype == "<i8" and arr.dtype.kind not in "iu":
+        # whole numbers in a float column are fine (as in the CLI's plain float64 .npy)
+        whole = arr.dtype.kind == "f" and bool(
+            np.all(np.isfinite(arr)) and np.all(arr == np.round(arr))
+        )
+        if not whole:
+            raise ValueError(
+                f"{what}: column {name!r} must hold integers, it is {arr.dtype}"
+            )
+    return np.ascontiguousarray(arr, dtype=dtype)
+
+
+def _balls(balls: ArrayLike) -> list:
+    """The ten input columns, in the extension's order."""
+    if isinstance(balls, np.ndarray) and balls.dtype.names is None:
+        raise ValueError(
+            "balls: expected a structured array of kisstime.BALL_DTYPE or a dict of columns"
+        )
+    cols = [_column(balls, n, "<i8", "balls") for n in _BALL_INT]
+    cols += [_column(balls, n, "<f8", "balls") for n in _BALL_NUM]
+    lengths = {len(c) for c in cols}
+    if len(lengths) != 1:
+        raise ValueError(f"balls: columns of different lengths {sorted(lengths)}")
+    return cols
+
+
+def _load(data: bytes) -> np.ndarray:
+    """An array from ``.npy`` bytes."""
+    return np.load(io.BytesIO(data), allow_pickle=False)
+
+
+def _params(radius: float, mu_s: float, mu_r: float, mu_sp: Optional[float], g: float):
+    return (
+        float(radius),
+        float(mu_s),
+        float(mu_r),
+        float(0.444 * radius if mu_sp is None else mu_sp),
+        float(g),
+    )
+
+
+def pair_times(
+    balls: ArrayLike,
+    *,
+    backend: str = "cpu",
+    precision: Optional[str] = None,
+    radius: float = 0.028575,
+    mu_s: float = 0.2,
+    mu_r: float = 0.01,
+    mu_sp: Optional[float] = None,
+    g: float = 9.81,
+) -> np.ndarray:
+    """Every ball pair's first contact while approaching, within the time both current
+    motions last (``kisstime pairs``).
+
+    ``backend`` is ``"cpu"`` (Rayon, f64, the reference), ``"gpu"`` (wgpu) or ``"auto"``
+    (the GPU when one works, else the CPU); ``precision`` ``"f32"`` or ``"f64"`` (default:
+    f64 on the CPU, f32 on a GPU). Returns a structured array of :data:`PAIR_DTYPE`, tables
+    in ascending id order and pairs ``(i, j)`` with ``i < j`` in ball-id order.
+    """
+    cols = _balls(balls)
+    data = _kisstime.pair_times(
+        *cols, _params(radius, mu_s, mu_r, mu_sp, g), backend, precision
+    )
+    return _load(data)
+
+
+def next_collisions(
+    balls: ArrayLike,
+    *,
+    backend: str = "cpu",
+    precision: Optional[str] = None,
+    radius: float = 0.028575,
+    mu_s: float = 0.2,
+    mu_r: float = 0.01,
+    mu_sp: Optional[float] = None,
+    g: float = 9.81,
+) -> np.ndarray:
+    """Each table's next collision: the earliest pair in contact (``kisstime next``).
+
+    Ties go to the smallest time, then the smallest ``(i, j)``. Returns a structured array
+    of :data:`NEXT_DTYPE`, one row per table in ascending id order; ``t = inf``,
+    ``i = j = -1``, ``status = 0`` where no pair of the table collides.
+    """
+    cols = _balls(balls)
+    data = _kisstime.next_collisions(
+        *cols, _params(radius, mu_s, mu_r, mu_sp, g), backend, precision
+    )
+    return _load(data)
+
+
+class SimResult(NamedTuple):
+    """What :func:`simulate` returns: the command line's three ``.npy`` outputs."""
+
+    #: Every event, one row per involved ball (``None`` when ``events=False``).
+    events: Optional[np.ndarray]
+    #: Every ball's final state (``pocket``: the pocket's index, or -1).
+    final: np.ndarray
+    #: One row per table: ``table, events, t_end, cut`` (cut 0 none, 1 max_events,
+    #: 2 max_time).
+    outcomes: np.ndarray
+
+
+def simulate(
+    balls: ArrayLike,
+    strikes: Optional[ArrayLike] = None,
+    *,
+    table: Union[str, os.PathLike] = "9ft",
+    max_events: int = 200_000,
+    max_time: float = 3600.0,
+    events: bool = True,
+) -> SimResult:
+    """Whole shots from the cue strike to rest with pooltool 0.6.0's physics
+    (``kisstime simulate``; CPU, f64, every core).
+
+    ``strikes`` (at most one per table, applied at t = 0) is a structured array of
+    :data:`STRIKE_DTYPE` or a dict of its columns. ``table`` is ``"9ft"`` (pooltool's 9-ft
+    pocket table), ``"rectangle"`` (its playing surface, no pockets) or the path of a JSON
+    table in the format of ``shared/fullshots/table.json``. A table is cut after
+    ``max_events`` events or before an event later than ``max_time`` s (see
+    ``outcomes['cut']``). The arrays' layouts are those of the command line's ``.npy``
+    outputs (``-o``, ``--final``, ``--outcomes``); ``events['type']`` indexes
+    :data:`EVENT_TYPES`, ``agent_b`` is the other ball's id or the cushion's, jaw's or
+    pocket's index in :func:`table_ids`' lists (-1 if none).
+    """
+    cols = _balls(balls)
+    strike_cols = None
+    if strikes is not None:
+        ints = [_column(strikes, n, "<i8", "strikes") for n in ("table", "ball")]
+        nums = [
+            _column(strikes, n, "<f8", "strikes") for n in ("V0", "phi", "theta", "a", "b")
+        ]
+        strike_cols = (ints[0], ints[1], nums)
+    ev, fin, oc = _kisstime.simulate(
+        *cols,
+        strike_cols,
+        os.fspath(table),
+        int(max_events),
+        float(max_time),
+        bool(events),
+    )
+    return SimResult(_load(ev) if ev is not None else None, _load(fin), _load(oc))
+
+
+def table_ids(table: Union[str, os.PathLike] = "9ft") -> dict:
+    """The ids of a table's items in index order: ``{"linear": [...], "circular": [...],
+    "pockets": [...]}`` (pooltool's segment, jaw and pocket ids), to read the indices in
+    :func:`simulate`'s outputs."""
+    linear, circular, pockets = _kisstime.table_ids(os.fspath(table))
+    return {"linear": list(linear), "circular": list(circular), "pockets": list(pockets)}
+
+
+# ----------------------------------------------------------------------- shot studies
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A shot study's scenario as text (picklable, so that Dask workers need no file):
+    ``kind`` is ``builtin``, ``toml``, ``json`` (the reference format of
+    ``shared/studies``) or ``dict``. Make one with :func:`scenario`."""
+
+    kind: str
+    text: str = ""
+    source: str = "built-in study (examples/study.toml)"
+    dir: Optional[str] = None
+
+    def _args(self) -> tuple:
+        return (self.kind, self.text, self.source, self.dir)
+
+
+def scenario(x: Union[None, str, os.PathLike, Mapping[str, Any], Scenario] = None) -> Scenario:
+    """The scenario ``x`` names: ``None`` the built-in study; a path to a TOML study
+    (``examples/study.toml``'s format) or to a ``.json`` scenario in ``shared/studies``'
+    format; a dict with the TOML file's schema (``{"balls": [...], "shot": {...}, ...}``).
+    The file is read now; it is checked when the study runs (:func:`shot_study` raises
+    ``ValueError`` naming the file and key)."""
+    if x is None:
+        return Scenario("builtin")
+    if isinstance(x, Scenario):
+        return x
+    if isinstance(x, Mapping):
+        return Scenario("dict", json.dumps(x), "scenario dict", None)
+    path = os.fspath(x)
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    kind = "json" if path.lower().endswith(".json") else "toml"
+    return Scenario(kind, text, path, os.path.dirname(os.path.abspath(path)))
+
+
+#: The fields of :attr:`Study.samples`, one row per sample. ``first_contact``: 0 a ball,
+#: 1 a cushion or jaw, 2 a pocket, 3 stopped, 4 nothing; ``first_index`` the ball's index
+#: in :attr:`Study.ball_ids` (or the cushion's, jaw's or pocket's in the table), else -1;
+#: ``result``: 0 pot, 1 pot + scratch, 2 scratch, 3 miss (-1 with ``until="first-contact"``);
+#: ``intended_pocket``, ``cue_pocket``: a pocket index in :attr:`Study.pocket_ids`, or -1;
+#: ``cut``: 0 none, 1 max_events, 2 max_time.
+SAMPLE_FIELDS = (
+    ("sample", "<i8"),
+    ("V0", "<f8"),
+    ("phi", "<f8"),
+    ("theta", "<f8"),
+    ("a", "<f8"),
+    ("b", "<f8"),
+    ("first_contact", "<i8"),
+    ("first_index", "<i8"),
+    ("first_t", "<f8"),
+    ("speed", "<f8"),
+    ("cut_angle", "<f8"),
+    ("result", "<i8"),
+    ("intended_pocket", "<i8"),
+    ("cue_pocket", "<i8"),
+    ("cue_x", "<f8"),
+    ("cue_y", "<f8"),
+    ("n_events", "<i8"),
+    ("duration", "<f8"),
+    ("cut", "<i8"),
+)
+_SAMPLE_DTYPE = np.dtype(list(SAMPLE_FIELDS))
+
+
+@dataclass
+class Study:
+    """A shot study's result.
+
+    ``summary`` is what ``kisstime shots --json`` prints, less the run's description:
+    every count as ``{"count", "fraction", "ci95"}`` (Wilson 95 % interval), every
+    statistic as ``{"n", "mean", "std", "p5", "p50", "p95"}``. ``samples`` has one row per
+    sample (fields :data:`SAMPLE_FIELDS`), ``potted`` each sample's pocketed balls as
+    ``ball@pocket;…`` in order (``shared/studies``' vocabulary).
+    """
+
+    summary: dict
+    samples: np.ndarray
+    potted: list
+    ball_ids: list = field(default_factory=list)
+    pocket_ids: list = field(default_factory=list)
+
+    def save(self, path: Union[str, os.PathLike]) -> None:
+        """Writes :attr:`samples` as a ``.npy`` file."""
+        np.save(path, self.samples, allow_pickle=False)
+
+    @property
+    def pot_fraction(self) -> float:
+        """The fraction of samples that potted the intended ball (any pocket)."""
+        return float(self.summary["intended_potted"]["fraction"])
+
+
+def _strike_columns(strikes: ArrayLike) -> tuple:
+    ids = _column(strikes, "sample", "<i8", "strikes")
+    nums = [_column(strikes, n, "<f8", "strikes") for n in ("V0", "phi", "theta", "a", "b")]
+    return (ids, nums)
+
+
+def _study_chunk(
+    scenario: Scenario,
+    first: int,
+    n: int,
+    *,
+    seed: int = 42,
+    strikes: Optional[ArrayLike] = None,
+    until: str = "rest",
+    noise: Optional[float] = None,
+    max_events: int = 10_000,
+    max_time: float = 600.0,
+) -> bytes:
+    """Samples ``first .. first + n`` of a study (noisy from ``seed``, or rows of the given
+    strikes) as an opaque blob for :func:`_study_merge` (what a Dask task computes)."""
+    strike_cols = None if strikes is None else _strike_columns(strikes)
+    return _kisstime.study_chunk(
+        *scenario._args(),
+        int(first),
+        int(n),
+        int(seed),
+        strike_cols,
+        until,
+        None if noise is None else float(noise),
+        int(max_events),
+        float(max_time),
+    )
+
+
+def _study_merge(scenario: Scenario, blobs: Sequence[bytes], *, until: str = "rest") -> Study:
+    """The blobs of a study's chunks, in order, as one :class:`Study`."""
+    summary, cols, potted = _kisstime.study_merge(*scenario._args(), list(blobs), until)
+    samples = np.empty(len(cols["sample"]), dtype=_SAMPLE_DTYPE)
+    for name, _ in SAMPLE_FIELDS:
+        samples[name] = cols[name]
+    balls, pockets, _linear, _circular, _cue, _intended = _kisstime.study_ids(*scenario._args())
+    return Study(json.loads(summary), samples, list(potted), list(balls), list(pockets))
+
+
+_scenario = scenario
+
+
+def shot_study(
+    scenario: Union[None, str, os.PathLike, Mapping[str, Any], Scenario] = None,
+    *,
+    samples: int = 100_000,
+    seed: int = 42,
+    strikes: Optional[ArrayLike] = None,
+    until: str = "rest",
+    noise: Optional[float] = None,
+    max_events: int = 10_000,
+    max_time: float = 600.0,
+    chunk: Optional[int] = None,
+) -> Study:
+    """A Monte Carlo shot study (``kisstime shots``): one table, one intended shot,
+    ``samples`` noisy strikes drawn from ``seed`` (sample i's noise depends on (seed, i)
+    only), every sample simulated from the strike to rest (``until="rest"``) or to the cue
+    ball's first contact (``until="first-contact"``).
+
+    ``scenario`` is anything :func:`kisstime.scenario` takes (default: the built-in study).
+    ``strikes`` (a structured array of :data:`SAMPLE_STRIKE_DTYPE` or a dict of its
+    columns) evaluates exactly those strikes without noise instead. ``noise`` multiplies the
+    scenario's standard deviations (0 replays the intended shot). ``chunk`` samples run
+    between two checks for Ctrl-C (default 16,384); the result does not depend on it.
+    """
+    sc = _scenario(scenario)
+    if strikes is not None:
+        total = len(_column(strikes, "sample", "<i8", "strikes"))
+    else:
+        total = int(samples)
+        if total < 1:
+            raise ValueError(f"samples {samples}: at least 1")
+    per = 16_384 if chunk is None else int(chunk)
+    if per < 1:
+        raise ValueError(f"chunk {chunk}: at least 1")
+    blobs = [
+        _study_chunk(
+            sc,
+            first,
+            min(per, total - first),
+            seed=seed,
+            strikes=strikes,
+            until=until,
+            noise=noise,
+            max_events=max_events,
+            max_time=max_time,
+        )
+        for first in range(0, total, per)
+    ]
+    return _study_merge(sc, blobs, until=until)

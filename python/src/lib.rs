@@ -1,0 +1,719 @@
+//! `kisstime._kisstime`: the Python extension over the kisstime library (PyO3, rust-numpy).
+//!
+//! Thin: every function takes NumPy columns (1-D, C-contiguous, the dtypes of the command
+//! line's `.npy` layouts), runs the library with the GIL released (`Python::detach`), in
+//! chunks so that Ctrl-C is noticed between them (`Python::check_signals`), and hands back
+//! the command line's own `.npy` bytes (so the arrays are the CLI's, bit for bit) or plain
+//! columns. Bad input raises `ValueError` with the command line's message (the input named
+//! `balls` or `strikes` instead of a file), GPU failures `RuntimeError`, file errors
+//! `OSError`. The Python side (`kisstime/__init__.py`) normalises the arguments.
+
+use std::ops::Range;
+
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+use kisstime::batch::Batch;
+use kisstime::io::npy::batch_from_columns;
+use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
+use kisstime::io::strikes::{match_strikes, sample_strikes_from_columns, strike_rows_from_columns};
+use kisstime::io::table_json::table_by_name;
+use kisstime::io::{Format, PairsWriter, write_next};
+use kisstime::simulate::{BatchError, BatchOptions, Limits, SimParams, simulate_batch};
+use kisstime::study::{
+    Class, FirstContact, Pot, Result4, RunOptions, Sample, StudyConfig, Summary, Until,
+    noisy_strike, run_strikes,
+};
+use kisstime::{Backend, Engine, Error, Params, Precision};
+
+type F64s<'py> = PyReadonlyArray1<'py, f64>;
+type I64s<'py> = PyReadonlyArray1<'py, i64>;
+
+/// Tables per chunk between two checks for Ctrl-C (pair and next-collision calls).
+const TABLES_PER_CHECK: usize = 8_192;
+
+/// A library error as the Python exception that fits it.
+fn py_err(e: Error) -> PyErr {
+    match &e {
+        Error::Gpu(_) | Error::GpuUnavailable(_) => PyRuntimeError::new_err(e.to_string()),
+        Error::Io { .. } => PyOSError::new_err(e.to_string()),
+        _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// An I/O error writing to memory (cannot happen short of running out of it).
+fn mem_err(e: std::io::Error) -> PyErr {
+    PyRuntimeError::new_err(format!("writing the result: {e}"))
+}
+
+/// A contiguous column's values.
+fn slice<'a, T: numpy::Element>(a: &'a PyReadonlyArray1<'_, T>, name: &str) -> PyResult<&'a [T]> {
+    a.as_slice()
+        .map_err(|_| PyValueError::new_err(format!("column {name} must be C-contiguous")))
+}
+
+/// The batch of the ten input columns (`table, ball, state, x, y, vx, vy, wx, wy, wz`).
+#[allow(clippy::too_many_arguments)]
+fn batch_of(table: &I64s, ball: &I64s, state: &I64s, numbers: [&F64s; 7]) -> PyResult<Batch> {
+    let names = ["x", "y", "vx", "vy", "wx", "wy", "wz"];
+    let mut cols: [&[f64]; 7] = [&[]; 7];
+    for (k, c) in numbers.iter().enumerate() {
+        cols[k] = slice(c, names[k])?;
+    }
+    batch_from_columns(
+        "balls",
+        slice(table, "table")?,
+        slice(ball, "ball")?,
+        slice(state, "state")?,
+        cols,
+    )
+    .map_err(py_err)
+}
+
+/// The collision-kernel parameters.
+fn params_of(p: (f64, f64, f64, f64, f64)) -> PyResult<Params> {
+    let params = Params {
+        radius: p.0,
+        mu_s: p.1,
+        mu_r: p.2,
+        mu_sp: p.3,
+        g: p.4,
+    };
+    params.validate().map_err(py_err)?;
+    Ok(params)
+}
+
+/// The engine a backend and precision name.
+fn engine_of(backend: &str, precision: Option<&str>) -> PyResult<Engine> {
+    let backend = match backend {
+        "cpu" => Backend::Cpu,
+        "gpu" => Backend::Gpu,
+        "auto" => Backend::Auto,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "backend {other:?}: expected \"cpu\", \"gpu\" or \"auto\""
+            )));
+        }
+    };
+    let precision = match precision {
+        None => kisstime::engine::default_precision(backend),
+        Some("f32") => Precision::F32,
+        Some("f64") => Precision::F64,
+        Some(other) => {
+            return Err(PyValueError::new_err(format!(
+                "precision {other:?}: expected \"f32\" or \"f64\""
+            )));
+        }
+    };
+    Engine::new(backend, precision).map_err(py_err)
+}
+
+/// Consecutive table ranges of at most `per` tables.
+fn chunks(n: usize, per: usize) -> Vec<Range<usize>> {
+    (0..n)
+        .step_by(per.max(1))
+        .map(|s| s..n.min(s + per))
+        .collect()
+}
+
+/// Every pair's first contact, as the `.npy` bytes `kisstime pairs -o x.npy` writes.
+#[pyfunction]
+#[pyo3(signature = (table, ball, state, x, y, vx, vy, wx, wy, wz, params, backend, precision))]
+#[allow(clippy::too_many_arguments)]
+fn pair_times<'py>(
+    py: Python<'py>,
+    table: I64s<'py>,
+    ball: I64s<'py>,
+    state: I64s<'py>,
+    x: F64s<'py>,
+    y: F64s<'py>,
+    vx: F64s<'py>,
+    vy: F64s<'py>,
+    wx: F64s<'py>,
+    wy: F64s<'py>,
+    wz: F64s<'py>,
+    params: (f64, f64, f64, f64, f64),
+    backend: &str,
+    precision: Option<&str>,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let batch = batch_of(&table, &ball, &state, [&x, &y, &vx, &vy, &wx, &wy, &wz])?;
+    let params = params_of(params)?;
+    let mut engine = engine_of(backend, precision)?;
+    let mut out: Vec<u8> = Vec::new();
+    {
+        let mut w = PairsWriter::new(&mut out, Format::Npy, &batch).map_err(mem_err)?;
+        for tables in batch.table_chunks(1 << 22) {
+            let contacts = py
+                .detach(|| engine.pair_times_of(&batch, &params, tables.clone()))
+                .map_err(py_err)?;
+            w.write_rows(&batch, tables, &contacts).map_err(mem_err)?;
+            py.check_signals()?;
+        }
+        w.finish().map_err(mem_err)?;
+    }
+    Ok(PyBytes::new(py, &out))
+}
+
+/// Each table's next collision, as the `.npy` bytes `kisstime next -o x.npy` writes.
+#[pyfunction]
+#[pyo3(signature = (table, ball, state, x, y, vx, vy, wx, wy, wz, params, backend, precision))]
+#[allow(clippy::too_many_arguments)]
+fn next_collisions<'py>(
+    py: Python<'py>,
+    table: I64s<'py>,
+    ball: I64s<'py>,
+    state: I64s<'py>,
+    x: F64s<'py>,
+    y: F64s<'py>,
+    vx: F64s<'py>,
+    vy: F64s<'py>,
+    wx: F64s<'py>,
+    wy: F64s<'py>,
+    wz: F64s<'py>,
+    params: (f64, f64, f64, f64, f64),
+    backend: &str,
+    precision: Option<&str>,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let batch = batch_of(&table, &ball, &state, [&x, &y, &vx, &vy, &wx, &wy, &wz])?;
+    let params = params_of(params)?;
+    let mut engine = engine_of(backend, precision)?;
+    let mut next = Vec::with_capacity(batch.num_tables());
+    for tables in chunks(batch.num_tables(), TABLES_PER_CHECK) {
+        let part = py
+            .detach(|| engine.next_collisions_of(&batch, &params, tables))
+            .map_err(py_err)?;
+        next.extend(part);
+        py.check_signals()?;
+    }
+    let mut out: Vec<u8> = Vec::new();
+    write_next(&mut out, Format::Npy, &next).map_err(mem_err)?;
+    Ok(PyBytes::new(py, &out))
+}
+
+/// Whole shots from the strike to rest: `(events, final, outcomes)` as the `.npy` bytes of
+/// `kisstime simulate -o … --final … --outcomes …` (`events` is `None` unless asked).
+#[pyfunction]
+#[pyo3(signature = (table, ball, state, x, y, vx, vy, wx, wy, wz, strikes, table_name, max_events, max_time, events))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn simulate<'py>(
+    py: Python<'py>,
+    table: I64s<'py>,
+    ball: I64s<'py>,
+    state: I64s<'py>,
+    x: F64s<'py>,
+    y: F64s<'py>,
+    vx: F64s<'py>,
+    vy: F64s<'py>,
+    wx: F64s<'py>,
+    wy: F64s<'py>,
+    wz: F64s<'py>,
+    strikes: Option<(I64s<'py>, I64s<'py>, [F64s<'py>; 5])>,
+    table_name: &str,
+    max_events: usize,
+    max_time: f64,
+    events: bool,
+) -> PyResult<(
+    Option<Bound<'py, PyBytes>>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+)> {
+    if !(max_time.is_finite() && max_time > 0.0) || max_events == 0 {
+        return Err(PyValueError::new_err(format!(
+            "max_events {max_events} and max_time {max_time} must be greater than 0"
+        )));
+    }
+    let batch = batch_of(&table, &ball, &state, [&x, &y, &vx, &vy, &wx, &wy, &wz])?;
+    let tbl = table_by_name(table_name).map_err(py_err)?;
+    let params = SimParams::default();
+    let strikes = match &strikes {
+        Some((t, b, v)) => {
+            let cols = [
+                slice(&v[0], "V0")?,
+                slice(&v[1], "phi")?,
+                slice(&v[2], "theta")?,
+                slice(&v[3], "a")?,
+                slice(&v[4], "b")?,
+            ];
+            let rows =
+                strike_rows_from_columns("strikes", slice(t, "table")?, slice(b, "ball")?, cols)
+                    .map_err(py_err)?;
+            match_strikes(&batch, &rows, "strikes", Format::Npy).map_err(py_err)?
+        }
+        None => Vec::new(),
+    };
+    let options = BatchOptions {
+        limits: Limits {
+            max_events,
+            max_time,
+        },
+        record_events: events,
+        ..BatchOptions::default()
+    };
+    let n = batch.num_tables();
+    let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
+    {
+        let mut ev_w = if events {
+            Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
+        } else {
+            None
+        };
+        let mut fin_w = FinalWriter::new(&mut fin_out, Format::Npy, batch.num_balls() as u64)
+            .map_err(mem_err)?;
+        let mut oc_w = OutcomesWriter::new(&mut oc_out, Format::Npy, n as u64).map_err(mem_err)?;
+        // chunks of tables, each simulated with the GIL released (its results kept), then
+        // written; Ctrl-C is noticed between chunks
+        let input = batch.sim_input(&strikes, params.ball.r);
+        for part in chunks(n, 16_384) {
+            let offset = part.start;
+            let result = py.detach(|| {
+                let mut kept: Vec<kisstime::simulate::Chunk> = Vec::new();
+                simulate_batch(
+                    &tbl,
+                    params,
+                    &options,
+                    part.len(),
+                    |k, balls| input(offset + k, balls),
+                    |chunk| {
+                        kept.push(chunk.clone());
+                        Ok::<(), ()>(())
+                    },
+                )
+                .map(|_| kept)
+            });
+            let kept = match result {
+                Ok(kept) => kept,
+                Err(BatchError::Table { table: k, error }) => {
+                    let e = Error::from(
+                        kisstime::InputError::new(error.to_string())
+                            .in_file("balls")
+                            .at_table(batch.table_id(offset + k)),
+                    );
+                    return Err(py_err(e));
+                }
+                Err(BatchError::Sink(())) => {
+                    return Err(PyRuntimeError::new_err("simulation stopped"));
+                }
+            };
+            for chunk in &kept {
+                for run in chunk.iter() {
+                    let k = offset + run.table;
+                    let ids = TableIds {
+                        table: batch.table_id(k),
+                        balls: batch.ball_ids(k),
+                    };
+                    if let Some(w) = ev_w.as_mut() {
+                        w.write_table(ids, &tbl, &run).map_err(mem_err)?;
+                    }
+                    fin_w.write_table(ids, &tbl, &run).map_err(mem_err)?;
+                    oc_w.write_table(ids, &run).map_err(mem_err)?;
+                }
+            }
+            py.check_signals()?;
+        }
+        if let Some(w) = ev_w {
+            w.finish().map_err(mem_err)?;
+        }
+        fin_w.finish().map_err(mem_err)?;
+        oc_w.finish().map_err(mem_err)?;
+    }
+    let ev = events.then(|| PyBytes::new(py, &ev_out));
+    Ok((ev, PyBytes::new(py, &fin_out), PyBytes::new(py, &oc_out)))
+}
+
+/// A study's configuration from its kind and text: `builtin`, `toml` (with the folder
+/// its table file is relative to), `json` (the reference format of `shared/studies`),
+/// `dict` (the TOML schema as JSON text).
+fn config_of(kind: &str, text: &str, source: &str, dir: Option<&str>) -> PyResult<StudyConfig> {
+    let dir = dir.map(std::path::Path::new);
+    match kind {
+        "builtin" => Ok(StudyConfig::builtin()),
+        "toml" => StudyConfig::parse(text, source, dir).map_err(py_err),
+        "json" => StudyConfig::parse_reference(text, source).map_err(py_err),
+        "dict" => {
+            let value: toml::Value = serde_json::from_str(text)
+                .map_err(|e| PyValueError::new_err(format!("{source}: not a scenario: {e}")))?;
+            let toml_text = toml::to_string(&value)
+                .map_err(|e| PyValueError::new_err(format!("{source}: not a scenario: {e}")))?;
+            StudyConfig::parse(&toml_text, source, dir).map_err(py_err)
+        }
+        other => Err(PyValueError::new_err(format!(
+            "unknown scenario kind {other:?}"
+        ))),
+    }
+}
+
+/// `rest` or `first-contact`.
+fn until_of(until: &str) -> PyResult<Until> {
+    match until {
+        "rest" => Ok(Until::Rest),
+        "first-contact" | "first_contact" => Ok(Until::FirstContact),
+        other => Err(PyValueError::new_err(format!(
+            "until {other:?}: expected \"rest\" or \"first-contact\""
+        ))),
+    }
+}
+
+// ------------------------------------------------------------- the blob of a study chunk
+//
+// Samples as little-endian bytes, one after the other: the sample id, then the fields of
+// `Sample` in order (the potted list as a count and its entries). Only this module writes
+// and reads it; it travels between Dask workers and the client.
+
+fn put_f(out: &mut Vec<u8>, v: f64) {
+    out.extend_from_slice(&v.to_le_bytes());
+}
+
+fn put_u(out: &mut Vec<u8>, v: u64) {
+    out.extend_from_slice(&v.to_le_bytes());
+}
+
+fn encode(out: &mut Vec<u8>, id: i64, s: &Sample) {
+    put_u(out, id as u64);
+    for v in [
+        s.strike.v0,
+        s.strike.phi,
+        s.strike.theta,
+        s.strike.a,
+        s.strike.b,
+    ] {
+        put_f(out, v);
+    }
+    let (kind, a, b) = match s.first {
+        FirstContact::Ball(k) => (0u64, u64::from(k), 0),
+        FirstContact::Cushion { circular, index } => (1, u64::from(index), u64::from(circular)),
+        FirstContact::Pocket(p) => (2, u64::from(p), 0),
+        FirstContact::Stopped => (3, 0, 0),
+        FirstContact::Nothing => (4, 0, 0),
+    };
+    for v in [kind, a, b] {
+        put_u(out, v);
+    }
+    for v in [
+        s.first_t,
+        s.contact_cue.0,
+        s.contact_cue.1,
+        s.contact_speed,
+        s.contact_point.0,
+        s.contact_point.1,
+        s.cut_angle,
+    ] {
+        put_f(out, v);
+    }
+    put_u(out, s.potted.len() as u64);
+    for p in &s.potted {
+        put_u(out, u64::from(p.ball));
+        put_u(out, u64::from(p.pocket));
+        put_f(out, p.t);
+    }
+    put_f(out, s.cue_final.0);
+    put_f(out, s.cue_final.1);
+    put_u(out, s.n_events as u64);
+    put_f(out, s.duration);
+    put_u(
+        out,
+        match s.cut {
+            None => 0,
+            Some(kisstime::simulate::Cut::MaxEvents) => 1,
+            Some(kisstime::simulate::Cut::MaxTime) => 2,
+        },
+    );
+}
+
+/// Reads the blob back; `None` if it is not one.
+struct Reader<'a>(&'a [u8]);
+
+impl Reader<'_> {
+    fn u(&mut self) -> Option<u64> {
+        let (head, rest) = self.0.split_first_chunk::<8>()?;
+        self.0 = rest;
+        Some(u64::from_le_bytes(*head))
+    }
+    fn f(&mut self) -> Option<f64> {
+        self.u().map(f64::from_bits)
+    }
+    fn u32(&mut self) -> Option<u32> {
+        self.u().and_then(|v| u32::try_from(v).ok())
+    }
+}
+
+fn decode(blob: &[u8], ids: &mut Vec<i64>, out: &mut Vec<Sample>) -> Option<()> {
+    let mut r = Reader(blob);
+    while !r.0.is_empty() {
+        ids.push(r.u()? as i64);
+        let strike = kisstime::simulate::CueStrike {
+            v0: r.f()?,
+            phi: r.f()?,
+            theta: r.f()?,
+            a: r.f()?,
+            b: r.f()?,
+        };
+        let (kind, a, b) = (r.u()?, r.u32()?, r.u()?);
+        let first = match kind {
+            0 => FirstContact::Ball(a),
+            1 => FirstContact::Cushion {
+                circular: b == 1,
+                index: a,
+            },
+            2 => FirstContact::Pocket(a),
+            3 => FirstContact::Stopped,
+            4 => FirstContact::Nothing,
+            _ => return None,
+        };
+        let first_t = r.f()?;
+        let contact_cue = (r.f()?, r.f()?);
+        let contact_speed = r.f()?;
+        let contact_point = (r.f()?, r.f()?);
+        let cut_angle = r.f()?;
+        let n = r.u()?;
+        let mut potted = Vec::with_capacity(n.min(64) as usize);
+        for _ in 0..n {
+            potted.push(Pot {
+                ball: r.u32()?,
+                pocket: r.u32()?,
+                t: r.f()?,
+            });
+        }
+        let cue_final = (r.f()?, r.f()?);
+        let n_events = r.u()? as usize;
+        let duration = r.f()?;
+        let cut = match r.u()? {
+            0 => None,
+            1 => Some(kisstime::simulate::Cut::MaxEvents),
+            2 => Some(kisstime::simulate::Cut::MaxTime),
+            _ => return None,
+        };
+        out.push(Sample {
+            strike,
+            first,
+            first_t,
+            contact_cue,
+            contact_speed,
+            contact_point,
+            cut_angle,
+            potted,
+            cue_final,
+            n_events,
+            duration,
+            cut,
+        });
+    }
+    Some(())
+}
+
+/// One chunk of a study: samples `first .. first + n` (noisy, from `seed`; or rows
+/// `first .. first + n` of the given strikes), as an opaque blob for [`study_merge`].
+#[pyfunction]
+#[pyo3(signature = (kind, text, source, dir, first, n, seed, strikes, until, noise, max_events, max_time))]
+#[allow(clippy::too_many_arguments)]
+fn study_chunk<'py>(
+    py: Python<'py>,
+    kind: &str,
+    text: &str,
+    source: &str,
+    dir: Option<&str>,
+    first: usize,
+    n: usize,
+    seed: u64,
+    strikes: Option<(I64s<'py>, [F64s<'py>; 5])>,
+    until: &str,
+    noise: Option<f64>,
+    max_events: usize,
+    max_time: f64,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let config = config_of(kind, text, source, dir)?;
+    let until = until_of(until)?;
+    if !(max_time.is_finite() && max_time > 0.0) || max_events == 0 {
+        return Err(PyValueError::new_err(format!(
+            "max_events {max_events} and max_time {max_time} must be greater than 0"
+        )));
+    }
+    let (ids, strikes): (Vec<i64>, Vec<_>) = match &strikes {
+        Some((sample, v)) => {
+            let cols = [
+                slice(&v[0], "V0")?,
+                slice(&v[1], "phi")?,
+                slice(&v[2], "theta")?,
+                slice(&v[3], "a")?,
+                slice(&v[4], "b")?,
+            ];
+            let all = sample_strikes_from_columns("strikes", slice(sample, "sample")?, cols)
+                .map_err(py_err)?;
+            let end = all.len().min(first.saturating_add(n));
+            all[first.min(end)..end]
+                .iter()
+                .map(|s| (s.sample, s.strike))
+                .unzip()
+        }
+        None => {
+            let factor = noise.unwrap_or(config.noise_factor);
+            if !(factor.is_finite() && factor >= 0.0) {
+                return Err(PyValueError::new_err(format!(
+                    "noise {factor}: it must be finite and not negative"
+                )));
+            }
+            let sigma = config.noise.scaled(factor);
+            (first..first.saturating_add(n))
+                .map(|i| (i as i64, noisy_strike(&config, &sigma, seed, i as u64)))
+                .unzip()
+        }
+    };
+    let options = RunOptions {
+        until,
+        limits: Limits {
+            max_events,
+            max_time,
+        },
+    };
+    let samples = py
+        .detach(|| run_strikes(&config, &strikes, &options, &mut |_, _| {}))
+        .map_err(py_err)?;
+    let mut out = Vec::with_capacity(samples.len() * 256);
+    for (id, s) in ids.iter().zip(&samples) {
+        encode(&mut out, *id, s);
+    }
+    Ok(PyBytes::new(py, &out))
+}
+
+/// The blobs of a study's chunks, merged in order: `(summary JSON, columns, potted)` —
+/// `columns` a dict of 1-D arrays, one row per sample, `potted` the `ball@pocket;…`
+/// strings.
+#[pyfunction]
+#[pyo3(signature = (kind, text, source, dir, blobs, until))]
+#[allow(clippy::type_complexity)]
+fn study_merge<'py>(
+    py: Python<'py>,
+    kind: &str,
+    text: &str,
+    source: &str,
+    dir: Option<&str>,
+    blobs: Vec<Bound<'py, PyBytes>>,
+    until: &str,
+) -> PyResult<(String, Bound<'py, PyDict>, Vec<String>)> {
+    let config = config_of(kind, text, source, dir)?;
+    let until = until_of(until)?;
+    let mut ids = Vec::new();
+    let mut samples = Vec::new();
+    for b in &blobs {
+        decode(b.as_bytes(), &mut ids, &mut samples)
+            .ok_or_else(|| PyValueError::new_err("not a study chunk (corrupt blob)"))?;
+    }
+    let summary = Summary::of(&config, &samples, until);
+    let json = summary.to_json(&config).to_string();
+    let cols = PyDict::new(py);
+    let col_i = |f: &dyn Fn(&Sample) -> i64| -> Vec<i64> { samples.iter().map(f).collect() };
+    let col_f = |f: &dyn Fn(&Sample) -> f64| -> Vec<f64> { samples.iter().map(f).collect() };
+    let rest = until == Until::Rest;
+    cols.set_item("sample", PyArray1::from_vec(py, ids.clone()))?;
+    cols.set_item("V0", PyArray1::from_vec(py, col_f(&|s| s.strike.v0)))?;
+    cols.set_item("phi", PyArray1::from_vec(py, col_f(&|s| s.strike.phi)))?;
+    cols.set_item("theta", PyArray1::from_vec(py, col_f(&|s| s.strike.theta)))?;
+    cols.set_item("a", PyArray1::from_vec(py, col_f(&|s| s.strike.a)))?;
+    cols.set_item("b", PyArray1::from_vec(py, col_f(&|s| s.strike.b)))?;
+    let first_kind = |s: &Sample| match Class::of(s.first) {
+        Class::Ball(_) => 0,
+        Class::Cushion => 1,
+        Class::Pocket => 2,
+        Class::Stopped => 3,
+        Class::Nothing => 4,
+    };
+    cols.set_item("first_contact", PyArray1::from_vec(py, col_i(&first_kind)))?;
+    let first_item = |s: &Sample| match s.first {
+        FirstContact::Ball(k) | FirstContact::Pocket(k) => i64::from(k),
+        FirstContact::Cushion { index, .. } => i64::from(index),
+        _ => -1,
+    };
+    cols.set_item("first_index", PyArray1::from_vec(py, col_i(&first_item)))?;
+    cols.set_item("first_t", PyArray1::from_vec(py, col_f(&|s| s.first_t)))?;
+    cols.set_item("speed", PyArray1::from_vec(py, col_f(&|s| s.contact_speed)))?;
+    cols.set_item("cut_angle", PyArray1::from_vec(py, col_f(&|s| s.cut_angle)))?;
+    let result = |s: &Sample| {
+        if !rest {
+            return -1;
+        }
+        match Result4::of(&config, s) {
+            Result4::Pot => 0,
+            Result4::PotScratch => 1,
+            Result4::Scratch => 2,
+            Result4::Miss => 3,
+        }
+    };
+    cols.set_item("result", PyArray1::from_vec(py, col_i(&result)))?;
+    let pocket = |k: usize| move |s: &Sample| s.pocket_of(k).map_or(-1, |p| p as i64);
+    cols.set_item(
+        "intended_pocket",
+        PyArray1::from_vec(py, col_i(&pocket(config.intended))),
+    )?;
+    cols.set_item(
+        "cue_pocket",
+        PyArray1::from_vec(py, col_i(&pocket(config.cue))),
+    )?;
+    cols.set_item("cue_x", PyArray1::from_vec(py, col_f(&|s| s.cue_final.0)))?;
+    cols.set_item("cue_y", PyArray1::from_vec(py, col_f(&|s| s.cue_final.1)))?;
+    cols.set_item(
+        "n_events",
+        PyArray1::from_vec(py, col_i(&|s| s.n_events as i64)),
+    )?;
+    cols.set_item("duration", PyArray1::from_vec(py, col_f(&|s| s.duration)))?;
+    let cut = |s: &Sample| match s.cut {
+        None => 0,
+        Some(kisstime::simulate::Cut::MaxEvents) => 1,
+        Some(kisstime::simulate::Cut::MaxTime) => 2,
+    };
+    cols.set_item("cut", PyArray1::from_vec(py, col_i(&cut)))?;
+    let potted = samples
+        .iter()
+        .map(|s| kisstime::study::reference::potted_field(&config, s))
+        .collect();
+    Ok((json, cols, potted))
+}
+
+/// The ids of a study's balls and of its table's pockets, cushions and jaws:
+/// `(balls, pockets, linear, circular, cue index, intended index)`.
+#[pyfunction]
+#[pyo3(signature = (kind, text, source, dir))]
+#[allow(clippy::type_complexity)]
+fn study_ids(
+    kind: &str,
+    text: &str,
+    source: &str,
+    dir: Option<&str>,
+) -> PyResult<(
+    Vec<String>,
+    Vec<String>,
+    Vec<String>,
+    Vec<String>,
+    usize,
+    usize,
+)> {
+    let c = config_of(kind, text, source, dir)?;
+    Ok((
+        c.balls.iter().map(|b| b.id.clone()).collect(),
+        c.table.pocket_ids.clone(),
+        c.table.linear_ids.clone(),
+        c.table.circular_ids.clone(),
+        c.cue,
+        c.intended,
+    ))
+}
+
+/// A table's item ids `(linear, circular, pockets)` in index order.
+#[pyfunction]
+fn table_ids(name: &str) -> PyResult<(Vec<String>, Vec<String>, Vec<String>)> {
+    let t = table_by_name(name).map_err(py_err)?;
+    Ok((t.linear_ids, t.circular_ids, t.pocket_ids))
+}
+
+/// The extension module.
+#[pymodule]
+fn _kisstime(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(pair_times, m)?)?;
+    m.add_function(wrap_pyfunction!(next_collisions, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(study_chunk, m)?)?;
+    m.add_function(wrap_pyfunction!(study_merge, m)?)?;
+    m.add_function(wrap_pyfunction!(study_ids, m)?)?;
+    m.add_function(wrap_pyfunction!(table_ids, m)?)?;
+    Ok(())
+}

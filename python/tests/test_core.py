@@ -1,0 +1,221 @@
+"""The Python package against the command line: the same input gives the same arrays,
+bit for bit; structured and dict input; bad input raises with the CLI's message; the GIL
+is released and Ctrl-C interrupts a long call."""
+
+from __future__ import annotations
+
+import _thread
+import csv
+import json
+import os
+import pathlib
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import kisstime
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SHARED = ROOT.parent / "shared"
+
+
+def cli() -> str:
+    """The kisstime binary: $KISSTIME_BIN, else the one cargo built in target/."""
+    env = os.environ.get("KISSTIME_BIN")
+    if env:
+        return env
+    for profile in ("release", "debug"):
+        exe = ROOT / "target" / profile / "kisstime"
+        if exe.exists():
+            return str(exe)
+    pytest.fail("no kisstime binary: build it with cargo build, or set KISSTIME_BIN")
+
+
+def run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([cli(), *args], capture_output=True, text=True)
+
+
+@pytest.fixture(scope="module")
+def workload(tmp_path_factory) -> tuple[pathlib.Path, np.ndarray]:
+    """A generated midshot batch as the CLI writes it (.npy), and as loaded."""
+    d = tmp_path_factory.mktemp("w")
+    path = d / "balls.npy"
+    out = run("gen", "--tables", "300", "--seed", "7", "-o", str(path))
+    assert out.returncode == 0, out.stderr
+    return path, np.load(path)
+
+
+def same(a: np.ndarray, b: np.ndarray) -> bool:
+    """Same dtype, shape and bytes (NaN and -0.0 included)."""
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def test_pair_times_and_next_collisions_match_the_cli(workload, tmp_path):
+    path, balls = workload
+    for cmd, fn in (("pairs", kisstime.pair_times), ("next", kisstime.next_collisions)):
+        out = tmp_path / f"{cmd}.npy"
+        r = run(cmd, str(path), "-o", str(out))
+        assert r.returncode == 0, r.stderr
+        ours = fn(balls)
+        assert same(ours, np.load(out)), cmd
+        assert ours.dtype == (kisstime.PAIR_DTYPE if cmd == "pairs" else kisstime.NEXT_DTYPE)
+    # a dict of columns, rows shuffled: the same answers (the batch sorts by ids)
+    rng = np.random.default_rng(1)
+    shuffled = balls[rng.permutation(len(balls))]
+    cols = {name: shuffled[name].copy() for name in balls.dtype.names}
+    assert same(kisstime.next_collisions(cols), kisstime.next_collisions(balls))
+    assert same(kisstime.pair_times(cols), kisstime.pair_times(balls))
+
+
+def test_simulate_matches_the_cli_on_the_break_example(tmp_path):
+    balls_csv = ROOT / "examples" / "break.csv"
+    strikes_csv = ROOT / "examples" / "break_strike.csv"
+    ev, fin, oc = (tmp_path / n for n in ("e.npy", "f.npy", "o.npy"))
+    r = run(
+        "simulate",
+        str(balls_csv),
+        "--strikes",
+        str(strikes_csv),
+        "-o",
+        str(ev),
+        "--final",
+        str(fin),
+        "--outcomes",
+        str(oc),
+    )
+    assert r.returncode == 0, r.stderr
+    # the same input as arrays: the CLI's own .npy of the balls, the strikes as a dict
+    npy_in = tmp_path / "in.npy"
+    balls = np.genfromtxt(balls_csv, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    arr = np.zeros(len(balls), dtype=kisstime.BALL_DTYPE)
+    for name in kisstime.BALL_DTYPE.names:
+        if name == "state":
+            arr[name] = [kisstime.STATES[s] if isinstance(s, str) else s for s in balls[name]]
+        else:
+            arr[name] = balls[name]
+    np.save(npy_in, arr)
+    strikes = np.genfromtxt(strikes_csv, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    strike_cols = {n: np.atleast_1d(strikes[n]) for n in kisstime.STRIKE_DTYPE.names}
+    res = kisstime.simulate(arr, strike_cols)
+    assert same(res.events, np.load(ev))
+    assert same(res.final, np.load(fin))
+    assert same(res.outcomes, np.load(oc))
+    assert res.outcomes["cut"][0] == 0 and res.outcomes["events"][0] > 50
+    # events=False: no events, the same final states
+    quiet = kisstime.simulate(arr, strike_cols, events=False)
+    assert quiet.events is None and same(quiet.final, res.final)
+    assert npy_in.exists()
+
+
+def test_shot_study_matches_the_cli(tmp_path):
+    out = tmp_path / "s.csv"
+    r = run("shots", "--samples", "3000", "--seed", "5", "-o", str(out), "--json")
+    assert r.returncode == 0, r.stderr
+    cli_summary = json.loads(r.stdout)
+    study = kisstime.shot_study(samples=3000, seed=5, chunk=1000)
+    # the summary: the CLI's, less the run's description
+    for key in ("seed", "strikes", "noise", "seconds", "samples_per_s", "threads"):
+        cli_summary.pop(key)
+    assert study.summary == cli_summary
+    rows = list(csv.DictReader(open(out)))
+    assert len(rows) == len(study.samples) == 3000
+    results = ["pot", "pot+scratch", "scratch", "miss"]
+    for row, s, potted in zip(rows, study.samples, study.potted):
+        assert int(row["sample"]) == s["sample"]
+        for name in ("V0", "phi", "theta", "a", "b", "first_t", "cut_angle", "cue_x", "cue_y", "duration"):
+            text = row[name]
+            want = float(text) if text else float("nan")
+            got = float(s[name])
+            assert (np.isnan(want) and np.isnan(got)) or want == got, (name, row, s)
+        assert row["result"] == results[s["result"]]
+        assert int(row["n_events"]) == s["n_events"]
+        assert row["potted"] == potted
+    # chunking does not change a thing
+    again = kisstime.shot_study(samples=3000, seed=5, chunk=777)
+    assert same(again.samples, study.samples) and again.summary == study.summary
+
+
+def test_shot_study_scenarios_strikes_and_modes():
+    scen = SHARED / "studies" / "dev_scenario.json"
+    strikes = np.genfromtxt(SHARED / "studies" / "dev_strikes.csv", delimiter=",", names=True)[:300]
+    study = kisstime.shot_study(scen, strikes=strikes)
+    ref = list(csv.DictReader(open(SHARED / "studies" / "dev_full.csv")))[:300]
+    assert [r["potted"] for r in ref] == study.potted
+    assert list(study.samples["sample"]) == [int(r["sample"]) for r in ref]
+    # a dict scenario: the built-in study's TOML as a dict gives the built-in study
+    import tomllib
+
+    builtin = tomllib.loads((ROOT / "examples" / "study.toml").read_text())
+    a = kisstime.shot_study(builtin, samples=500)
+    b = kisstime.shot_study(samples=500)
+    assert same(a.samples, b.samples)
+    # first contact only: the same first contacts, no outcome
+    fc = kisstime.shot_study(samples=500, until="first-contact")
+    assert np.array_equal(fc.samples["first_t"], b.samples["first_t"])
+    assert (fc.samples["result"] == -1).all() and "outcome" not in fc.summary
+    # noise 0: every sample the intended shot
+    z = kisstime.shot_study(samples=20, noise=0)
+    assert len(set(z.samples["cue_x"])) == 1
+    # the study saved as .npy reads back
+    path = pathlib.Path(os.environ.get("TMPDIR", "/tmp")) / f"kt-{os.getpid()}.npy"
+    z.save(path)
+    assert same(np.load(path), z.samples)
+    path.unlink()
+
+
+def test_bad_input_raises_with_the_clis_message(workload, tmp_path):
+    _, balls = workload
+    bad = balls.copy()
+    bad["x"][5] = np.nan
+    path = tmp_path / "bad.npy"
+    np.save(path, bad)
+    r = run("next", str(path))
+    assert r.returncode == 2
+    cli_msg = r.stderr.strip().removeprefix("kisstime: error: ")
+    with pytest.raises(ValueError) as e:
+        kisstime.next_collisions(bad)
+    assert str(e.value) == cli_msg.replace(str(path), "balls")
+    with pytest.raises(ValueError, match="no column 'wz'"):
+        kisstime.pair_times({n: balls[n] for n in balls.dtype.names if n != "wz"})
+    with pytest.raises(ValueError, match="backend"):
+        kisstime.pair_times(balls, backend="tpu")
+    with pytest.raises(ValueError, match="strike: a² \\+ b² > 1"):
+        kisstime.shot_study(
+            strikes={"sample": [0], "V0": [1.0], "phi": [0.0], "theta": [0.0], "a": [0.9], "b": [0.9]}
+        )
+    with pytest.raises(ValueError, match="shot.v0"):
+        kisstime.shot_study({"balls": [{"id": 0, "x": 0.5, "y": 0.5}, {"id": 1, "x": 0.5, "y": 1.5}],
+                             "shot": {"cue_ball": 0, "object_ball": 1, "v0": -1, "phi": 90,
+                                      "theta": 0, "a": 0, "b": 0}}, samples=5)
+    with pytest.raises(OSError):
+        kisstime.shot_study("/nonexistent/study.toml")
+
+
+def test_long_calls_release_the_gil_and_stop_on_ctrl_c():
+    ticks = []
+    stop = threading.Event()
+
+    def tick():
+        while not stop.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.005)
+
+    t = threading.Thread(target=tick)
+    t.start()
+    start = time.perf_counter()
+    kisstime.shot_study(samples=60_000, chunk=60_000)  # one call into the extension
+    end = time.perf_counter()
+    stop.set()
+    t.join()
+    during = [x for x in ticks if start < x < end]
+    # the thread kept running while the study ran (it would get no tick with the GIL held)
+    assert end - start > 0.1 and len(during) >= 5, (end - start, len(during))
+    # Ctrl-C (SIGINT, as the terminal sends it) stops a long study between chunks
+    threading.Timer(0.3, _thread.interrupt_main).start()
+    began = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        kisstime.shot_study(samples=5_000_000, chunk=4096)
+    assert time.perf_counter() - began < 10

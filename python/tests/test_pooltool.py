@@ -1,0 +1,406 @@
+"""kisstime.pooltool: pooltool Systems converted, simulated by kisstime, compared with pooltool.
+
+Shots of the full-shot reference set (shared/fullshots: a break and ordinary shots, with
+linear and circular cushion hits, a pot and a scratch) are built as pooltool ``System``s
+the way the set was made, converted with ``from_system``, simulated by
+``kisstime.simulate`` and turned back with ``to_events``; the events must be pooltool's
+recorded ones (``events.csv.gz``): the same types and agents in the same order, times
+within 1e-9 (relative or absolute), over the stretch the set's rule demands (the whole
+shot, or up to the first event at which pooltool's own 1 µm-nudged runs diverge).
+
+``pt.simulate`` itself runs on two short shots and a shot with a moving ball, in a
+subprocess with ``NUMBA_DISABLE_JIT=1``: pooltool's numba code takes about a minute to
+compile on a cold cache, and is exact pure Python without it (same reference events).
+
+pooltool is required in CI (``CI`` set): there a missing install fails the import
+instead of skipping.
+"""
+
+from __future__ import annotations
+
+import csv
+import gzip
+import json
+import math
+import os
+import subprocess
+import sys
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+if os.environ.get("CI"):
+    import pooltool as pt
+else:
+    pt = pytest.importorskip("pooltool")
+import pooltool.constants as pt_const  # noqa: E402
+from pooltool.objects.ball.datatypes import BallState  # noqa: E402
+from pooltool.objects.table.specs import PocketTableSpecs  # noqa: E402
+
+import kisstime  # noqa: E402
+import kisstime.pooltool as kpt  # noqa: E402
+
+# shared/ sits beside the repository (as for the crate's tests: CARGO_MANIFEST_DIR/../shared).
+FULLSHOTS = Path(__file__).resolve().parents[2].parent / "shared" / "fullshots"
+
+# Times: 1e-9 relative or absolute (the longest shot here, a 859-event break, is within
+# 8.3e-10 s of pooltool; the ordinary shots within 1e-11 s).
+TOL = dict(rel_tol=1e-9, abs_tol=1e-9)
+
+REFERENCE_SHOTS = [1, 105, 122, 150, 250, 254]  # break; jaw hit; pot; ordinary; scratch
+PT_SIMULATE_SHOTS = [105, 254]
+
+
+# --------------------------------------------------------------------------- the set
+@lru_cache(maxsize=None)
+def _shots() -> dict[int, dict[str, str]]:
+    with open(FULLSHOTS / "shots.csv", newline="") as f:
+        return {int(r["shot"]): r for r in csv.DictReader(f)}
+
+
+@lru_cache(maxsize=None)
+def _initial() -> dict[int, list[dict[str, str]]]:
+    out: dict[int, list[dict[str, str]]] = {}
+    with open(FULLSHOTS / "initial.csv", newline="") as f:
+        for r in csv.DictReader(f):
+            out.setdefault(int(r["shot"]), []).append(r)
+    for rows in out.values():
+        rows.sort(key=lambda r: int(r["ball"]))
+    return out
+
+
+@lru_cache(maxsize=None)
+def _events() -> dict[int, list[dict]]:
+    out: dict[int, list[dict]] = {}
+    with gzip.open(FULLSHOTS / "events.csv.gz", "rt", newline="") as f:
+        for r in csv.DictReader(f):
+            out.setdefault(int(r["shot"]), []).append(
+                {"type": r["type"], "time": float(r["t"]), "agents": tuple(r["agents"].split(";"))}
+            )
+    return out
+
+
+@lru_cache(maxsize=None)
+def _final() -> dict[int, dict[str, dict[str, str]]]:
+    out: dict[int, dict[str, dict[str, str]]] = {}
+    with open(FULLSHOTS / "final.csv", newline="") as f:
+        for r in csv.DictReader(f):
+            out.setdefault(int(r["shot"]), {})[r["ball_id"]] = r
+    return out
+
+
+@lru_cache(maxsize=None)
+def _event_bar() -> dict[int, float]:
+    """The set's k_s: events 0..k_s-1 must match (inf: the whole shot)."""
+    with open(FULLSHOTS / "stability.csv", newline="") as f:
+        return {
+            int(r["shot"]): math.inf if r["event_bar"] == "" else int(r["event_bar"])
+            for r in csv.DictReader(f)
+        }
+
+
+def _table_json() -> dict:
+    with open(FULLSHOTS / "table.json") as f:
+        return json.load(f)["table"]
+
+
+def make_system(shot: int) -> "pt.System":
+    """Shot `shot` of the set as a pooltool System before the strike (as it was made)."""
+    s = _shots()[shot]
+    balls = {
+        r["ball_id"]: pt.Ball.create(r["ball_id"], xy=(float(r["x"]), float(r["y"])))
+        for r in _initial()[shot]
+    }
+    cue = pt.Cue(cue_ball_id=s["cue_ball_id"])
+    cue.set_state(
+        V0=float(s["V0"]), phi=float(s["phi"]), theta=float(s["theta"]),
+        a=float(s["a"]), b=float(s["b"]),
+    )
+    table = pt.Table.from_table_specs(PocketTableSpecs(l=2.54, w=1.27))
+    return pt.System(cue=cue, table=table, balls=balls)
+
+
+def moving_system() -> "pt.System":
+    """Three balls, the cue ball sliding with spin toward ball "2" (no strike: the cue's
+    V0 is 0). pooltool's ball order (cue, 2, 1) is not the ids' sorted order."""
+    balls = {
+        "cue": pt.Ball.create("cue", xy=(0.5, 0.6)),
+        "2": pt.Ball.create("2", xy=(0.52, 1.5)),
+        "1": pt.Ball.create("1", xy=(1.0, 2.2)),
+    }
+    balls["cue"].state = BallState(
+        rvw=np.array([[0.5, 0.6, 0.028575], [0.05, 1.8, 0.0], [-20.0, 5.0, 12.0]]),
+        s=pt_const.sliding,
+    )
+    cue = pt.Cue(cue_ball_id="cue")
+    cue.set_state(V0=0.0)
+    table = pt.Table.from_table_specs(PocketTableSpecs(l=2.54, w=1.27))
+    return pt.System(cue=cue, table=table, balls=balls)
+
+
+def kisstime_events(system, **kw):
+    conv = kpt.from_system(system)
+    result = conv.simulate(**kw)
+    return conv, result, kpt.to_events(result, conv)
+
+
+def assert_same_events(got: list[dict], want: list[dict], upto: float = math.inf) -> None:
+    """Same types and agents in the same order and times within TOL, over events
+    0..upto-1 (upto inf: all of them, and the same number of events)."""
+    n = len(want) if upto == math.inf else int(upto)
+    if upto == math.inf:
+        assert len(got) == len(want), f"{len(got)} events, pooltool {len(want)}"
+    else:
+        assert len(got) >= n and len(want) >= n
+    first = kpt.first_difference(got[:n], want[:n], **TOL)
+    if first is not None:
+        lo = max(0, first - 2)
+        pytest.fail(
+            f"event {first} differs:\n  kisstime {got[lo:first + 2]}\n  pooltool {want[lo:first + 2]}"
+        )
+
+
+# --------------------------------------------------------------------------- from_system
+def test_from_system_balls_strike_and_ids():
+    shot = 150
+    system = make_system(shot)
+    conv = kpt.from_system(system)
+    rows = _initial()[shot]
+    assert conv.ball_ids == [r["ball_id"] for r in rows] == list(system.balls)
+    assert conv.balls.dtype == kisstime.BALL_DTYPE
+    b = conv.balls
+    assert b["table"].tolist() == [0] * len(rows)
+    assert b["ball"].tolist() == list(range(len(rows)))
+    assert b["state"].tolist() == [0] * len(rows)
+    assert b["x"].tolist() == [float(r["x"]) for r in rows]
+    assert b["y"].tolist() == [float(r["y"]) for r in rows]
+    for c in ("vx", "vy", "wx", "wy", "wz"):
+        assert not b[c].any()
+
+    s = _shots()[shot]
+    assert conv.strikes.dtype == kisstime.STRIKE_DTYPE
+    assert len(conv.strikes) == 1
+    st = conv.strikes[0]
+    assert int(st["table"]) == 0
+    assert int(st["ball"]) == conv.ball(s["cue_ball_id"]) == conv.ball_ids.index("cue")
+    for c in ("V0", "phi", "theta", "a", "b"):
+        assert float(st[c]) == float(s[c]), c
+    assert conv.cue_id == "cue_stick"
+    assert conv.table_id == 0
+
+    other = kpt.from_system(system, table=7)
+    assert other.balls["table"].tolist() == [7] * len(rows)
+    assert other.strikes["table"].tolist() == [7]
+    with pytest.raises(KeyError):
+        conv.ball("no such ball")
+
+
+def test_from_system_moving_ball_and_no_strike():
+    system = moving_system()
+    conv = kpt.from_system(system)
+    assert conv.ball_ids == ["cue", "2", "1"]
+    assert len(conv.strikes) == 0
+    cue = conv.balls[0]
+    assert int(cue["state"]) == 2  # sliding
+    assert [float(cue[c]) for c in ("x", "y", "vx", "vy", "wx", "wy", "wz")] == [
+        0.5, 0.6, 0.05, 1.8, -20.0, 5.0, 12.0,
+    ]
+    assert conv.balls["state"].tolist() == [2, 0, 0]
+
+
+def test_table_json_is_the_sets_table():
+    conv = kpt.from_system(make_system(250))
+    mine = json.loads(conv.table)
+    ref = _table_json()
+    for key in ("linear_cushion_segments", "circular_cushion_segments", "pockets"):
+        assert list(mine[key]) == list(ref[key]), key  # same ids in the same order
+    for sid, seg in mine["linear_cushion_segments"].items():
+        r = ref["linear_cushion_segments"][sid]
+        assert (seg["p1"], seg["p2"], seg["direction"]) == (r["p1"], r["p2"], r["direction"])
+    for cid, seg in mine["circular_cushion_segments"].items():
+        r = ref["circular_cushion_segments"][cid]
+        assert (seg["center"], seg["radius"]) == (r["center"], r["radius"])
+    for pid, p in mine["pockets"].items():
+        r = ref["pockets"][pid]
+        assert (p["center"], p["radius"], p["depth"]) == (r["center"], r["radius"], r["depth"])
+    assert conv.table_ids == {
+        "linear": list(ref["linear_cushion_segments"]),
+        "circular": list(ref["circular_cushion_segments"]),
+        "pockets": list(ref["pockets"]),
+    }
+    # kisstime's built-in 9-ft table lists the same items in the same order
+    ids = kisstime.table_ids("9ft")
+    assert {k: list(ids[k]) for k in ("linear", "circular", "pockets")} == conv.table_ids
+    assert list(ids["pockets"]) == ["lb", "lc", "lt", "rb", "rc", "rt"]
+
+
+def test_write_table_round_trips(tmp_path):
+    conv = kpt.from_system(make_system(250))
+    path = conv.write_table(tmp_path / "t.json")
+    assert path == str(tmp_path / "t.json")
+    assert Path(path).read_text() == conv.table
+    assert kpt._ids_of_layout(path) == conv.table_ids
+    # the whole table.json file (table under "table") gives the same ids
+    assert kpt._ids_of_layout(FULLSHOTS / "table.json") == conv.table_ids
+
+
+def test_non_default_parameters_are_refused():
+    system = make_system(250)
+    ball = system.balls["cue"]
+    system.balls["cue"] = pt.Ball.create("cue", xy=tuple(ball.state.rvw[0][:2]), u_r=0.011)
+    with pytest.raises(ValueError, match="u_r"):
+        kpt.from_system(system)
+    conv = kpt.from_system(system, check=False)
+    assert len(conv.balls) == len(system.balls)
+
+
+def test_missing_pooltool_says_how_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pooltool", None)  # import pooltool -> ImportError
+    with pytest.raises(ImportError, match=r"pip install --no-deps pooltool-billiards==0\.6\.0"):
+        kpt.from_system(object())
+
+
+# --------------------------------------------------------------------------- to_events
+@pytest.mark.parametrize("shot", REFERENCE_SHOTS)
+def test_events_are_pooltools_recorded_events(shot):
+    conv, result, got = kisstime_events(make_system(shot))
+    want = _events()[shot]
+    assert want[0]["agents"] == ("cue_stick", "cue")
+    assert_same_events(got, want, _event_bar()[shot])
+    if _event_bar()[shot] == math.inf:
+        # the same end: pocketed set and final positions (within the set's 1 mm bar,
+        # and in fact far closer)
+        final = kpt.to_final(result, conv)
+        ref = _final()[shot]
+        assert list(final) == list(ref)
+        for bid, r in ref.items():
+            f = final[bid]
+            assert f["state"] == r["state"], bid
+            assert (f["pocket"] or "") == r["pocket"], bid
+            assert math.hypot(f["x"] - float(r["x"]), f["y"] - float(r["y"])) < 1e-6, bid
+
+
+def test_to_events_shapes():
+    conv, result, got = kisstime_events(make_system(254))
+    types = [e["type"] for e in got]
+    assert types == [
+        "stick_ball", "sliding_rolling", "ball_ball", "ball_pocket", "sliding_rolling",
+        "rolling_stationary",
+    ]
+    assert got[0] == {"type": "stick_ball", "time": 0.0, "agents": ("cue_stick", "cue")}
+    assert got[2]["agents"] == ("cue", "14")
+    assert got[3]["agents"] == ("cue", "rc")
+    assert got[1]["agents"] == ("cue",)
+    # the events array itself works as well, and an explicit table id
+    assert kpt.to_events(result.events, conv, 0) == got
+    # one dict per event: the two rows of a ball-ball event are merged
+    assert len(got) == len(np.unique(result.events["k"]))
+    assert kpt.to_events(result, conv, table=3) == []
+
+
+def test_json_table_gives_the_same_events_as_9ft():
+    for shot in (1, 105):
+        conv = kpt.from_system(make_system(shot))
+        via_json = conv.simulate()
+        builtin = conv.simulate(table="9ft")
+        assert via_json.events.dtype == builtin.events.dtype
+        assert via_json.events.tobytes() == builtin.events.tobytes()
+        assert via_json.final.tobytes() == builtin.final.tobytes()
+        assert via_json.outcomes.tobytes() == builtin.outcomes.tobytes()
+        assert kpt.to_events(builtin, conv, layout="9ft") == kpt.to_events(via_json, conv)
+        assert kpt.to_final(builtin, conv, layout="9ft") == kpt.to_final(via_json, conv)
+
+
+def test_simulate_by_hand_equals_converted_simulate(tmp_path):
+    conv = kpt.from_system(make_system(122))
+    path = conv.write_table(tmp_path / "table.json")
+    by_hand = kisstime.simulate(conv.balls, conv.strikes, table=path)
+    assert by_hand.events.tobytes() == conv.simulate().events.tobytes()
+    assert kpt.to_events(by_hand, conv, layout=path) == kpt.to_events(by_hand, conv)
+
+
+def test_no_strike_at_rest_gives_no_events():
+    system = make_system(250)
+    system.cue.set_state(V0=0.0)
+    conv, result, got = kisstime_events(system)
+    assert len(conv.strikes) == 0
+    assert got == []
+    assert result.outcomes["events"].tolist() == [0]
+
+
+def test_first_difference():
+    a = [
+        {"type": "stick_ball", "time": 0.0, "agents": ("cue_stick", "cue")},
+        {"type": "ball_ball", "time": 1.0, "agents": ("cue", "1")},
+    ]
+    b = [dict(a[0]), {"type": "ball_ball", "time": 1.0 + 1e-12, "agents": ("1", "cue")}]
+    assert kpt.first_difference(a, a) is None
+    assert kpt.first_difference(a, b) == 1
+    assert kpt.first_difference(a, b, unordered_pairs=True) is None
+    assert kpt.first_difference(a, a[:1]) == 1
+    c = [dict(a[0]), dict(a[1], time=1.1)]
+    assert kpt.first_difference(a, c) == 1
+
+
+# --------------------------------------------------------------------------- pt.simulate
+def _pt_simulate_in_subprocess() -> dict:
+    """from_pooltool_events / from_pooltool_final of pt.simulate on PT_SIMULATE_SHOTS and
+    moving_system(), run by this file as a script without numba's JIT."""
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1", PYTHONPATH=os.pathsep.join(sys.path))
+    run = subprocess.run(
+        [sys.executable, __file__, "--pt-simulate"],
+        env=env, capture_output=True, text=True, timeout=300,
+    )
+    assert run.returncode == 0, run.stderr[-4000:]
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+@pytest.fixture(scope="module")
+def pt_results() -> dict:
+    return _pt_simulate_in_subprocess()
+
+
+@pytest.mark.parametrize("shot", PT_SIMULATE_SHOTS)
+def test_to_events_equals_pt_simulate(pt_results, shot):
+    theirs = [dict(e, agents=tuple(e["agents"])) for e in pt_results[str(shot)]["events"]]
+    # pooltool here is pooltool of the reference set
+    assert_same_events(theirs, _events()[shot])
+    conv, result, mine = kisstime_events(make_system(shot))
+    assert kpt.first_difference(mine, theirs, **TOL) is None
+    final, pt_final = kpt.to_final(result, conv), pt_results[str(shot)]["final"]
+    assert list(final) == list(pt_final)
+    for bid, f in final.items():
+        g = pt_final[bid]
+        assert (f["state"], f["pocket"]) == (g["state"], g["pocket"]), bid
+        assert math.hypot(f["x"] - g["x"], f["y"] - g["y"]) < 1e-6, bid
+
+
+def test_moving_ball_equals_pt_simulate(pt_results):
+    theirs = [dict(e, agents=tuple(e["agents"])) for e in pt_results["moving"]["events"]]
+    assert theirs and theirs[0]["type"] != "stick_ball"
+    assert "ball_ball" in [e["type"] for e in theirs]
+    conv, result, mine = kisstime_events(moving_system())
+    assert kpt.first_difference(mine, theirs, **TOL) is None
+    final = kpt.to_final(result, conv)
+    for bid, g in pt_results["moving"]["final"].items():
+        assert final[bid]["state"] == g["state"], bid
+        assert math.hypot(final[bid]["x"] - g["x"], final[bid]["y"] - g["y"]) < 1e-6, bid
+
+
+def _main_pt_simulate() -> None:
+    out = {}
+    systems = {str(s): make_system(s) for s in PT_SIMULATE_SHOTS}
+    systems["moving"] = moving_system()
+    for name, system in systems.items():
+        done = pt.simulate(system)
+        out[name] = {
+            "events": kpt.from_pooltool_events(done),
+            "final": kpt.from_pooltool_final(done),
+        }
+    print(json.dumps(out))
+
+
+if __name__ == "__main__" and sys.argv[1:] == ["--pt-simulate"]:
+    _main_pt_simulate()
