@@ -118,6 +118,88 @@ fn chunks(n: usize, per: usize) -> Vec<Range<usize>> {
         .collect()
 }
 
+/// A batch of tables built once from NumPy columns and kept on the Rust side, so that
+/// repeated calls on the same balls skip the conversion (`kisstime.Batch`).
+#[pyclass(name = "Batch", module = "kisstime._kisstime", frozen)]
+struct PyBatch {
+    batch: Batch,
+}
+
+#[pymethods]
+impl PyBatch {
+    #[new]
+    #[pyo3(signature = (table, ball, state, x, y, vx, vy, wx, wy, wz))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        table: I64s<'_>,
+        ball: I64s<'_>,
+        state: I64s<'_>,
+        x: F64s<'_>,
+        y: F64s<'_>,
+        vx: F64s<'_>,
+        vy: F64s<'_>,
+        wx: F64s<'_>,
+        wy: F64s<'_>,
+        wz: F64s<'_>,
+    ) -> PyResult<Self> {
+        let batch = batch_of(&table, &ball, &state, [&x, &y, &vx, &vy, &wx, &wy, &wz])?;
+        Ok(PyBatch { batch })
+    }
+
+    /// The number of tables.
+    #[getter]
+    fn num_tables(&self) -> usize {
+        self.batch.num_tables()
+    }
+
+    /// The number of balls.
+    #[getter]
+    fn num_balls(&self) -> usize {
+        self.batch.num_balls()
+    }
+
+    /// The number of ball pairs.
+    #[getter]
+    fn num_pairs(&self) -> usize {
+        self.batch.num_pairs()
+    }
+}
+
+/// Each table's next collision on a prepared batch, as the raw little-endian records of
+/// `kisstime next`'s `.npy` (`table <i8, t <f8, i <i8, j <i8, status <i8`), header-less,
+/// for `numpy.frombuffer`.
+#[pyfunction]
+#[pyo3(signature = (batch, params, backend, precision))]
+fn next_collisions_of_batch<'py>(
+    py: Python<'py>,
+    batch: &PyBatch,
+    params: (f64, f64, f64, f64, f64),
+    backend: &str,
+    precision: Option<&str>,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let batch = &batch.batch;
+    let params = params_of(params)?;
+    let mut engine = engine_of(backend, precision)?;
+    let mut next = Vec::with_capacity(batch.num_tables());
+    for tables in chunks(batch.num_tables(), TABLES_PER_CHECK) {
+        let part = py
+            .detach(|| engine.next_collisions_of(batch, &params, tables))
+            .map_err(py_err)?;
+        next.extend(part);
+        py.check_signals()?;
+    }
+    let mut out: Vec<u8> = Vec::with_capacity(next.len() * 40);
+    for n in &next {
+        let (i, j) = n.pair.unwrap_or((-1, -1));
+        out.extend_from_slice(&n.table.to_le_bytes());
+        out.extend_from_slice(&n.t.to_le_bytes());
+        out.extend_from_slice(&i.to_le_bytes());
+        out.extend_from_slice(&j.to_le_bytes());
+        out.extend_from_slice(&(n.status as i64).to_le_bytes());
+    }
+    Ok(PyBytes::new(py, &out))
+}
+
 /// Every pair's first contact, as the `.npy` bytes `kisstime pairs -o x.npy` writes.
 #[pyfunction]
 #[pyo3(signature = (table, ball, state, x, y, vx, vy, wx, wy, wz, params, backend, precision))]
@@ -710,6 +792,8 @@ fn table_ids(name: &str) -> PyResult<(Vec<String>, Vec<String>, Vec<String>)> {
 fn _kisstime(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pair_times, m)?)?;
     m.add_function(wrap_pyfunction!(next_collisions, m)?)?;
+    m.add_function(wrap_pyfunction!(next_collisions_of_batch, m)?)?;
+    m.add_class::<PyBatch>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(study_chunk, m)?)?;
     m.add_function(wrap_pyfunction!(study_merge, m)?)?;

@@ -1,0 +1,50 @@
+"""Type stubs of the compiled extension (the public API is in ``kisstime/__init__.py``)."""
+
+from typing import Optional
+
+import numpy as np
+import numpy.typing as npt
+
+_I = npt.NDArray[np.int64]
+_F = npt.NDArray[np.float64]
+_Params = tuple[float, float, float, float, float]
+
+class Batch:
+    def __init__(
+        self, table: _I, ball: _I, state: _I, x: _F, y: _F, vx: _F, vy: _F, wx: _F, wy: _F, wz: _F
+    ) -> None: ...
+    @property
+    def num_tables(self) -> int: ...
+    @property
+    def num_balls(self) -> int: ...
+    @property
+    def num_pairs(self) -> int: ...
+
+def pair_times(
+    table: _I, ball: _I, state: _I, x: _F, y: _F, vx: _F, vy: _F, wx: _F, wy: _F, wz: _F,
+    params: _Params, backend: str, precision: Optional[str],
+) -> bytes: ...
+def next_collisions(
+    table: _I, ball: _I, state: _I, x: _F, y: _F, vx: _F, vy: _F, wx: _F, wy: _F, wz: _F,
+    params: _Params, backend: str, precision: Optional[str],
+) -> bytes: ...
+def next_collisions_of_batch(
+    batch: Batch, params: _Params, backend: str, precision: Optional[str]
+) -> bytes: ...
+def simulate(
+    table: _I, ball: _I, state: _I, x: _F, y: _F, vx: _F, vy: _F, wx: _F, wy: _F, wz: _F,
+    strikes: Optional[tuple[_I, _I, list[_F]]], table_name: str, max_events: int,
+    max_time: float, events: bool,
+) -> tuple[Optional[bytes], bytes, bytes]: ...
+def study_chunk(
+    kind: str, text: str, source: str, dir: Optional[str], first: int, n: int, seed: int,
+    strikes: Optional[tuple[_I, list[_F]]], until: str, noise: Optional[float],
+    max_events: int, max_time: float,
+) -> bytes: ...
+def study_merge(
+    kind: str, text: str, source: str, dir: Optional[str], blobs: list[bytes], until: str
+) -> tuple[str, dict[str, np.ndarray], list[str]]: ...
+def study_ids(
+    kind: str, text: str, source: str, dir: Optional[str]
+) -> tuple[list[str], list[str], list[str], list[str], int, int]: ...
+def table_ids(name: str) -> tuple[list[str], list[str], list[str]]: ...
