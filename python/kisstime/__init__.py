@@ -148,7 +148,8 @@ def _column(data: ArrayLike, name: str, dtype: str, what: str) -> np.ndarray:
             raise ValueError(
                 f"{what}: column {name!r} must hold integers, it is {arr.dtype}"
             )
-    return np.ascontiguousarray(arr, dtype=dtype)
+    # C-contiguous and aligned (arrays unpickled by Dask can sit at odd addresses)
+    return np.require(arr, dtype=dtype, requirements=["C", "A"])
 
 
 def _balls(balls: ArrayLike) -> list:

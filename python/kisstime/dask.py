@@ -29,35 +29,44 @@ raises is retried ``retries`` times. The tasks are deterministic, so a re-run gi
 same bytes.
 
 **Running on a real cluster.** Every worker needs kisstime installed (the same version
-as the client): ``pip install ./python`` from a checkout of the repository, or the built
-wheel, in the worker's environment, and ``pip install 'dask[distributed]'``. The
-scenario travels with the tasks as text, so workers need none of the client's files.
+as the client): ``pip install ./python`` from a checkout of the repository (or the built
+wheel) in the worker's environment, with ``pip install 'dask[distributed]'``. The scenario
+travels with the tasks as text, so workers need none of the client's files, except a
+table file that a TOML scenario names (``[table] kind = "table.json"``): each worker
+reads that file itself, at the path it has on the client (a relative one is taken from the
+study file's folder there).
 
-* By hand: start a scheduler on one machine and workers on the others::
+* By hand: start a scheduler on one machine and a worker on each of the others::
 
-      dask-scheduler                       # listens on tcp://<host>:8786
-      dask-worker tcp://<host>:8786 --nworkers 1 --nthreads 1   # on every worker machine
+      dask scheduler                                   # listens on tcp://<host>:8786
+      dask worker tcp://<host>:8786 --nworkers 1 --nthreads 1
 
-  and connect with ``Client("tcp://<host>:8786")``. kisstime's simulator uses the cores
-  it is given inside a task, so one thread per worker process is a good start.
+  (``dask-scheduler`` and ``dask-worker tcp://<host>:8786`` in older Dask releases), then
+  ``Client("tcp://<host>:8786")`` on the client. A task runs its chunk's samples on all
+  of the worker's cores (Rayon; ``RAYON_NUM_THREADS`` limits them), so one worker process
+  per machine, with one thread, is enough.
 
 * On a SLURM cluster, with `dask-jobqueue <https://jobqueue.dask.org>`_::
 
       from dask_jobqueue import SLURMCluster
       from dask.distributed import Client
 
-      cluster = SLURMCluster(cores=8, memory="16GB", walltime="01:00:00")
-      cluster.scale(jobs=10)            # ten SLURM jobs of 8 cores each
+      cluster = SLURMCluster(cores=8, memory="16GB", processes=1, walltime="01:00:00")
+      cluster.scale(jobs=10)            # ten SLURM jobs (one worker each) of 8 cores
       client = Client(cluster)
-      study = kisstime.dask.shot_study(client, "study.toml", samples=50_000_000)
+      study = kisstime.dask.shot_study(client, "study.toml", samples=50_000_000,
+                                       chunk=100_000)
 
-  (``PBSCluster``, ``SGECluster`` and the others take the same arguments.)
+  (``PBSCluster``, ``SGECluster`` and the others take the same arguments; the jobs run
+  the Python of the client's environment unless ``python=`` says otherwise.)
 
 * On one machine, ``distributed.LocalCluster()`` gives a cluster of local processes.
 
-The client holds every chunk's result at the end (the per-sample rows, about a hundred
-bytes a sample), so choose ``samples`` for the client's memory; ``chunk`` sets the size of
-one task (tens of thousands of samples keep the scheduler's overhead small).
+**Memory.** The client holds every chunk's result before the merge (about 200 bytes a
+sample, then the 152-byte rows of ``Study.samples``), so size ``samples`` for the
+client's memory. ``chunk`` is the size of one task: tens of thousands of samples keep
+the scheduler's overhead small (a task of 10,000 samples to rest takes a few tenths of a
+second on one core) and a lost worker's work short.
 """
 
 from __future__ import annotations
@@ -66,7 +75,9 @@ import operator
 import os
 import uuid
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any, Union
+from typing import Any, Union
+
+import numpy
 
 try:
     import distributed
@@ -77,22 +88,19 @@ except ImportError as exc:  # pragma: no cover - exercised only without dask ins
 
 import kisstime
 
-if TYPE_CHECKING:
-    import numpy
-
 __all__ = ["shot_study"]
 
 #: What ``scenario`` may be: anything :func:`kisstime.scenario` accepts.
-ScenarioLike = Union["kisstime.Scenario", str, "os.PathLike[str]", Mapping[str, Any], None]
+ScenarioLike = Union[kisstime.Scenario, str, "os.PathLike[str]", Mapping[str, Any], None]
 
-_UNTIL = ("rest", "first-contact")
+_STRIKE_NUMBERS = ("V0", "phi", "theta", "a", "b")
 
 
 def _run_chunk(
     scenario: kisstime.Scenario,
     first: int,
     n: int,
-    strikes: Any,
+    strikes: Mapping[str, numpy.ndarray] | None,
     *,
     seed: int,
     until: str,
@@ -101,6 +109,10 @@ def _run_chunk(
     max_time: float,
 ) -> bytes:
     """One task: samples ``first .. first + n`` (or rows ``first .. first + n`` of ``strikes``)."""
+    if strikes is not None:
+        # Arrays that arrive in a task's arguments can lie at unaligned addresses in the
+        # message's buffer; the extension reads aligned contiguous columns only.
+        strikes = {name: numpy.require(col, requirements="CA") for name, col in strikes.items()}
     return kisstime._study_chunk(
         scenario,
         first,
@@ -127,19 +139,20 @@ def _count(name: str, value: Any, minimum: int) -> int:
     return number
 
 
-def _strike_rows(strikes: Any) -> int:
-    """The number of strike rows in a structured array or a mapping of columns."""
-    names = getattr(getattr(strikes, "dtype", None), "names", None)
-    if names is not None:
-        return len(strikes)
-    if isinstance(strikes, Mapping):
-        if "sample" not in strikes:
-            raise ValueError("strikes needs the columns sample, V0, phi, theta, a, b")
-        return len(strikes["sample"])
-    raise ValueError(
-        "strikes must be a NumPy structured array or a mapping of columns "
-        "(sample, V0, phi, theta, a, b)"
-    )
+def _strike_columns(strikes: Any) -> dict[str, numpy.ndarray]:
+    """The six strike columns (as :func:`kisstime.shot_study` reads them), as a dict."""
+    try:
+        ids, numbers = kisstime._strike_columns(strikes)
+    except TypeError:
+        raise ValueError(
+            "strikes: expected a structured array of kisstime.SAMPLE_STRIKE_DTYPE or a dict "
+            f"of its columns, not {type(strikes).__name__}"
+        ) from None
+    columns = {"sample": ids, **dict(zip(_STRIKE_NUMBERS, numbers))}
+    lengths = {len(column) for column in columns.values()}
+    if len(lengths) != 1:
+        raise ValueError(f"strikes: columns of different lengths {sorted(lengths)}")
+    return columns
 
 
 def shot_study(
@@ -175,15 +188,18 @@ def shot_study(
         ``.toml`` or ``.json`` scenario (read here, on the client), a dict in the TOML
         schema, or a :class:`kisstime.Scenario`.
     samples
-        The number of noisy strikes, samples ``0 .. samples``. Ignored with ``strikes``.
+        The number of noisy strikes, samples ``0 .. samples``, at least 1. Ignored with
+        ``strikes``.
     chunk
         Samples (or strike rows) per task, at least 1; the last task takes the rest.
     seed
         The noise seed; sample ``i``'s noise depends only on ``(seed, i)``.
     strikes
         Given strikes (a structured array or a mapping of columns with
-        ``sample, V0, phi, theta, a, b``) to run instead of drawn ones: every row, in order.
-        Each task carries only its own rows.
+        ``sample, V0, phi, theta, a, b``: :data:`kisstime.SAMPLE_STRIKE_DTYPE`) to run
+        instead of noisy ones: every row, in order, each sample numbered by its ``sample``.
+        Each task carries only its own rows. With no rows nothing is sent and the result
+        is :func:`kisstime.shot_study`'s.
     until, noise, max_events, max_time
         As for :func:`kisstime.shot_study`.
     npy
@@ -200,68 +216,63 @@ def shot_study(
     Raises
     ------
     ValueError
-        For a bad argument (``samples`` or ``chunk`` below 1, negative ``retries``, an
-        unknown ``until``, bad ``strikes``), before any task is sent.
+        For a bad argument (``samples`` or ``chunk`` below 1 or not an integer, negative
+        ``retries``, an unknown ``until``, bad ``strikes``, ``noise``, ``max_events`` or
+        ``max_time``, a scenario that does not parse), before any task is sent: the
+        client first runs an empty chunk, which checks them all as the workers would.
+    OSError
+        An unreadable scenario file.
+    distributed.KilledWorker
+        A task was on too many workers that died.
     """
     chunk = _count("chunk", chunk, 1)
     retries = _count("retries", retries, 0)
-    if until not in _UNTIL:
-        raise ValueError(f"until must be one of {', '.join(map(repr, _UNTIL))}, not {until!r}")
-    if strikes is None:
-        total = _count("samples", samples, 1)
-    else:
-        total = _strike_rows(strikes)
-        if total < 1:
-            raise ValueError("strikes has no rows")
+    columns = None if strikes is None else _strike_columns(strikes)
+    total = _count("samples", samples, 1) if columns is None else len(columns["sample"])
+    sc = kisstime.scenario(scenario)
+    options = dict(seed=seed, until=until, noise=noise, max_events=max_events, max_time=max_time)
+    if total == 0:
+        # No strike rows: nothing to send; whatever one process gives.
+        study = kisstime.shot_study(sc, strikes=columns, **options)
+        if npy is not None:
+            study.save(npy)
+        return study
+    # An empty chunk here checks the scenario, the options and the strikes as the tasks
+    # will, so that a bad argument raises ValueError now rather than on every worker.
+    kisstime._study_chunk(sc, 0, 0, strikes=columns, **options)
     if client is None:
         client = distributed.get_client()
 
-    sc = kisstime.scenario(scenario)
-    starts = list(range(0, total, chunk))
+    starts = range(0, total, chunk)
     sizes = [min(chunk, total - start) for start in starts]
-    if strikes is None:
-        firsts: Sequence[int] = starts
-        pieces: list[Any] = [None] * len(starts)
+    if columns is None:
+        firsts: Sequence[int] = list(starts)
+        pieces: list[Any] = [None] * len(sizes)
     else:
-        # Each task gets its own rows (first = 0 within them), so a task spec carries
-        # only its chunk's strikes and the scheduler can re-run it anywhere.
-        firsts = [0] * len(starts)
-        pieces = [_rows(strikes, start, size) for start, size in zip(starts, sizes)]
+        # Each task carries only its own rows (first = 0 within them): the task specs hold
+        # the strikes once in all, and the scheduler can run any task again anywhere.
+        firsts = [0] * len(sizes)
+        pieces = [
+            {name: column[start : start + size].copy() for name, column in columns.items()}
+            for start, size in zip(starts, sizes)
+        ]
 
     token = uuid.uuid4().hex
     futures = client.map(
         _run_chunk,
-        [sc] * len(starts),
+        [sc] * len(sizes),
         firsts,
         sizes,
         pieces,
-        key=[f"kisstime-chunk-{token}-{i}" for i in range(len(starts))],
+        key=[f"kisstime-chunk-{token}-{i}" for i in range(len(sizes))],
         retries=retries,
-        seed=seed,
-        until=until,
-        noise=noise,
-        max_events=max_events,
-        max_time=max_time,
+        **options,
     )
     try:
         blobs: list[bytes] = client.gather(futures)
     finally:
-        client.cancel(futures)
-        del futures
+        client.cancel(futures)  # frees the workers' copies (and stops the rest on an error)
     study = kisstime._study_merge(sc, blobs, until=until)
     if npy is not None:
         study.save(npy)
     return study
-
-
-def _rows(strikes: Any, start: int, size: int) -> Any:
-    """Rows ``start .. start + size`` of a structured array or a mapping of columns, as a copy."""
-    if isinstance(strikes, Mapping):
-        return {name: _slice(column, start, size) for name, column in strikes.items()}
-    return strikes[start : start + size].copy()
-
-
-def _slice(column: Any, start: int, size: int) -> Any:
-    part = column[start : start + size]
-    copy = getattr(part, "copy", None)
-    return copy() if copy is not None else part

@@ -50,8 +50,9 @@ fn mem_err(e: std::io::Error) -> PyErr {
 
 /// A contiguous column's values.
 fn slice<'a, T: numpy::Element>(a: &'a PyReadonlyArray1<'_, T>, name: &str) -> PyResult<&'a [T]> {
-    a.as_slice()
-        .map_err(|_| PyValueError::new_err(format!("column {name} must be C-contiguous")))
+    a.as_slice().map_err(|_| {
+        PyValueError::new_err(format!("column {name} must be C-contiguous and aligned"))
+    })
 }
 
 /// The batch of the ten input columns (`table, ball, state, x, y, vx, vy, wx, wy, wz`).
