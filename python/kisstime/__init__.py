@@ -339,12 +339,21 @@ class Scenario:
         return (self.kind, self.text, self.source, self.dir)
 
 
-def scenario(x: Union[None, str, os.PathLike, Mapping[str, Any], Scenario] = None) -> Scenario:
+def scenario(
+    x: Union[None, str, os.PathLike, Mapping[str, Any], Scenario] = None, **sections: Any
+) -> Scenario:
     """The scenario ``x`` names: ``None`` the built-in study; a path to a TOML study
     (``examples/study.toml``'s format) or to a ``.json`` scenario in ``shared/studies``'
     format; a dict with the TOML file's schema (``{"balls": [...], "shot": {...}, ...}``).
-    The file is read now; it is checked when the study runs (:func:`shot_study` raises
-    ``ValueError`` naming the file and key)."""
+    Or, with no ``x``, the sections as keyword arguments: ``scenario(balls=[{"id": "cue",
+    "x": 0.6, "y": 0.5}, ...], shot={"cue_ball": "cue", "object_ball": 1, "v0": 1.5,
+    "phi": 90, "theta": 5, "a": 0, "b": 0.2}, table={"kind": "9ft"}, target={...},
+    noise={...}, physics={...})``. A file is read now; everything is checked when the
+    study runs (:func:`shot_study` raises ``ValueError`` naming the file and key)."""
+    if sections:
+        if x is not None:
+            raise ValueError("give a scenario or its sections as keywords, not both")
+        return Scenario("dict", json.dumps(sections), "scenario arguments", None)
     if x is None:
         return Scenario("builtin")
     if isinstance(x, Scenario):

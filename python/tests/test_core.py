@@ -152,6 +152,11 @@ def test_shot_study_scenarios_strikes_and_modes():
     a = kisstime.shot_study(builtin, samples=500)
     b = kisstime.shot_study(samples=500)
     assert same(a.samples, b.samples)
+    # and the same sections as keyword arguments
+    c = kisstime.shot_study(kisstime.scenario(**builtin), samples=500)
+    assert same(c.samples, b.samples)
+    with pytest.raises(ValueError, match="not both"):
+        kisstime.scenario(builtin, balls=[])
     # first contact only: the same first contacts, no outcome
     fc = kisstime.shot_study(samples=500, until="first-contact")
     assert np.array_equal(fc.samples["first_t"], b.samples["first_t"])
