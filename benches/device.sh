@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# The GPU benchmarks for a lent device machine (issue 16), as one prepared run: `kisstime
+# bench` on the GPU in f32 and f64, `midshot` and `worst`, 1e5 and 1e6 tables of 16 balls,
+# each reporting per-pair and next-collision pairs/s, the upload / kernel / readback split
+# (kernel-only vs end to end) and the agreement with the CPU f64 reference, plus one CPU
+# run for scale. Prints one table at the end; the raw JSON lines go to $OUT/bench.jsonl.
+# Stays well under 5 minutes on an H200 (each run has its own timeout).
+#
+# Here (x86-64, this checkout): build the binary and fetch the Vulkan loader, once:
+#   cargo build --release && mkdir -p .dev && cp target/release/kisstime .dev/
+#   echo /.dev/ >> .git/info/exclude; echo /.gl/ >> .git/info/exclude
+#   (the `device` tool's README gives the apt-get download line for .gl/)
+# Then, with the `device` tool: run `bash benches/device.sh .dev/kisstime`, carry [".dev", ".gl"].
+# Locally (lavapipe), smaller: SIZES="2000" bash benches/device.sh target/release/kisstime
+set -uo pipefail
+BIN="${1:-.dev/kisstime}"
+OUT="${OUT:-$(mktemp -d)}"
+SIZES="${SIZES:-100000 1000000}"
+mkdir -p "$OUT"
+if compgen -G ".gl/*.deb" > /dev/null; then
+  for f in .gl/*.deb; do dpkg -x "$f" /; done
+  ldconfig
+fi
+ICD=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+if [ -z "${VK_DRIVER_FILES:-}" ] && [ -f "$ICD" ]; then export VK_DRIVER_FILES="$ICD"; fi
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
+command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
+echo "binary: $BIN; cores: $(nproc); sizes: $SIZES"
+: > "$OUT/bench.jsonl"
+run() { # label, then kisstime bench arguments
+  local label="$1"; shift
+  local start=$SECONDS
+  if timeout 150 "$BIN" bench "$@" --json >> "$OUT/bench.jsonl" 2>> "$OUT/stderr.txt"; then
+    echo "ok   $label ($((SECONDS - start)) s)"
+  else
+    echo "FAIL $label (exit $?, $((SECONDS - start)) s; see stderr.txt)"
+  fi
+}
+for n in $SIZES; do
+  for scenario in midshot worst; do
+    for precision in f32 f64; do
+      run "gpu $precision $scenario $n" --scenario "$scenario" --tables "$n" --backend gpu --precision "$precision" --reps 3
+    done
+  done
+done
+run "cpu f64 midshot 100000" --scenario midshot --tables 100000 --backend cpu --reps 3
+# one table of everything that ran (the JSON objects follow one another in the file)
+python3 - "$OUT/bench.jsonl" <<'PY' || cat "$OUT/bench.jsonl"
+import json, sys
+text, dec, at, rows = open(sys.argv[1]).read(), json.JSONDecoder(), 0, []
+while True:
+    while at < len(text) and text[at].isspace():
+        at += 1
+    if at >= len(text):
+        break
+    obj, at = dec.raw_decode(text, at)
+    rows.append(obj)
+g = lambda v: "-" if v is None else f"{v / 1e6:,.0f} M"
+k = lambda s: "-" if not s else f"{s['kernel_s'] * 1e3:.2f}/{(s['upload_s'] + s['kernel_s'] + s['readback_s']) * 1e3:.2f} ms"
+print(f"{'scenario':<8} {'tables':>8} {'backend':<8} {'pairs/s':>10} {'next/s':>10} "
+      f"{'pairs kernel/all':>18} {'next kernel/all':>18} {'outside tier':>12} device")
+for r in rows:
+    for b in r["backends"]:
+        a = b.get("agreement") or {}
+        print(f"{r['scenario']:<8} {r['tables']:>8} {b['backend'] + ' ' + b['precision']:<8} "
+              f"{g(b['pair_times_pairs_per_s']):>10} {g(b['next_collisions_pairs_per_s']):>10} "
+              f"{k(b['pair_times_gpu_split']):>18} {k(b['next_collisions_gpu_split']):>18} "
+              f"{a.get('pairs_outside_tier', '-'):>12} {b['device']}")
+PY
