@@ -1,11 +1,15 @@
 //! Shared by the reader targets: what a batch that a reader accepted must satisfy, and
 //! that writing it out and reading it back gives the same batch.
 
-use kisstime::Batch;
+use kisstime::motion::path::PATH_MOVES;
+use kisstime::{Ball, Batch, Params, ball_path};
 
 /// Every invariant a reader's batch promises: tables in strictly ascending id order, each
-/// with at least 2 balls in strictly ascending id order, every number finite, pair counts
-/// `n(n−1)/2`.
+/// with at least 2 balls in strictly ascending id order, every number finite and within
+/// the documented physical range ([`Ball::MAX_POSITION`], [`Ball::MAX_SPEED`],
+/// [`Ball::MAX_SPIN`]), every ball's path keeping its own contract (finite coefficients; a
+/// moving ball's motion ends at a finite, positive time — what broke for `vx = 1e160`),
+/// pair counts `n(n−1)/2`.
 pub fn check_batch(batch: &Batch) {
     let mut pairs = 0;
     for k in 0..batch.num_tables() {
@@ -28,6 +32,19 @@ pub fn check_batch(batch: &Batch) {
                 b.numbers().iter().all(|v| v.is_finite()),
                 "a non-finite number"
             );
+            let n = b.numbers();
+            assert!(n[0].abs() <= Ball::MAX_POSITION && n[1].abs() <= Ball::MAX_POSITION);
+            assert!(
+                n[2].abs() <= Ball::MAX_SPEED && n[3].abs() <= Ball::MAX_SPEED,
+                "a speed beyond the range"
+            );
+            assert!(n[4..].iter().all(|w| w.abs() <= Ball::MAX_SPIN), "a spin beyond the range");
+            let p = ball_path(b, &Params::default());
+            let coeffs = [p.a.x, p.a.y, p.b.x, p.b.y, p.c.x, p.c.y];
+            assert!(coeffs.iter().all(|v| v.is_finite()), "a path that is not finite");
+            if p.flags & PATH_MOVES != 0 {
+                assert!(p.tmax.is_finite() && p.tmax >= 0.0, "a moving path without an end");
+            }
         }
         let n = ids.len();
         assert_eq!(batch.pair_range(k).len(), n * (n - 1) / 2);
