@@ -63,6 +63,8 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from . import EVENT_TYPES as _EVENT_TYPES
+
 __all__ = [
     "EVENT_TYPES",
     "STATE_NAMES",
@@ -77,18 +79,8 @@ __all__ = [
 ]
 
 #: kisstime's event type codes (the ``type`` column of the events array), in code order,
-#: as pooltool's ``EventType`` values.
-EVENT_TYPES: tuple[str, ...] = (
-    "stick_ball",
-    "ball_ball",
-    "ball_linear_cushion",
-    "ball_circular_cushion",
-    "ball_pocket",
-    "sliding_rolling",
-    "rolling_spinning",
-    "rolling_stationary",
-    "spinning_stationary",
-)
+#: as pooltool's ``EventType`` values (the package's :data:`kisstime.EVENT_TYPES`).
+EVENT_TYPES: tuple[str, ...] = _EVENT_TYPES
 
 #: Motion state codes (kisstime's and pooltool's ``ball.state.s``), in code order.
 STATE_NAMES: tuple[str, ...] = ("stationary", "spinning", "sliding", "rolling", "pocketed")
