@@ -181,8 +181,45 @@ def _params(radius: float, mu_s: float, mu_r: float, mu_sp: Optional[float], g: 
     )
 
 
+class Batch:
+    """Balls converted once and kept on the Rust side: pass it to :func:`next_collisions`
+    again and again (an event loop's question after every event) without converting the
+    arrays each time. Built from what :func:`pair_times` takes; checked the same way."""
+
+    def __init__(self, balls: ArrayLike):
+        if (
+            isinstance(balls, np.ndarray)
+            and balls.dtype == BALL_DTYPE
+            and balls.ndim == 1
+            and balls.flags["C_CONTIGUOUS"]
+        ):
+            # the array's own buffer, read in one pass on the Rust side (no column copies)
+            self._batch = _kisstime.Batch.from_records(balls.view(np.uint8))
+        else:
+            self._batch = _kisstime.Batch(*_balls(balls))
+
+    @property
+    def num_tables(self) -> int:
+        """The number of tables."""
+        return self._batch.num_tables
+
+    @property
+    def num_balls(self) -> int:
+        """The number of balls."""
+        return self._batch.num_balls
+
+    @property
+    def num_pairs(self) -> int:
+        """The number of ball pairs."""
+        return self._batch.num_pairs
+
+
+def _as_batch(balls: Union[ArrayLike, "Batch"]) -> "Batch":
+    return balls if isinstance(balls, Batch) else Batch(balls)
+
+
 def pair_times(
-    balls: ArrayLike,
+    balls: Union[ArrayLike, "Batch"],
     *,
     backend: str = "cpu",
     precision: Optional[str] = None,
@@ -200,35 +237,10 @@ def pair_times(
     f64 on the CPU, f32 on a GPU). Returns a structured array of :data:`PAIR_DTYPE`, tables
     in ascending id order and pairs ``(i, j)`` with ``i < j`` in ball-id order.
     """
-    cols = _balls(balls)
     data = _kisstime.pair_times(
-        *cols, _params(radius, mu_s, mu_r, mu_sp, g), backend, precision
+        _as_batch(balls)._batch, _params(radius, mu_s, mu_r, mu_sp, g), backend, precision
     )
     return _load(data)
-
-
-class Batch:
-    """Balls converted once and kept on the Rust side: pass it to :func:`next_collisions`
-    again and again (an event loop's question after every event) without converting the
-    arrays each time. Built from what :func:`pair_times` takes; checked the same way."""
-
-    def __init__(self, balls: ArrayLike):
-        self._batch = _kisstime.Batch(*_balls(balls))
-
-    @property
-    def num_tables(self) -> int:
-        """The number of tables."""
-        return self._batch.num_tables
-
-    @property
-    def num_balls(self) -> int:
-        """The number of balls."""
-        return self._batch.num_balls
-
-    @property
-    def num_pairs(self) -> int:
-        """The number of ball pairs."""
-        return self._batch.num_pairs
 
 
 def next_collisions(
@@ -250,14 +262,8 @@ def next_collisions(
     :class:`Batch` (converted once, for repeated calls).
     """
     params = _params(radius, mu_s, mu_r, mu_sp, g)
-    if isinstance(balls, Batch):
-        raw = _kisstime.next_collisions_of_batch(balls._batch, params, backend, precision)
-        return np.frombuffer(raw, dtype=NEXT_DTYPE).copy()
-    cols = _balls(balls)
-    data = _kisstime.next_collisions(
-        *cols, _params(radius, mu_s, mu_r, mu_sp, g), backend, precision
-    )
-    return _load(data)
+    raw = _kisstime.next_collisions(_as_batch(balls)._batch, params, backend, precision)
+    return np.frombuffer(raw, dtype=NEXT_DTYPE).copy()
 
 
 class SimResult(NamedTuple):
@@ -273,7 +279,7 @@ class SimResult(NamedTuple):
 
 
 def simulate(
-    balls: ArrayLike,
+    balls: Union[ArrayLike, "Batch"],
     strikes: Optional[ArrayLike] = None,
     *,
     table: Union[str, os.PathLike] = "9ft",
@@ -294,7 +300,7 @@ def simulate(
     :data:`EVENT_TYPES`, ``agent_b`` is the other ball's id or the cushion's, jaw's or
     pocket's index in :func:`table_ids`' lists (-1 if none).
     """
-    cols = _balls(balls)
+    batch = _as_batch(balls)
     strike_cols = None
     if strikes is not None:
         ints = [_column(strikes, n, "<i8", "strikes") for n in ("table", "ball")]
@@ -303,7 +309,7 @@ def simulate(
         ]
         strike_cols = (ints[0], ints[1], nums)
     ev, fin, oc = _kisstime.simulate(
-        *cols,
+        batch._batch,
         strike_cols,
         os.fspath(table),
         int(max_events),

@@ -13,6 +13,8 @@ class Batch:
     def __init__(
         self, table: _I, ball: _I, state: _I, x: _F, y: _F, vx: _F, vy: _F, wx: _F, wy: _F, wz: _F
     ) -> None: ...
+    @staticmethod
+    def from_records(records: npt.NDArray[np.uint8]) -> "Batch": ...
     @property
     def num_tables(self) -> int: ...
     @property
@@ -21,20 +23,14 @@ class Batch:
     def num_pairs(self) -> int: ...
 
 def pair_times(
-    table: _I, ball: _I, state: _I, x: _F, y: _F, vx: _F, vy: _F, wx: _F, wy: _F, wz: _F,
-    params: _Params, backend: str, precision: Optional[str],
+    batch: Batch, params: _Params, backend: str, precision: Optional[str]
 ) -> bytes: ...
 def next_collisions(
-    table: _I, ball: _I, state: _I, x: _F, y: _F, vx: _F, vy: _F, wx: _F, wy: _F, wz: _F,
-    params: _Params, backend: str, precision: Optional[str],
-) -> bytes: ...
-def next_collisions_of_batch(
     batch: Batch, params: _Params, backend: str, precision: Optional[str]
 ) -> bytes: ...
 def simulate(
-    table: _I, ball: _I, state: _I, x: _F, y: _F, vx: _F, vy: _F, wx: _F, wy: _F, wz: _F,
-    strikes: Optional[tuple[_I, _I, list[_F]]], table_name: str, max_events: int,
-    max_time: float, events: bool,
+    batch: Batch, strikes: Optional[tuple[_I, _I, list[_F]]], table_name: str,
+    max_events: int, max_time: float, events: bool,
 ) -> tuple[Optional[bytes], bytes, bytes]: ...
 def study_chunk(
     kind: str, text: str, source: str, dir: Optional[str], first: int, n: int, seed: int,

@@ -16,11 +16,11 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use kisstime::batch::Batch;
-use kisstime::io::npy::batch_from_columns;
+use kisstime::io::npy::{batch_from_columns, batch_from_records};
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{match_strikes, sample_strikes_from_columns, strike_rows_from_columns};
 use kisstime::io::table_json::table_by_name;
-use kisstime::io::{Format, PairsWriter, write_next};
+use kisstime::io::{Format, PairsWriter};
 use kisstime::simulate::{BatchError, BatchOptions, Limits, SimParams, simulate_batch};
 use kisstime::study::{
     Class, FirstContact, Pot, Result4, RunOptions, Sample, StudyConfig, Summary, Until,
@@ -147,6 +147,13 @@ impl PyBatch {
         Ok(PyBatch { batch })
     }
 
+    /// A batch from the raw bytes of a structured array of the input dtype.
+    #[staticmethod]
+    fn from_records(records: PyReadonlyArray1<'_, u8>) -> PyResult<Self> {
+        let batch = batch_from_records("balls", slice(&records, "records")?).map_err(py_err)?;
+        Ok(PyBatch { batch })
+    }
+
     /// The number of tables.
     #[getter]
     fn num_tables(&self) -> usize {
@@ -166,12 +173,12 @@ impl PyBatch {
     }
 }
 
-/// Each table's next collision on a prepared batch, as the raw little-endian records of
+/// Each table's next collision, as the raw little-endian records of
 /// `kisstime next`'s `.npy` (`table <i8, t <f8, i <i8, j <i8, status <i8`), header-less,
 /// for `numpy.frombuffer`.
 #[pyfunction]
 #[pyo3(signature = (batch, params, backend, precision))]
-fn next_collisions_of_batch<'py>(
+fn next_collisions<'py>(
     py: Python<'py>,
     batch: &PyBatch,
     params: (f64, f64, f64, f64, f64),
@@ -203,25 +210,15 @@ fn next_collisions_of_batch<'py>(
 
 /// Every pair's first contact, as the `.npy` bytes `kisstime pairs -o x.npy` writes.
 #[pyfunction]
-#[pyo3(signature = (table, ball, state, x, y, vx, vy, wx, wy, wz, params, backend, precision))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (batch, params, backend, precision))]
 fn pair_times<'py>(
     py: Python<'py>,
-    table: I64s<'py>,
-    ball: I64s<'py>,
-    state: I64s<'py>,
-    x: F64s<'py>,
-    y: F64s<'py>,
-    vx: F64s<'py>,
-    vy: F64s<'py>,
-    wx: F64s<'py>,
-    wy: F64s<'py>,
-    wz: F64s<'py>,
+    batch: &PyBatch,
     params: (f64, f64, f64, f64, f64),
     backend: &str,
     precision: Option<&str>,
 ) -> PyResult<Bound<'py, PyBytes>> {
-    let batch = batch_of(&table, &ball, &state, [&x, &y, &vx, &vy, &wx, &wy, &wz])?;
+    let batch = &batch.batch;
     let params = params_of(params)?;
     let mut engine = engine_of(backend, precision)?;
     let mut out: Vec<u8> = Vec::new();
@@ -239,59 +236,14 @@ fn pair_times<'py>(
     Ok(PyBytes::new(py, &out))
 }
 
-/// Each table's next collision, as the `.npy` bytes `kisstime next -o x.npy` writes.
-#[pyfunction]
-#[pyo3(signature = (table, ball, state, x, y, vx, vy, wx, wy, wz, params, backend, precision))]
-#[allow(clippy::too_many_arguments)]
-fn next_collisions<'py>(
-    py: Python<'py>,
-    table: I64s<'py>,
-    ball: I64s<'py>,
-    state: I64s<'py>,
-    x: F64s<'py>,
-    y: F64s<'py>,
-    vx: F64s<'py>,
-    vy: F64s<'py>,
-    wx: F64s<'py>,
-    wy: F64s<'py>,
-    wz: F64s<'py>,
-    params: (f64, f64, f64, f64, f64),
-    backend: &str,
-    precision: Option<&str>,
-) -> PyResult<Bound<'py, PyBytes>> {
-    let batch = batch_of(&table, &ball, &state, [&x, &y, &vx, &vy, &wx, &wy, &wz])?;
-    let params = params_of(params)?;
-    let mut engine = engine_of(backend, precision)?;
-    let mut next = Vec::with_capacity(batch.num_tables());
-    for tables in chunks(batch.num_tables(), TABLES_PER_CHECK) {
-        let part = py
-            .detach(|| engine.next_collisions_of(&batch, &params, tables))
-            .map_err(py_err)?;
-        next.extend(part);
-        py.check_signals()?;
-    }
-    let mut out: Vec<u8> = Vec::new();
-    write_next(&mut out, Format::Npy, &next).map_err(mem_err)?;
-    Ok(PyBytes::new(py, &out))
-}
-
 /// Whole shots from the strike to rest: `(events, final, outcomes)` as the `.npy` bytes of
 /// `kisstime simulate -o … --final … --outcomes …` (`events` is `None` unless asked).
 #[pyfunction]
-#[pyo3(signature = (table, ball, state, x, y, vx, vy, wx, wy, wz, strikes, table_name, max_events, max_time, events))]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events))]
+#[allow(clippy::type_complexity)]
 fn simulate<'py>(
     py: Python<'py>,
-    table: I64s<'py>,
-    ball: I64s<'py>,
-    state: I64s<'py>,
-    x: F64s<'py>,
-    y: F64s<'py>,
-    vx: F64s<'py>,
-    vy: F64s<'py>,
-    wx: F64s<'py>,
-    wy: F64s<'py>,
-    wz: F64s<'py>,
+    batch: &PyBatch,
     strikes: Option<(I64s<'py>, I64s<'py>, [F64s<'py>; 5])>,
     table_name: &str,
     max_events: usize,
@@ -307,7 +259,7 @@ fn simulate<'py>(
             "max_events {max_events} and max_time {max_time} must be greater than 0"
         )));
     }
-    let batch = batch_of(&table, &ball, &state, [&x, &y, &vx, &vy, &wx, &wy, &wz])?;
+    let batch = &batch.batch;
     let tbl = table_by_name(table_name).map_err(py_err)?;
     let params = SimParams::default();
     let strikes = match &strikes {
@@ -322,7 +274,7 @@ fn simulate<'py>(
             let rows =
                 strike_rows_from_columns("strikes", slice(t, "table")?, slice(b, "ball")?, cols)
                     .map_err(py_err)?;
-            match_strikes(&batch, &rows, "strikes", Format::Npy).map_err(py_err)?
+            match_strikes(batch, &rows, "strikes", Format::Npy).map_err(py_err)?
         }
         None => Vec::new(),
     };
@@ -793,7 +745,6 @@ fn table_ids(name: &str) -> PyResult<(Vec<String>, Vec<String>, Vec<String>)> {
 fn _kisstime(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pair_times, m)?)?;
     m.add_function(wrap_pyfunction!(next_collisions, m)?)?;
-    m.add_function(wrap_pyfunction!(next_collisions_of_batch, m)?)?;
     m.add_class::<PyBatch>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(study_chunk, m)?)?;

@@ -247,6 +247,48 @@ pub fn batch_from_columns(
     rows.into_batch("row", |e, row| e.in_file(source).at_row(row))
 }
 
+/// The bytes of one structured input row ([`BALL_DTYPE`]: three `<i8`, seven `<f8`).
+pub const BALL_RECORD_BYTES: usize = 80;
+
+/// A batch from the raw bytes of a C-ordered structured array of [`BALL_DTYPE`] held in
+/// memory (a NumPy array's buffer, handed over without copying): rows of
+/// [`BALL_RECORD_BYTES`] little-endian bytes. Checked and located exactly as
+/// [`batch_from_columns`] (and so [`read_batch_npy`]) checks rows.
+pub fn batch_from_records(source: &str, data: &[u8]) -> Result<Batch, Error> {
+    if !data.len().is_multiple_of(BALL_RECORD_BYTES) {
+        return Err(InputError::new(format!(
+            "{} bytes are not whole rows of {BALL_RECORD_BYTES} bytes ({BALL_DTYPE})",
+            data.len()
+        ))
+        .in_file(source)
+        .into());
+    }
+    let n = data.len() / BALL_RECORD_BYTES;
+    let mut rows = BallRows::default();
+    rows.reserve(n)?;
+    for (r, rec) in data.chunks_exact(BALL_RECORD_BYTES).enumerate() {
+        let word = |k: usize| -> [u8; 8] {
+            let mut w = [0u8; 8];
+            w.copy_from_slice(&rec[8 * k..8 * k + 8]);
+            w
+        };
+        let (table, ball, state) = (
+            i64::from_le_bytes(word(0)),
+            i64::from_le_bytes(word(1)),
+            i64::from_le_bytes(word(2)),
+        );
+        let mut v = [0.0f64; 7];
+        for (k, x) in v.iter_mut().enumerate() {
+            *x = f64::from_le_bytes(word(3 + k));
+        }
+        let row = r as u64;
+        let b = make_ball(state as f64, v)
+            .map_err(|m| locate(InputError::new(m), source, row, table, ball))?;
+        rows.push(table, ball, b, row)?;
+    }
+    rows.into_batch("row", |e, row| e.in_file(source).at_row(row))
+}
+
 /// The type string each field of the structured input must have: int64 ids and state,
 /// float64 numbers.
 fn field_type(name: &str) -> &'static str {
