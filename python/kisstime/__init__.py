@@ -430,9 +430,12 @@ class Study:
         return float(self.summary["intended_potted"]["fraction"])
 
 
+_STRIKE_FIELDS = ("V0", "phi", "theta", "a", "b")
+
+
 def _strike_columns(strikes: ArrayLike) -> tuple:
     ids = _column(strikes, "sample", "<i8", "strikes")
-    nums = [_column(strikes, n, "<f8", "strikes") for n in ("V0", "phi", "theta", "a", "b")]
+    nums = [_column(strikes, n, "<f8", "strikes") for n in _STRIKE_FIELDS]
     return (ids, nums)
 
 
@@ -501,27 +504,27 @@ def shot_study(
     between two checks for Ctrl-C (default 16,384); the result does not depend on it.
     """
     sc = _scenario(scenario)
-    if strikes is not None:
-        total = len(_column(strikes, "sample", "<i8", "strikes"))
-    else:
-        total = int(samples)
-        if total < 1:
-            raise ValueError(f"samples {samples}: at least 1")
     per = 16_384 if chunk is None else int(chunk)
     if per < 1:
         raise ValueError(f"chunk {chunk}: at least 1")
-    blobs = [
-        _study_chunk(
-            sc,
-            first,
-            min(per, total - first),
-            seed=seed,
-            strikes=strikes,
-            until=until,
-            noise=noise,
-            max_events=max_events,
-            max_time=max_time,
-        )
-        for first in range(0, total, per)
-    ]
+    options = dict(seed=seed, until=until, noise=noise, max_events=max_events, max_time=max_time)
+    if strikes is None:
+        total = int(samples)
+        if total < 1:
+            raise ValueError(f"samples {samples}: at least 1")
+        blobs = [
+            _study_chunk(sc, first, min(per, total - first), **options)
+            for first in range(0, total, per)
+        ]
+        return _study_merge(sc, blobs, until=until)
+    # the strikes are converted and checked once, as a whole (rows and repeated ids named
+    # as in the file), then each chunk gets its own rows
+    ids, nums = _strike_columns(strikes)
+    total = len(ids)
+    _study_chunk(sc, 0, 0, strikes={"sample": ids, **dict(zip(_STRIKE_FIELDS, nums))}, **options)
+    blobs = []
+    for first in range(0, total, per):
+        rows = slice(first, first + per)
+        part = {"sample": ids[rows], **{n: c[rows] for n, c in zip(_STRIKE_FIELDS, nums)}}
+        blobs.append(_study_chunk(sc, 0, len(ids[rows]), strikes=part, **options))
     return _study_merge(sc, blobs, until=until)
