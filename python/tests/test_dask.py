@@ -149,11 +149,14 @@ def _chunk_states(dask_scheduler) -> dict[str, int]:
     return {} if prefix is None else dict(prefix.state_counts)
 
 
-def test_no_strikes_give_the_empty_study(client):
+def test_no_strikes_are_refused_as_by_one_process(client):
+    # as `kisstime shots --strikes` refuses a file without rows
     strikes = np.zeros(0, dtype=kisstime.SAMPLE_STRIKE_DTYPE)
-    got = kisstime.dask.shot_study(client, strikes=strikes)
-    assert got.samples.shape == (0,)
-    assert_same_study(got, kisstime.shot_study(strikes=strikes))
+    with pytest.raises(ValueError, match="no strikes") as one:
+        kisstime.shot_study(strikes=strikes)
+    with pytest.raises(ValueError, match="no strikes") as many:
+        kisstime.dask.shot_study(client, strikes=strikes)
+    assert str(one.value) == str(many.value)
 
 
 def _chunk_keys_by_worker(dask_scheduler) -> dict[str, tuple[int, int, int]]:
