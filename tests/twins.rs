@@ -72,6 +72,12 @@ const TWINS: &[Twin] = &[
         wgsl_only: &[],
     },
     Twin {
+        rust: "src/model/fmath.rs",
+        wgsl: "shaders/model/fmath.wgsl",
+        rust_only: &[],
+        wgsl_only: &[],
+    },
+    Twin {
         rust: "src/motion/path.rs",
         wgsl: "shaders/motion/path.wgsl",
         rust_only: &[

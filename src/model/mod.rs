@@ -5,10 +5,13 @@
 //! Two views of a ball: [`Ball`] (2-D position and velocity, 3-D spin: what the collision
 //! kernels and their WGSL twins read) and [`BallState`] (pooltool's full 3-D state, what the
 //! simulator evolves and resolves). [`Params`] are the kernels' parameters,
-//! [`SimParams`] the simulator's (ball, cue, resolver).
+//! [`SimParams`] the simulator's (ball, cue, resolver). [`fmath`]: `exp`, `sin`, `cos`,
+//! `acos` from arithmetic alone, for the GPU's f64 (twin `shaders/model/fmath.wgsl`; the
+//! first piece of the GPU event loop).
 
 pub mod ball;
 pub mod ball_state;
+pub mod fmath;
 pub mod params;
 pub mod precision;
 pub mod sim_params;

@@ -1,0 +1,323 @@
+// exp, sin, cos and acos from arithmetic alone, for the GPU's f64. WGSL twin of
+// src/model/fmath.rs (same functions, same order, same operations in the same order;
+// the module documentation there has the why, the accuracy and the sources).
+//
+// WGSL's f64 has no safe transcendental builtins: on Vulkan exp, sin, cos, acos, atan2,
+// pow, log compile for f64 and return garbage. These use only + - * /, sqrt, fma, abs,
+// select, comparisons and int/float conversions. Every product that feeds a sum is exact
+// or an fma, so a compiler that contracts a * b + c cannot change a bit; where + - * are
+// IEEE and fma is fused (and / and sqrt correctly rounded, for acos_poly), the results
+// are the Rust twin's bits. Where fma rounds twice and sums are rewritten as if exact
+// (Mesa's lavapipe 22.3: the compensation terms do not survive), they are within 1 ulp
+// (exp, acos) or 2 ulp (sin, cos) of them.
+//
+// Special values come from arithmetic on the argument (WGSL has no NaN or infinity
+// literals): a compiler that assumes there are none may not keep them. Written in `real`
+// like the other twins, with constants that fit f32, so the file compiles in the f32
+// shader too; it is designed and tested for f64.
+
+// exp: fdlibm's ln 2 split and 1/ln 2.
+// 1/ln 2 (0x3FF71547_652B82FE).
+const INV_LN2: real = 1.4426950408889634;
+// ln 2 to 32 significant bits (0x3FE62E42_FEE00000): k·LN2_HI is exact for |k| < 2²¹.
+const LN2_HI: real = 0.6931471803691238;
+// ln 2 − LN2_HI (0x3DEA39EF_35793C76).
+const LN2_LO: real = 1.9082149292705877e-10;
+// Arguments beyond ±EXP_CLAMP reduce as if they were ±EXP_CLAMP (the result is 0 or ∞
+// there anyway): |k| ≤ 1097, and the conversion to i32 never sees NaN or ∞.
+const EXP_CLAMP: real = 760.0;
+// Below this exp is 0 (it underflows to 0 below −745.1332…).
+const EXP_ZERO_BELOW: real = -746.0;
+// exp: 1/n!, rounded to nearest (1/2, 1 and 1 are written out where they are used).
+// 1/3! (0x3FC55555_55555555).
+const EXP_C3: real = 0.16666666666666666;
+// 1/4! (0x3FA55555_55555555).
+const EXP_C4: real = 0.041666666666666664;
+// 1/5! (0x3F811111_11111111).
+const EXP_C5: real = 0.008333333333333333;
+// 1/6! (0x3F56C16C_16C16C17).
+const EXP_C6: real = 0.001388888888888889;
+// 1/7! (0x3F2A01A0_1A01A01A).
+const EXP_C7: real = 0.0001984126984126984;
+// 1/8! (0x3EFA01A0_1A01A01A).
+const EXP_C8: real = 2.48015873015873e-5;
+// 1/9! (0x3EC71DE3_A556C734).
+const EXP_C9: real = 2.7557319223985893e-6;
+// 1/10! (0x3E927E4F_B7789F5C).
+const EXP_C10: real = 2.755731922398589e-7;
+// 1/11! (0x3E5AE645_67F544E4).
+const EXP_C11: real = 2.505210838544172e-8;
+// 1/12! (0x3E21EED8_EFF8D898).
+const EXP_C12: real = 2.08767569878681e-9;
+// 1/13! (0x3DE61246_13A86D09).
+const EXP_C13: real = 1.6059043836821613e-10;
+
+// sin, cos: the reduction modulo π/2 (fdlibm e_rem_pio2.c).
+// sin and cos reduce arguments up to this size exactly enough (|n| < 2¹⁹, so n times a
+// 33-bit piece of π/2 is exact); beyond it they are NaN. fdlibm's medium range goes to
+// 2¹⁹·π/2 ≈ 8.2·10⁵.
+const TRIG_BOUND: real = 8.0e5;
+// 2/π (0x3FE45F30_6DC9C883).
+const INV_PIO2: real = 0.6366197723675814;
+// The first 33 bits of π/2 (0x3FF921FB_54400000).
+const PIO2_1: real = 1.5707963267341256;
+// The second 33 bits of π/2 (0x3DD0B461_1A600000).
+const PIO2_2: real = 6.077100506303966e-11;
+// The third 33 bits of π/2 (0x3BA3198A_2E000000).
+const PIO2_3: real = 2.0222662487111665e-21;
+// π/2 − (PIO2_1 + PIO2_2 + PIO2_3) (0x397B839A_252049C1).
+const PIO2_3T: real = 8.4784276603689e-32;
+// Below this |x|, sin x is x to the last bit (2⁻²⁷, 0x3E400000_00000000).
+const SIN_TINY: real = 7.450580596923828e-9;
+// sin: fdlibm k_sin.c, sin(x) ≈ x + SIN_S1·x³ + … + SIN_S6·x¹³ on [−π/4, π/4].
+// 0xBFC55555_55555549
+const SIN_S1: real = -0.16666666666666632;
+// 0x3F811111_1110F8A6
+const SIN_S2: real = 0.00833333333332249;
+// 0xBF2A01A0_19C161D5
+const SIN_S3: real = -0.0001984126982985795;
+// 0x3EC71DE3_57B1FE7D
+const SIN_S4: real = 2.7557313707070068e-6;
+// 0xBE5AE5E6_8A2B9CEB
+const SIN_S5: real = -2.5050760253406863e-8;
+// 0x3DE5D93A_5ACFD57C
+const SIN_S6: real = 1.58969099521155e-10;
+// cos: fdlibm k_cos.c, cos(x) ≈ 1 − x²/2 + COS_C1·x⁴ + … + COS_C6·x¹⁴ on [−π/4, π/4].
+// 0x3FA55555_5555554C
+const COS_C1: real = 0.0416666666666666;
+// 0xBF56C16C_16C15177
+const COS_C2: real = -0.001388888888887411;
+// 0x3EFA01A0_19CB1590
+const COS_C3: real = 2.480158728947673e-5;
+// 0xBE927E4F_809C52AD
+const COS_C4: real = -2.7557314351390663e-7;
+// 0x3E21EE9E_BDB4B1C4
+const COS_C5: real = 2.087572321298175e-9;
+// 0xBDA8FAE9_BE8838D4
+const COS_C6: real = -1.1359647557788195e-11;
+
+// acos: fdlibm e_asin.c / e_acos.c.
+// π rounded (0x400921FB_54442D18).
+const PI_HI: real = 3.141592653589793;
+// π/2 rounded (0x3FF921FB_54442D18).
+const PIO2_HI: real = 1.5707963267948966;
+// π/2 − PIO2_HI (0x3C91A626_33145C07).
+const PIO2_LO: real = 6.123233995736766e-17;
+// R(z) = P(z)/Q(z): asin(x) ≈ x + x·P(x²)/Q(x²) on |x| ≤ 1/2 (P has a factor z).
+// 0x3FC55555_55555555
+const ASIN_P0: real = 0.16666666666666666;
+// 0xBFD4D612_03EB6F7D
+const ASIN_P1: real = -0.3255658186224009;
+// 0x3FC9C155_0E884455
+const ASIN_P2: real = 0.20121253213486293;
+// 0xBFA48228_B5688F3B
+const ASIN_P3: real = -0.04005553450067941;
+// 0x3F49EFE0_7501B288
+const ASIN_P4: real = 0.0007915349942898145;
+// 0x3F023DE1_0DFDF709
+const ASIN_P5: real = 3.479331075960212e-5;
+// 0xC0033A27_1C8A2D4B
+const ASIN_Q1: real = -2.403394911734414;
+// 0x40002AE5_9C598AC8
+const ASIN_Q2: real = 2.0209457602335057;
+// 0xBFE6066C_1B8D0159
+const ASIN_Q3: real = -0.6882839716054533;
+// 0x3FB3B8C5_B12E9282
+const ASIN_Q4: real = 0.07703815055590194;
+
+// 2ⁿ exactly, for |n| ≤ 1023 (below 2⁻¹⁰²² the result is subnormal, still exact).
+//
+// Method: the product of the powers 2^(±2ⁱ) for the bits i of |n|, each power the square
+// of the one before: WGSL cannot build an f64 from its bits without 64-bit integers
+// (`bitcast` keeps the width), and `ldexp` is not on the list of safe f64 builtins.
+fn pow2i(n: i32) -> real {
+    var b = select(real(2.0), real(0.5), n < 0);
+    var m = abs(n);
+    var p: real = 1.0;
+    for (var i = 0; i < 10; i++) {
+        p = select(p, p * b, (m & 1) == 1);
+        m = m >> 1u;
+        b = b * b;
+    }
+    return p;
+}
+
+// eˣ.
+//
+// Contract: ≤ 1 ulp from the correctly rounded value on [−745, 709.7] (tests/fmath.rs),
+// results below 2⁻¹⁰²² subnormal; 0 for x < −746 (and −∞); +∞ above ~709.78 (and for +∞);
+// NaN for NaN. exp(±0) = 1 exactly.
+//
+// Method: k = round(x/ln 2) (halves away from zero) and r = x − k·ln 2 with a two-constant
+// Cody–Waite split of ln 2 (k·LN2_HI and x − k·LN2_HI are exact), so |r| ≤ ln 2/2 +
+// rounding; eʳ by its Taylor polynomial to r¹³ (truncation < 2⁻⁵⁸ relative) in Horner form
+// with fma; then 2ᵏ as 2^(k − 2h)·2ʰ·2ʰ with h = k/2, so each factor is a normal power of
+// two, the first two products are exact and only the last one rounds (into the subnormals,
+// or overflowing to +∞).
+fn exp_poly(x: real) -> real {
+    let xc = select(select(-EXP_CLAMP, EXP_CLAMP, x > 0.0), x, abs(x) <= EXP_CLAMP);
+    let half = select(real(0.5), real(-0.5), xc < 0.0);
+    let k = i32(fma(xc, INV_LN2, half));
+    let kf = real(k);
+    let hi = fma(-kf, LN2_HI, x);
+    let r = fma(-kf, LN2_LO, hi);
+    var p = fma(r, EXP_C13, EXP_C12);
+    p = fma(r, p, EXP_C11);
+    p = fma(r, p, EXP_C10);
+    p = fma(r, p, EXP_C9);
+    p = fma(r, p, EXP_C8);
+    p = fma(r, p, EXP_C7);
+    p = fma(r, p, EXP_C6);
+    p = fma(r, p, EXP_C5);
+    p = fma(r, p, EXP_C4);
+    p = fma(r, p, EXP_C3);
+    p = fma(r, p, 0.5);
+    p = fma(r, p, 1.0);
+    p = fma(r, p, 1.0);
+    let h = k / 2;
+    let s = pow2i(h);
+    let y = p * pow2i(k - 2 * h) * s * s;
+    return select(y, 0.0, x < EXP_ZERO_BELOW);
+}
+
+// x reduced modulo π/2: x = n·π/2 + hi + lo (what reduce_half_pi returns).
+struct HalfPiRem {
+    // The quadrant: n = round(x·2/π); only n mod 4 matters to sin and cos.
+    n: i32,
+    // The remainder, |hi| ≤ π/4 + a few ulps.
+    hi: real,
+    // Its tail: |lo| ≤ ulp(hi)/2.
+    lo: real,
+}
+
+// x − n·π/2 as a double-double hi + lo, n = round(x·2/π), for |x| ≤ TRIG_BOUND.
+//
+// Contract: hi + lo is the true remainder to far more than 53 bits (about 2⁻¹⁰⁰
+// relative by the construction below), however close x is to a multiple of π/2. Beyond the bound, and for ±∞ and NaN, n = 0 and hi is NaN.
+//
+// Method: Cody–Waite with fdlibm's three 33-bit pieces of π/2 and the tail PIO2_3T:
+// n·PIO2_1, n·PIO2_2, n·PIO2_3 are exact (|n| < 2¹⁹) and so is x − n·PIO2_1 (Sterbenz); the
+// next two subtractions are error-free (TwoSum), their errors and −n·PIO2_3T (an fma) are
+// summed into the tail, and a last TwoSum normalises hi + lo. Branch-free (fdlibm decides
+// how many pieces it needs from the exponents; TwoSum needs no such decision).
+fn reduce_half_pi(x: real) -> HalfPiRem {
+    let inside = abs(x) <= TRIG_BOUND;
+    let xr = select(0.0, x, inside);
+    let half = select(real(0.5), real(-0.5), xr < 0.0);
+    let n = i32(fma(xr, INV_PIO2, half));
+    let f = real(n);
+    let a = fma(-f, PIO2_1, xr);
+    let b = f * PIO2_2;
+    let s1 = a - b;
+    let z1 = s1 - a;
+    let e1 = (a - (s1 - z1)) + (-b - z1);
+    let c = f * PIO2_3;
+    let s2 = s1 - c;
+    let z2 = s2 - s1;
+    let e2 = (s1 - (s2 - z2)) + (-c - z2);
+    let low = fma(-f, PIO2_3T, e1 + e2);
+    let hi = s2 + low;
+    let z3 = hi - s2;
+    let lo = (s2 - (hi - z3)) + (low - z3);
+    // NaN from arithmetic: WGSL has no NaN literal
+    let bad = sqrt(-1.0 - abs(x));
+    return HalfPiRem(n, select(bad, hi, inside), lo);
+}
+
+// sin(x + y) for |x| ≤ π/4 + a little and a tail |y| ≤ ulp(x)/2 (fdlibm's
+// __kernel_sin(x, y, 1)).
+//
+// Method: x + x³·(SIN_S1 + x²·r(x²)) with fdlibm's minimax coefficients, arranged so that
+// the tail enters as sin(x + y) ≈ sin(x) + y·(1 − x²/2); products that feed sums are fmas.
+fn sin_kernel(x: real, y: real) -> real {
+    let z = x * x;
+    let w = z * z;
+    let r = fma(z * w, fma(z, SIN_S6, SIN_S5), fma(z, fma(z, SIN_S4, SIN_S3), SIN_S2));
+    let v = z * x;
+    let t = fma(-v, r, 0.5 * y);
+    let u = fma(z, t, -y);
+    return x - fma(-v, SIN_S1, u);
+}
+
+// cos(x + y) for |x| ≤ π/4 + a little and a tail |y| ≤ ulp(x)/2 (fdlibm's
+// __kernel_cos(x, y), the FreeBSD form).
+//
+// Method: 1 − x²/2 + x⁴·r(x²) with fdlibm's minimax coefficients; w = 1 − x²/2 is
+// rounded and its rounding error (1 − w) − x²/2 (exact) added back with the tail's
+// −x·y; products that feed sums are fmas.
+fn cos_kernel(x: real, y: real) -> real {
+    let z = x * x;
+    let w = z * z;
+    let r = fma(
+        z,
+        fma(z, fma(z, COS_C3, COS_C2), COS_C1),
+        (w * w) * fma(z, fma(z, COS_C6, COS_C5), COS_C4),
+    );
+    let hz = 0.5 * z;
+    let one_minus = 1.0 - hz;
+    return one_minus + (((1.0 - one_minus) - hz) + fma(z, r, -(x * y)));
+}
+
+// sin x.
+//
+// Contract: ≤ 1 ulp from the correctly rounded value for |x| ≤ TRIG_BOUND
+// (tests/fmath.rs), near the multiples of π/2 included; sin(±0) = ±0 and sin x = x for
+// |x| < 2⁻²⁷; NaN beyond the bound, for ±∞ and for NaN.
+//
+// Method: reduce_half_pi, then by n mod 4: sin r, cos r, −sin r, −cos r (sin_kernel,
+// cos_kernel; both are computed and one is selected).
+fn sin_poly(x: real) -> real {
+    let q = reduce_half_pi(x);
+    let s = sin_kernel(q.hi, q.lo);
+    let c = cos_kernel(q.hi, q.lo);
+    let v = select(c, s, (q.n & 1) == 0);
+    let signed = select(-v, v, (q.n & 2) == 0);
+    return select(signed, x, abs(x) < SIN_TINY);
+}
+
+// cos x.
+//
+// Contract: ≤ 1 ulp from the correctly rounded value for |x| ≤ TRIG_BOUND
+// (tests/fmath.rs), near the multiples of π/2 included; cos(±0) = 1; NaN beyond the
+// bound, for ±∞ and for NaN.
+//
+// Method: reduce_half_pi, then by n mod 4: cos r, −sin r, −cos r, sin r.
+fn cos_poly(x: real) -> real {
+    let q = reduce_half_pi(x);
+    let s = sin_kernel(q.hi, q.lo);
+    let c = cos_kernel(q.hi, q.lo);
+    let v = select(s, c, (q.n & 1) == 0);
+    return select(-v, v, ((q.n + 1) & 2) == 0);
+}
+
+// acos x, in [0, π].
+//
+// Contract: ≤ 1 ulp from the correctly rounded value on [−1, 1] (tests/fmath.rs);
+// acos 1 = +0, acos(−1) = π rounded, acos 0 = π/2 rounded; NaN outside [−1, 1] and for
+// NaN.
+//
+// Method (fdlibm e_acos.c, with an fma where fdlibm splits a square root by its bits):
+// - |x| < 1/2: acos x = π/2 − (x + x·R(x²)), π/2 as PIO2_HI + PIO2_LO;
+// - x ≥ 1/2: acos x = 2·asin √z with z = (1 − x)/2 (exact): 2·(s + s·R(z) + c) with
+//   s = √z rounded and c = (z − s²)/(2s) (z − s² exact by fma), so s + c ≈ √z to ~2⁻¹⁰⁶;
+// - x ≤ −1/2: acos x = π − 2·asin √z with z = (1 + x)/2: π − 2·(s + s·R(z)).
+//
+// All three are computed and one is selected.
+fn acos_poly(x: real) -> real {
+    let ax = abs(x);
+    let outer = ax >= 0.5;
+    let z = select(x * x, (1.0 - ax) * 0.5, outer);
+    let p = z * fma(
+        z,
+        fma(z, fma(z, fma(z, fma(z, ASIN_P5, ASIN_P4), ASIN_P3), ASIN_P2), ASIN_P1),
+        ASIN_P0,
+    );
+    let q = fma(z, fma(z, fma(z, fma(z, ASIN_Q4, ASIN_Q3), ASIN_Q2), ASIN_Q1), 1.0);
+    let r = p / q;
+    let s = sqrt(z);
+    let mid = PIO2_HI - (x - fma(-x, r, PIO2_LO));
+    let c = fma(-s, s, z) / select(1.0, s + s, s > 0.0);
+    let right = 2.0 * (s + fma(r, s, c));
+    let left = PI_HI - 2.0 * (s + fma(r, s, -PIO2_LO));
+    return select(select(left, right, x > 0.0), mid, !outer);
+}
