@@ -223,12 +223,12 @@ fn pair_times<'py>(
     let mut engine = engine_of(backend, precision)?;
     let mut out: Vec<u8> = Vec::new();
     {
-        let mut w = PairsWriter::new(&mut out, Format::Npy, &batch).map_err(mem_err)?;
+        let mut w = PairsWriter::new(&mut out, Format::Npy, batch).map_err(mem_err)?;
         for tables in batch.table_chunks(1 << 22) {
             let contacts = py
-                .detach(|| engine.pair_times_of(&batch, &params, tables.clone()))
+                .detach(|| engine.pair_times_of(batch, &params, tables.clone()))
                 .map_err(py_err)?;
-            w.write_rows(&batch, tables, &contacts).map_err(mem_err)?;
+            w.write_rows(batch, tables, &contacts).map_err(mem_err)?;
             py.check_signals()?;
         }
         w.finish().map_err(mem_err)?;
