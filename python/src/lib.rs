@@ -667,12 +667,7 @@ fn study_merge<'py>(
         if !rest {
             return -1;
         }
-        match Result4::of(&config, s) {
-            Result4::Pot => 0,
-            Result4::PotScratch => 1,
-            Result4::Scratch => 2,
-            Result4::Miss => 3,
-        }
+        Result4::of(&config, s).index() as i64
     };
     cols.set_item("result", PyArray1::from_vec(py, col_i(&result)))?;
     let pocket = |k: usize| move |s: &Sample| s.pocket_of(k).map_or(-1, |p| p as i64);

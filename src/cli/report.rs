@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use kisstime::io::csv::format_finite;
 use kisstime::study::reference::{first_contact_word, potted_field};
 use kisstime::study::{
     Class, FirstContact, Noise, Result4, Sample, Stats, StudyConfig, Summary, Until, wilson,
@@ -310,13 +311,7 @@ pub fn write_samples_csv(
 ) -> std::io::Result<()> {
     writeln!(out, "{SAMPLE_COLUMNS}")?;
     let mut buf = ryu::Buffer::new();
-    let mut num = |v: f64| -> String {
-        if v.is_finite() {
-            buf.format(v).to_owned()
-        } else {
-            String::new()
-        }
-    };
+    let mut num = |v: f64| -> String { format_finite(v, &mut buf).to_owned() };
     for (id, s) in ids.iter().zip(samples) {
         let k = s.strike;
         let kind = match s.first {

@@ -121,6 +121,12 @@ pub fn format_time(t: f64, buf: &mut ryu::Buffer) -> &str {
     }
 }
 
+/// Formats a number as the shortest decimal that reads back as the same f64; empty for a
+/// value that is not finite (a field that does not apply, as the per-sample CSVs write it).
+pub fn format_finite(v: f64, buf: &mut ryu::Buffer) -> &str {
+    if v.is_finite() { buf.format(v) } else { "" }
+}
+
 /// Writes per-pair answers (as [`crate::pair_times`] returns them) as CSV (the layout in [`crate::io`]).
 pub fn write_pairs_csv<W: Write + ?Sized>(
     out: &mut W,

@@ -26,6 +26,7 @@ use serde::Deserialize;
 use super::config::{Keys, Noise, Parts, Spot, StudyConfig};
 use super::run::{FirstContact, Sample};
 use crate::error::{Error, InputError};
+use crate::io::csv::format_finite;
 use crate::model::sim_params::SimParams;
 use crate::model::table::{PocketTableSpecs, Table};
 use crate::resolve::stick_ball::CueStrike;
@@ -195,13 +196,7 @@ pub fn write_reference_csv(
 ) -> std::io::Result<()> {
     writeln!(out, "{REFERENCE_COLUMNS}")?;
     let mut buf = ryu::Buffer::new();
-    let mut num = |v: f64| -> String {
-        if v.is_finite() {
-            buf.format(v).to_owned()
-        } else {
-            String::new()
-        }
-    };
+    let mut num = |v: f64| -> String { format_finite(v, &mut buf).to_owned() };
     for (id, s) in ids.iter().zip(samples) {
         let intended = s.pocket_of(config.intended);
         writeln!(

@@ -132,6 +132,11 @@ impl Result4 {
         Result4::Miss,
     ];
 
+    /// Its position in [`Result4::ALL`] (and in [`Summary::results`]).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
     /// `pot`, `pot+scratch`, `scratch`, `miss`.
     pub fn name(self) -> &'static str {
         match self {
@@ -252,7 +257,7 @@ impl Summary {
                 continue;
             }
             let r = Result4::of(config, s);
-            results[Result4::ALL.iter().position(|&x| x == r).unwrap_or(3)] += 1;
+            results[r.index()] += 1;
             for pot in &s.potted {
                 potted[pot.ball as usize] += 1;
             }
@@ -319,7 +324,7 @@ impl Summary {
 
     /// The count of an outcome.
     pub fn result(&self, r: Result4) -> usize {
-        self.results[Result4::ALL.iter().position(|&x| x == r).unwrap_or(3)]
+        self.results[r.index()]
     }
 
     /// Samples where the intended ball went in (any pocket).
