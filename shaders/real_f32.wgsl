@@ -2,6 +2,7 @@
 // prelude, real_f64.wgsl, defines the same names.
 alias real = f32;
 alias real2 = vec2<f32>;
+alias real3 = vec3<f32>;
 
 // Rust twin: f64::EPSILON
 const EPS: real = 1.1920929e-7;
@@ -18,5 +19,22 @@ const CONTACT_TOL: real = 1e-6;
 const PRUNE_SLACK: real = 1e-5;
 // Rust twin: solver::ROOT_ATOL
 const ROOT_ATOL: real = 1e-30;
+// Rust twin: sim_params::EPS, pooltool's constants.EPS: 100 machine epsilons of `real`.
+const SIM_EPS: real = 1.1920929e-5;
 // WGSL has no infinity: a ball that never stops has this motion time (Rust: f64::INFINITY).
 const NEVER: real = 3.0e38;
+
+// The transcendental functions the simulator's resolutions use (Rust: std's f64 ones):
+// WGSL's f32 builtins, which are safe.
+fn real_exp(x: real) -> real {
+    return exp(x);
+}
+fn real_sin(x: real) -> real {
+    return sin(x);
+}
+fn real_cos(x: real) -> real {
+    return cos(x);
+}
+fn real_acos(x: real) -> real {
+    return acos(x);
+}

@@ -3,6 +3,7 @@
 // builtins compile for f64 on Vulkan but return garbage.
 alias real = f64;
 alias real2 = vec2<f64>;
+alias real3 = vec3<f64>;
 
 // Rust twin: f64::EPSILON
 const EPS: real = 2.220446049250313e-16;
@@ -18,5 +19,22 @@ const CONTACT_TOL: real = 1e-12;
 const PRUNE_SLACK: real = 1e-9;
 // Rust twin: solver::ROOT_ATOL
 const ROOT_ATOL: real = 1e-300;
+// Rust twin: sim_params::EPS, pooltool's constants.EPS: 100 machine epsilons of `real`.
+const SIM_EPS: real = 2.220446049250313e-14;
 // WGSL has no infinity: a ball that never stops has this motion time (Rust: f64::INFINITY).
 const NEVER: real = 1.0e300;
+
+// The transcendental functions the simulator's resolutions use (Rust: std's f64 ones):
+// the arithmetic polyfills of model/fmath.wgsl, as f64 builtins return garbage.
+fn real_exp(x: real) -> real {
+    return exp_poly(x);
+}
+fn real_sin(x: real) -> real {
+    return sin_poly(x);
+}
+fn real_cos(x: real) -> real {
+    return cos_poly(x);
+}
+fn real_acos(x: real) -> real {
+    return acos_poly(x);
+}

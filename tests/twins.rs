@@ -27,6 +27,14 @@ const RENAMED: &[(&str, &str)] = &[
     ("Contact::none", "contact_none"),
     ("Contact::hit", "contact_hit"),
     ("Contact::overlap", "contact_overlap"),
+    ("Vec3::norm", "norm3"),
+    ("Vec3::unit", "unit3"),
+    ("Vec3::xy", "xy3"),
+    ("Vec3::rotate_z", "rotate_z"),
+    ("BallParams::spin_decel", "spin_decel"),
+    ("ResolverParams::eta2", "eta2"),
+    ("BallState::translating", "ball_translating"),
+    ("Path::still", "path_still"),
 ];
 
 const HOST_ONLY: &str = "host side only: the shader gets its inputs already checked";
@@ -72,6 +80,69 @@ const TWINS: &[Twin] = &[
         wgsl_only: &[],
     },
     Twin {
+        rust: "src/model/vec3.rs",
+        wgsl: "shaders/model/vec3.wgsl",
+        rust_only: &[
+            ("Vec3::new", "WGSL's vec3 constructor"),
+            ("Vec3::dot", "the WGSL builtin `dot`"),
+            ("Vec3::cross", "the WGSL builtin `cross`"),
+            ("Vec3::is_finite", HOST_ONLY),
+            (
+                "angle",
+                "the shader rotates by a vector's unit components (rotate_z_cs), not an atan2",
+            ),
+            ("add", "WGSL's vector operators"),
+            ("add_assign", "WGSL's vector operators"),
+            ("sub", "WGSL's vector operators"),
+            ("sub_assign", "WGSL's vector operators"),
+            ("neg", "WGSL's vector operators"),
+            ("mul", "WGSL's vector operators"),
+        ],
+        wgsl_only: &[(
+            "rotate_z_cs",
+            "a rotation by an angle's cosine and sine (WGSL's f64 has no atan2)",
+        )],
+    },
+    Twin {
+        rust: "src/model/sim_params.rs",
+        wgsl: "shaders/model/sim_params.wgsl",
+        rust_only: &[
+            ("default", HOST_ONLY),
+            ("BallParams::validate", HOST_ONLY),
+            ("CueParams::validate", "the strike is resolved on the host"),
+            ("ResolverParams::validate", HOST_ONLY),
+            ("SimParams::validate", HOST_ONLY),
+        ],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/model/ball_state.rs",
+        wgsl: "shaders/model/ball_state.wgsl",
+        rust_only: &[
+            ("BallState::at_rest", HOST_ONLY),
+            ("BallState::from_ball", HOST_ONLY),
+            ("BallState::to_ball", HOST_ONLY),
+        ],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/model/table.rs",
+        wgsl: "shaders/model/table.wgsl",
+        rust_only: &[
+            ("LinearCushion::new", "tables are built on the host"),
+            ("default", "tables are built on the host"),
+            ("derive", "tables are built on the host"),
+            ("pocket_table_lines", "tables are built on the host"),
+            ("pocket_table_arcs", "tables are built on the host"),
+            ("pocket_table_pockets", "tables are built on the host"),
+            ("Table::pocket_table", "tables are built on the host"),
+            ("Table::nine_foot", "tables are built on the host"),
+            ("Table::empty", "tables are built on the host"),
+            ("Table::rectangle", "tables are built on the host"),
+        ],
+        wgsl_only: &[],
+    },
+    Twin {
         rust: "src/model/fmath.rs",
         wgsl: "shaders/model/fmath.wgsl",
         rust_only: &[],
@@ -90,6 +161,18 @@ const TWINS: &[Twin] = &[
                 "the shader evaluates relative paths only (rel_velocity_at)",
             ),
         ],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/motion/evolve.rs",
+        wgsl: "shaders/motion/evolve.wgsl",
+        rust_only: &[],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/motion/trajectory.rs",
+        wgsl: "shaders/motion/trajectory.wgsl",
+        rust_only: &[],
         wgsl_only: &[],
     },
     Twin {
@@ -119,6 +202,24 @@ const TWINS: &[Twin] = &[
             ("Status::is_contact", HOST_ONLY),
             ("fmt", TEXT),
         ],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/query/ball_circle.rs",
+        wgsl: "shaders/query/ball_circle.wgsl",
+        rust_only: &[],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/query/ball_cushion.rs",
+        wgsl: "shaders/query/ball_cushion.wgsl",
+        rust_only: &[],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/query/ball_pocket.rs",
+        wgsl: "shaders/query/ball_pocket.wgsl",
+        rust_only: &[],
         wgsl_only: &[],
     },
     Twin {

@@ -7,6 +7,7 @@
 //!
 //! | WGSL | Rust twin |
 //! |---|---|
+//! | `shaders/model/fmath.wgsl` | `src/model/fmath.rs` (the preludes' `real_exp`, …) |
 //! | `shaders/model/vec2.wgsl` | `src/model/vec2.rs` |
 //! | `shaders/model/ball.wgsl` | `src/model/ball.rs` |
 //! | `shaders/model/params.wgsl` | `src/model/params.rs` |
@@ -21,7 +22,11 @@ use crate::model::Precision;
 
 /// The twins in the order they are concatenated (after the prelude): each file uses only
 /// what the files before it define.
-pub const SHADER_FILES: [(&str, &str); 7] = [
+pub const SHADER_FILES: [(&str, &str); 8] = [
+    (
+        "model/fmath.wgsl",
+        include_str!("../../shaders/model/fmath.wgsl"),
+    ),
     (
         "model/vec2.wgsl",
         include_str!("../../shaders/model/vec2.wgsl"),

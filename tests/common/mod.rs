@@ -2,6 +2,8 @@
 //! (`tests/data/README.md`).
 #![allow(dead_code)]
 
+pub mod kernel;
+
 use kisstime::model::{dot, norm};
 use kisstime::query::RelPath;
 use kisstime::{Ball, MotionState, Params, Status, ball_path};
