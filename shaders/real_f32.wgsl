@@ -21,6 +21,8 @@ const PRUNE_SLACK: real = 1e-5;
 const ROOT_ATOL: real = 1e-30;
 // Rust twin: sim_params::EPS, pooltool's constants.EPS: 100 machine epsilons of `real`.
 const SIM_EPS: real = 1.1920929e-5;
+// Rust twin: bounds::BOX_SLACK (1e-9 there), far above f32 rounding of a table-local position: the slack of every box test, in m.
+const BOX_SLACK: real = 1e-5;
 // WGSL has no infinity: a ball that never stops has this motion time (Rust: f64::INFINITY).
 const NEVER: real = 3.0e38;
 

@@ -21,6 +21,8 @@ const PRUNE_SLACK: real = 1e-9;
 const ROOT_ATOL: real = 1e-300;
 // Rust twin: sim_params::EPS, pooltool's constants.EPS: 100 machine epsilons of `real`.
 const SIM_EPS: real = 2.220446049250313e-14;
+// Rust twin: bounds::BOX_SLACK: the slack of every box test, in m.
+const BOX_SLACK: real = 1e-9;
 // WGSL has no infinity: a ball that never stops has this motion time (Rust: f64::INFINITY).
 const NEVER: real = 1.0e300;
 

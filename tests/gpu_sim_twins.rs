@@ -1,9 +1,10 @@
 //! The WGSL twins of the simulator's motion and detection (`shaders/motion/evolve.wgsl`,
 //! `trajectory.wgsl`, `shaders/query/ball_cushion.wgsl`, `ball_circle.wgsl`,
-//! `ball_pocket.wgsl`) run on the GPU in f64 and compared with their Rust twins on random
+//! `ball_pocket.wgsl`, `ball_ball.wgsl`'s simulator part, `bounds.wgsl`) run on the GPU in f64 and compared with their Rust twins on random
 //! ball states of every motion state on the 9-ft table: the state after τ (`evolve`, τ up
 //! to past the ball's rest), the next transition, the trajectory polynomial, and the time
-//! to every straight cushion, jaw and pocket.
+//! to every straight cushion, jaw and pocket with the box tests that rule them out, and
+//! the time until two balls collide with their boxes' test.
 //!
 //! The GPU's f64 need not round as the CPU does (Mesa's lavapipe rounds `fma` twice and
 //! re-associates sums; the polyfills are within 2 ulp of std), so values are compared
@@ -22,14 +23,16 @@ use kisstime::model::table::Table;
 use kisstime::model::vec3::Vec3;
 use kisstime::motion::evolve::{TransitionKind, evolve, next_transition};
 use kisstime::motion::trajectory::trajectory;
+use kisstime::query::ball_ball::ball_ball_time;
 use kisstime::query::ball_circle::circle_entry;
 use kisstime::query::ball_cushion::ball_linear_cushion_time;
 use kisstime::query::ball_pocket::ball_pocket_time;
+use kisstime::query::bounds::{box_outside_circle, box_outside_extent, boxes_apart, path_box};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 
 /// The twin files, in the order they build on each other.
-const FILES: [&str; 15] = [
+const FILES: [&str; 16] = [
     "model/vec2.wgsl",
     "model/ball.wgsl",
     "model/params.wgsl",
@@ -42,6 +45,7 @@ const FILES: [&str; 15] = [
     "motion/trajectory.wgsl",
     "query/roots.wgsl",
     "query/ball_ball.wgsl",
+    "query/bounds.wgsl",
     "query/ball_circle.wgsl",
     "query/ball_cushion.wgsl",
     "query/ball_pocket.wgsl",
@@ -95,7 +99,29 @@ fn motion_main(@builtin(global_invocation_id) id: vec3<u32>) {
     ys[o + 17u] = path.horizon;
 }
 
-// Per case (STATE + ITEM reals in): the time to the item, 1 real out.
+// Per case (two STATEs in): ball_ball_time, the first ball's path box (lo, hi) and whether
+// the two boxes are apart by more than 2R (1 or 0): 6 reals out.
+@compute @workgroup_size(64)
+fn pairs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&xs) / 22u {
+        return;
+    }
+    let b1 = load_state(22u * i);
+    let b2 = load_state(22u * i + 11u);
+    let p = test_params();
+    let o = 6u * i;
+    ys[o] = ball_ball_time(b1, b2, p);
+    let box1 = path_box(trajectory(b1, p));
+    let box2 = path_box(trajectory(b2, p));
+    ys[o + 1u] = box1.lo.x; ys[o + 2u] = box1.lo.y;
+    ys[o + 3u] = box1.hi.x; ys[o + 4u] = box1.hi.y;
+    ys[o + 5u] = select(real(0.0), real(1.0), boxes_apart(box1, box2, 2.0 * p.r));
+}
+
+// Per case (STATE + ITEM reals in): the time to the item, and whether the ball's path box
+// is outside the item (box_outside_extent, or box_outside_circle with the radius the
+// simulator uses: jaw + R, pocket) as 1 or 0: 2 reals out.
 @compute @workgroup_size(64)
 fn items_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
@@ -106,6 +132,7 @@ fn items_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let at = 22u * i + 11u;
     let p = test_params();
     let kind = u32(xs[at]);
+    let bx = path_box(trajectory(b, p));
     if kind == 0u {
         let seg = LinearCushion(
             real3(xs[at + 1u], xs[at + 2u], xs[at + 3u]),
@@ -113,13 +140,18 @@ fn items_main(@builtin(global_invocation_id) id: vec3<u32>) {
             u32(xs[at + 7u]),
             xs[at + 8u], xs[at + 9u], xs[at + 10u],
         );
-        ys[i] = ball_linear_cushion_time(b, seg, p);
+        ys[2u * i] = ball_linear_cushion_time(b, seg, p);
+        ys[2u * i + 1u] = select(real(0.0), real(1.0), box_outside_extent(bx, seg));
     } else if kind == 1u {
         let seg = CircularCushion(real3(xs[at + 1u], xs[at + 2u], xs[at + 3u]), xs[at + 4u]);
-        ys[i] = ball_circular_cushion_time(b, seg, p);
+        ys[2u * i] = ball_circular_cushion_time(b, seg, p);
+        let c = real2(seg.center.x, seg.center.y);
+        ys[2u * i + 1u] = select(real(0.0), real(1.0), box_outside_circle(bx, c, seg.radius + p.r));
     } else {
         let pocket = Pocket(real3(xs[at + 1u], xs[at + 2u], xs[at + 3u]), xs[at + 4u], xs[at + 5u]);
-        ys[i] = ball_pocket_time(b, pocket, p);
+        ys[2u * i] = ball_pocket_time(b, pocket, p);
+        let c = real2(pocket.center.x, pocket.center.y);
+        ys[2u * i + 1u] = select(real(0.0), real(1.0), box_outside_circle(bx, c, pocket.radius));
     }
 }
 "#;
@@ -283,13 +315,15 @@ fn detection_twins_match_the_rust_twins() {
     let mut xs = Vec::new();
     let mut cpu = Vec::new();
     for b in &states {
+        let bx = path_box(&trajectory(b, &p));
         for seg in &table.linear {
             push_state(&mut xs, b);
             xs.extend([
                 0.0, seg.p1.x, seg.p1.y, seg.p1.z, seg.p2.x, seg.p2.y, seg.p2.z,
             ]);
             xs.extend([seg.direction as f64, seg.lx, seg.ly, seg.l0]);
-            cpu.push(("cushion", ball_linear_cushion_time(b, seg, &p)));
+            let outside = box_outside_extent(&bx, seg);
+            cpu.push(("cushion", ball_linear_cushion_time(b, seg, &p), outside));
         }
         for jaw in &table.circular {
             push_state(&mut xs, b);
@@ -301,7 +335,8 @@ fn detection_twins_match_the_rust_twins() {
             } else {
                 f64::INFINITY
             };
-            cpu.push(("jaw", t));
+            let c = kisstime::model::Vec2::new(jaw.center.x, jaw.center.y);
+            cpu.push(("jaw", t, box_outside_circle(&bx, c, jaw.radius + p.r)));
         }
         for pk in &table.pockets {
             push_state(&mut xs, b);
@@ -314,14 +349,29 @@ fn detection_twins_match_the_rust_twins() {
                 pk.depth,
             ]);
             xs.extend([0.0; 5]);
-            cpu.push(("pocket", ball_pocket_time(b, pk, &p)));
+            let c = kisstime::model::Vec2::new(pk.center.x, pk.center.y);
+            cpu.push((
+                "pocket",
+                ball_pocket_time(b, pk, &p),
+                box_outside_circle(&bx, c, pk.radius),
+            ));
         }
     }
     assert_eq!(xs.len(), cpu.len() * (STATE + ITEM));
-    let ys = k.run(&pipe, &xs, cpu.len(), cpu.len());
+    let ys = k.run(&pipe, &xs, 2 * cpu.len(), cpu.len());
     let mut problems = Vec::new();
-    let (mut hits, mut worst) = (0, 0f64);
-    for (i, (&g, &(what, want))) in ys.iter().zip(&cpu).enumerate() {
+    let (mut hits, mut worst, mut outside) = (0, 0f64, 0);
+    for (i, &(what, want, out)) in cpu.iter().enumerate() {
+        let g = ys[2 * i];
+        outside += usize::from(out);
+        if (ys[2 * i + 1] == 1.0) != out && problems.len() < 20 {
+            problems.push(format!(
+                "ball {} {what} {}: box test GPU {}, Rust {out}",
+                i / 36,
+                i % 36,
+                ys[2 * i + 1]
+            ));
+        }
         if want.is_finite() {
             hits += 1;
             worst = worst.max((g - want).abs() / want.max(1e-3));
@@ -335,9 +385,77 @@ fn detection_twins_match_the_rust_twins() {
         }
     }
     println!(
-        "{name}: {} ball-item pairs, {hits} with a time; largest difference {worst:.2e}",
+        "{name}: {} ball-item pairs, {hits} with a time, {outside} ruled out by the box; largest difference {worst:.2e}",
         cpu.len()
     );
+    assert!(outside > cpu.len() / 2, "the box tests rule most items out");
     assert!(hits > 300, "the cases reach cushions, jaws and pockets");
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn pair_twins_match_the_rust_twins() {
+    let name = "gpu_sim_twins::pairs";
+    let Some(k) = F64Kernels::open(name) else {
+        return;
+    };
+    let p = BallParams::default();
+    k.pipeline(&source("f32", &FILES, ENTRY), "pairs_main", "f32 pairs");
+    let pipe = k.pipeline(&source("f64", &FILES, ENTRY), "pairs_main", "f64 pairs");
+    // the second ball 0 to 0.3 m beyond touching the first (one in ten overlapping it), in
+    // any state
+    let firsts = random_states(3000, 41);
+    let seconds = random_states(3000, 43);
+    let mut rng = Pcg64::seed_from_u64(5);
+    let mut pairs = Vec::new();
+    let mut xs = Vec::new();
+    for (n, (b1, b2)) in firsts.iter().zip(&seconds).enumerate() {
+        let d = match n % 10 {
+            0 => 2.0 * p.r - rng.random_range(1e-7..1e-4),
+            _ => 2.0 * p.r + rng.random_range(0.0..0.3),
+        };
+        let a: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+        let b2 = BallState {
+            r: Vec3::new(b1.r.x + d * a.cos(), b1.r.y + d * a.sin(), p.r),
+            ..*b2
+        };
+        push_state(&mut xs, b1);
+        push_state(&mut xs, &b2);
+        pairs.push((*b1, b2));
+    }
+    let ys = k.run(&pipe, &xs, 6 * pairs.len(), pairs.len());
+    let mut problems = Vec::new();
+    let (mut hits, mut now, mut apart, mut worst) = (0, 0, 0, 0f64);
+    for (i, (b1, b2)) in pairs.iter().enumerate() {
+        let g = &ys[6 * i..6 * i + 6];
+        let t = ball_ball_time(b1, b2, &p);
+        let (box1, box2) = (path_box(&trajectory(b1, &p)), path_box(&trajectory(b2, &p)));
+        let far = boxes_apart(&box1, &box2, 2.0 * p.r);
+        hits += usize::from(t.is_finite() && t > 0.0);
+        now += usize::from(t == 0.0);
+        apart += usize::from(far);
+        if t.is_finite() {
+            worst = worst.max((g[0] - t).abs() / t.max(1e-3));
+        }
+        let cpu_box = [box1.lo.x, box1.lo.y, box1.hi.x, box1.hi.y];
+        let box_ok = g[1..5]
+            .iter()
+            .zip(&cpu_box)
+            .all(|(&a, &b)| close(a, b, 1e-12, 1e-15));
+        if (!same_time(g[0], t, 1e-9) || !box_ok || (g[5] == 1.0) != far) && problems.len() < 20 {
+            problems.push(format!(
+                "pair {i} ({:?}, {:?}): GPU {:?}, Rust {t:e} {cpu_box:?} {far}",
+                b1.s, b2.s, g
+            ));
+        }
+    }
+    println!(
+        "{name}: {} pairs, {hits} collide later, {now} now, {apart} with boxes apart; largest time difference {worst:.2e}",
+        pairs.len()
+    );
+    assert!(
+        hits > 100 && now > 10 && apart > 100,
+        "the cases cover every branch"
+    );
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }

@@ -389,3 +389,43 @@ fn pair_contact(p1: BallPath, p2: BallPath, radius: real) -> Contact {
     }
     return first_contact(rel_between(p1, p2), radius, h);
 }
+
+// The simulator's ball–ball detection (spec §4.2): τ until balls b1 and b2 collide. Rules,
+// in pooltool's order: either ball pocketed → never; neither translating → never; centres
+// closer than 2R (3D, strictly) → 0, "now" (Q3); otherwise the first entry into contact
+// of the relative path, by first_contact within the pair's horizon. The Rust twin's docs
+// say how this differs from pooltool's quartic solver (Q5).
+fn ball_ball_time(b1: BallState, b2: BallState, p: BallParams) -> real {
+    let rule = ball_ball_rules(b1, b2, p.r);
+    if rule >= 0.0 {
+        return rule;
+    }
+    return ball_ball_time_on(trajectory(b1, p), trajectory(b2, p), p.r);
+}
+
+// The rules ball_ball_time applies before any path is computed: NEVER if either ball is
+// pocketed or neither translates, 0 if the centres are closer than 2R (Q3); −1 (Rust:
+// None) when the pair's paths must be solved.
+fn ball_ball_rules(b1: BallState, b2: BallState, radius: real) -> real {
+    if b1.s == STATE_POCKETED || b2.s == STATE_POCKETED {
+        return NEVER;
+    }
+    if !ball_translating(b1) && !ball_translating(b2) {
+        return NEVER;
+    }
+    if norm3(b2.r - b1.r) < 2.0 * radius {
+        return 0.0;
+    }
+    return -1.0;
+}
+
+// ball_ball_time after its rules, on the two balls' paths (computed once per ball).
+fn ball_ball_time_on(p1: Path, p2: Path, radius: real) -> real {
+    let rel = RelPath(p2.a - p1.a, p2.b - p1.b, p2.c - p1.c);
+    let h = min(p1.horizon, p2.horizon);
+    let contact = first_contact(rel, radius, h);
+    if contact.status == STATUS_NONE {
+        return NEVER;
+    }
+    return contact.t;
+}

@@ -11,9 +11,19 @@
 //! | `shaders/model/vec2.wgsl` | `src/model/vec2.rs` |
 //! | `shaders/model/ball.wgsl` | `src/model/ball.rs` |
 //! | `shaders/model/params.wgsl` | `src/model/params.rs` |
+//! | `shaders/model/vec3.wgsl` | `src/model/vec3.rs` |
+//! | `shaders/model/sim_params.wgsl` | `src/model/sim_params.rs` |
+//! | `shaders/model/ball_state.wgsl` | `src/model/ball_state.rs` |
+//! | `shaders/model/table.wgsl` | `src/model/table.rs` |
 //! | `shaders/motion/path.wgsl` | `src/motion/path.rs` |
+//! | `shaders/motion/evolve.wgsl` | `src/motion/evolve.rs` |
+//! | `shaders/motion/trajectory.wgsl` | `src/motion/trajectory.rs` |
 //! | `shaders/query/roots.wgsl` | `src/query/roots.rs` |
 //! | `shaders/query/ball_ball.wgsl` | `src/query/ball_ball.rs` |
+//! | `shaders/query/bounds.wgsl` | `src/query/bounds.rs` |
+//! | `shaders/query/ball_circle.wgsl` | `src/query/ball_circle.rs` |
+//! | `shaders/query/ball_cushion.wgsl` | `src/query/ball_cushion.rs` |
+//! | `shaders/query/ball_pocket.wgsl` | `src/query/ball_pocket.rs` |
 //! | `shaders/kernels.wgsl` | `src/cpu/kernels.rs` (the per-table loops) |
 //!
 //! f64 needs the adapter's `SHADER_F64` feature; without it, asking for f64 is an error.
@@ -22,7 +32,7 @@ use crate::model::Precision;
 
 /// The twins in the order they are concatenated (after the prelude): each file uses only
 /// what the files before it define.
-pub const SHADER_FILES: [(&str, &str); 8] = [
+pub const SHADER_FILES: [(&str, &str); 18] = [
     (
         "model/fmath.wgsl",
         include_str!("../../shaders/model/fmath.wgsl"),
@@ -40,8 +50,32 @@ pub const SHADER_FILES: [(&str, &str); 8] = [
         include_str!("../../shaders/model/params.wgsl"),
     ),
     (
+        "model/vec3.wgsl",
+        include_str!("../../shaders/model/vec3.wgsl"),
+    ),
+    (
+        "model/sim_params.wgsl",
+        include_str!("../../shaders/model/sim_params.wgsl"),
+    ),
+    (
+        "model/ball_state.wgsl",
+        include_str!("../../shaders/model/ball_state.wgsl"),
+    ),
+    (
+        "model/table.wgsl",
+        include_str!("../../shaders/model/table.wgsl"),
+    ),
+    (
         "motion/path.wgsl",
         include_str!("../../shaders/motion/path.wgsl"),
+    ),
+    (
+        "motion/evolve.wgsl",
+        include_str!("../../shaders/motion/evolve.wgsl"),
+    ),
+    (
+        "motion/trajectory.wgsl",
+        include_str!("../../shaders/motion/trajectory.wgsl"),
     ),
     (
         "query/roots.wgsl",
@@ -50,6 +84,22 @@ pub const SHADER_FILES: [(&str, &str); 8] = [
     (
         "query/ball_ball.wgsl",
         include_str!("../../shaders/query/ball_ball.wgsl"),
+    ),
+    (
+        "query/bounds.wgsl",
+        include_str!("../../shaders/query/bounds.wgsl"),
+    ),
+    (
+        "query/ball_circle.wgsl",
+        include_str!("../../shaders/query/ball_circle.wgsl"),
+    ),
+    (
+        "query/ball_cushion.wgsl",
+        include_str!("../../shaders/query/ball_cushion.wgsl"),
+    ),
+    (
+        "query/ball_pocket.wgsl",
+        include_str!("../../shaders/query/ball_pocket.wgsl"),
     ),
     ("kernels.wgsl", include_str!("../../shaders/kernels.wgsl")),
 ];
