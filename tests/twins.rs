@@ -34,13 +34,13 @@ const RENAMED: &[(&str, &str)] = &[
     ("BallParams::spin_decel", "spin_decel"),
     ("ResolverParams::eta2", "eta2"),
     ("BallState::translating", "ball_translating"),
+    ("Clock::new", "clock_new"),
+    ("Clock::phase", "clock_phase"),
     ("Path::still", "path_still"),
 ];
 
 const HOST_ONLY: &str = "host side only: the shader gets its inputs already checked";
 const TEXT: &str = "names and parsing for files and messages; the shader has codes";
-const SIM_FIRST: &str =
-    "the simulator's (CPU, f64 first); its WGSL twin comes with the GPU event loop";
 
 const TWINS: &[Twin] = &[
     Twin {
@@ -178,13 +178,10 @@ const TWINS: &[Twin] = &[
     Twin {
         rust: "src/query/roots.rs",
         wgsl: "shaders/query/roots.wgsl",
-        rust_only: &[
-            (
-                "first_upcrossing",
-                "used by the study's rectangle cushions, which have no shader",
-            ),
-            ("smallest_kiss_root", SIM_FIRST),
-        ],
+        rust_only: &[(
+            "first_upcrossing",
+            "used by the study's rectangle cushions, which have no shader",
+        )],
         wgsl_only: &[],
     },
     Twin {
@@ -222,6 +219,49 @@ const TWINS: &[Twin] = &[
     Twin {
         rust: "src/query/ball_pocket.rs",
         wgsl: "shaders/query/ball_pocket.wgsl",
+        rust_only: &[],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/resolve/ball_ball.rs",
+        wgsl: "shaders/resolve/ball_ball.wgsl",
+        rust_only: &[],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/resolve/stronge.rs",
+        wgsl: "shaders/resolve/stronge.wgsl",
+        rust_only: &[],
+        wgsl_only: &[
+            (
+                "root_fn_at",
+                "calls the function bracketed_root is given (WGSL has no closures)",
+            ),
+            (
+                "stick_slip_f",
+                "the closure f of stick_slip (WGSL has no closures)",
+            ),
+            (
+                "slip_stick_slip_g",
+                "the closure g of slip_stick_slip (WGSL has no closures)",
+            ),
+        ],
+    },
+    Twin {
+        rust: "src/resolve/ball_cushion.rs",
+        wgsl: "shaders/resolve/ball_cushion.wgsl",
+        rust_only: &[],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/resolve/ball_pocket.rs",
+        wgsl: "shaders/resolve/ball_pocket.wgsl",
+        rust_only: &[],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/resolve/transition.rs",
+        wgsl: "shaders/resolve/transition.wgsl",
         rust_only: &[],
         wgsl_only: &[],
     },

@@ -52,3 +52,43 @@ fn smallest_positive_root(a: real, b: real, c: real) -> real {
     return NO_ROOT;
 }
 
+// A make_kiss root (Rust: Option<f64>): `found`, and τ when found.
+struct KissRoot {
+    found: bool,
+    tau: real,
+}
+
+// The make_kiss root choice shared by the ball–ball and circular-cushion spacers (spec
+// §5.1, §5.3): of the roots of `A τ² + B τ + C = 0` whose imaginary part is below 1e-3 of
+// their real part, the one with the smallest |τ|.
+//
+// That is: the root of `A τ² + B τ + C` with the smallest |τ| among the "real" ones (a
+// complex pair counts, by its real part, when `|Im|/|Re| < 1e-3`), or none (`A = 0`, or no
+// root passes). Real roots use the stable formula `q = −½(B + sign(B)√Δ)`, `q/A`, `C/q`.
+// (The Rust twin also refuses non-finite coefficients; WGSL has no NaN or ∞ to test for,
+// and the resolutions' inputs are finite.)
+fn smallest_kiss_root(a: real, b: real, c: real) -> KissRoot {
+    if a == 0.0 {
+        return KissRoot(false, 0.0);
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        let re = -b / (2.0 * a);
+        let im = sqrt(-disc) / (2.0 * a);
+        if re != 0.0 && abs(im / re) < 1e-3 {
+            return KissRoot(true, re);
+        }
+        return KissRoot(false, 0.0);
+    }
+    var sign: real = 1.0;
+    if b < 0.0 {
+        sign = -1.0;
+    }
+    let q = -0.5 * (b + sign * sqrt(disc));
+    if q == 0.0 {
+        return KissRoot(true, 0.0);
+    }
+    let r1 = q / a;
+    let r2 = c / q;
+    return KissRoot(true, select(r2, r1, abs(r1) <= abs(r2)));
+}

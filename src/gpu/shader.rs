@@ -24,6 +24,11 @@
 //! | `shaders/query/ball_circle.wgsl` | `src/query/ball_circle.rs` |
 //! | `shaders/query/ball_cushion.wgsl` | `src/query/ball_cushion.rs` |
 //! | `shaders/query/ball_pocket.wgsl` | `src/query/ball_pocket.rs` |
+//! | `shaders/resolve/ball_ball.wgsl` | `src/resolve/ball_ball.rs` |
+//! | `shaders/resolve/stronge.wgsl` | `src/resolve/stronge.rs` (the strike, `stick_ball.rs`, stays on the host) |
+//! | `shaders/resolve/ball_cushion.wgsl` | `src/resolve/ball_cushion.rs` |
+//! | `shaders/resolve/ball_pocket.wgsl` | `src/resolve/ball_pocket.rs` |
+//! | `shaders/resolve/transition.wgsl` | `src/resolve/transition.rs` |
 //! | `shaders/kernels.wgsl` | `src/cpu/kernels.rs` (the per-table loops) |
 //!
 //! f64 needs the adapter's `SHADER_F64` feature; without it, asking for f64 is an error.
@@ -32,7 +37,7 @@ use crate::model::Precision;
 
 /// The twins in the order they are concatenated (after the prelude): each file uses only
 /// what the files before it define.
-pub const SHADER_FILES: [(&str, &str); 18] = [
+pub const SHADER_FILES: [(&str, &str); 23] = [
     (
         "model/fmath.wgsl",
         include_str!("../../shaders/model/fmath.wgsl"),
@@ -100,6 +105,26 @@ pub const SHADER_FILES: [(&str, &str); 18] = [
     (
         "query/ball_pocket.wgsl",
         include_str!("../../shaders/query/ball_pocket.wgsl"),
+    ),
+    (
+        "resolve/ball_ball.wgsl",
+        include_str!("../../shaders/resolve/ball_ball.wgsl"),
+    ),
+    (
+        "resolve/stronge.wgsl",
+        include_str!("../../shaders/resolve/stronge.wgsl"),
+    ),
+    (
+        "resolve/ball_cushion.wgsl",
+        include_str!("../../shaders/resolve/ball_cushion.wgsl"),
+    ),
+    (
+        "resolve/ball_pocket.wgsl",
+        include_str!("../../shaders/resolve/ball_pocket.wgsl"),
+    ),
+    (
+        "resolve/transition.wgsl",
+        include_str!("../../shaders/resolve/transition.wgsl"),
     ),
     ("kernels.wgsl", include_str!("../../shaders/kernels.wgsl")),
 ];

@@ -4,8 +4,12 @@
 //!
 //! pooltool keeps each category in a dict; `min` over a dict returns, of equal times, the
 //! entry inserted first, and an invalidated entry is deleted and later re-inserted at the
-//! end. The stamp reproduces that order: it grows with every insertion, and of equal
-//! times the smaller stamp wins.
+//! end. The stamp reproduces that order: of equal times the smaller stamp wins. Each step
+//! of the loop fills a category's missing entries once, in the category's fixed order
+//! (pairs in combinations order, a ball–table category ball by ball and item by item), so
+//! the insertion order within a category is (step, position in that order):
+//! [`insertion_stamp`]. A stamp depends on nothing but its own entry, so the entries can be
+//! filled in any order, or in parallel, as the GPU twin does.
 
 /// One cached candidate: absolute time `t` (`∞` for never; NaN while missing) and the
 /// insertion stamp `seq`.
@@ -83,6 +87,13 @@ pub fn earliest_row(rows: &[RowBest]) -> Option<(usize, RowBest)> {
         }
     }
     best
+}
+
+/// The insertion stamp of an entry filled in the step after `n_events` events at position
+/// `index` of its category's fill order: `(n_events, index)` as one number, compared as
+/// the pair is, lexicographically.
+pub fn insertion_stamp(n_events: usize, index: usize) -> u64 {
+    ((n_events as u64) << 32) | index as u64
 }
 
 /// The index of pair `(i, j)`, `i < j < n`, in `itertools.combinations` order.

@@ -33,7 +33,9 @@ use crate::resolve::ball_cushion::{resolve_circular_cushion, resolve_linear_cush
 use crate::resolve::ball_pocket::resolve_pocket;
 use crate::resolve::stick_ball::{CueStrike, cue_strike};
 use crate::resolve::transition::resolve_transition;
-use crate::simulate::cache::{RowBest, Slot, earliest, earliest_row, pair_at, pair_index};
+use crate::simulate::cache::{
+    RowBest, Slot, earliest, earliest_row, insertion_stamp, pair_at, pair_index,
+};
 use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
 
 /// The most balls one table may hold (the caches grow with its square).
@@ -93,7 +95,6 @@ pub struct EventLoop<'a> {
     path_fresh: u64,
     strike: Option<(usize, CueStrike)>,
     stick: Slot,
-    seq: u64,
     t: f64,
     n_events: usize,
     cut: Option<Cut>,
@@ -130,7 +131,6 @@ impl<'a> EventLoop<'a> {
             path_fresh: 0,
             strike: None,
             stick: Slot::MISSING,
-            seq: 0,
             t: 0.0,
             n_events: 0,
             cut: None,
@@ -180,7 +180,6 @@ impl<'a> EventLoop<'a> {
         self.path_fresh = 0;
         self.strike = strike;
         self.stick = Slot::MISSING;
-        self.seq = 0;
         self.t = 0.0;
         self.n_events = 0;
         self.cut = None;
@@ -317,9 +316,10 @@ impl EventLoop<'_> {
         ball_energy(&self.balls[i], &self.params.ball)
     }
 
-    fn next_seq(&mut self) -> u64 {
-        self.seq += 1;
-        self.seq
+    /// The insertion stamp of the entry at `index` of a category filled in this step:
+    /// pooltool's dict order within the category (see [`crate::simulate::cache`]).
+    fn stamp(&self, index: usize) -> u64 {
+        insertion_stamp(self.n_events, index)
     }
 
     /// The stick–ball candidate: time 0 at t = 0 with the system at rest and V0 > 0,
@@ -336,7 +336,7 @@ impl EventLoop<'_> {
             } else {
                 f64::INFINITY
             };
-            let seq = self.next_seq();
+            let seq = self.stamp(0);
             self.stick = Slot { t, seq };
         }
         let event = Event {
@@ -393,7 +393,7 @@ impl EventLoop<'_> {
             for j in i + 1..n {
                 if self.pairs[k].is_missing() {
                     let tau = self.pair_time(i, j);
-                    let seq = self.next_seq();
+                    let seq = self.stamp(k);
                     self.pairs[k] = Slot {
                         t: self.t + tau,
                         seq,
@@ -466,7 +466,7 @@ impl EventLoop<'_> {
                 };
                 let slot = Slot {
                     t: self.t + tau,
-                    seq: self.next_seq(),
+                    seq: self.stamp(i * n_items + m),
                 };
                 if m == 0 || slot.t < best.slot.t {
                     best = RowBest {
