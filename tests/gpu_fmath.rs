@@ -17,7 +17,7 @@
 //! - with a separately rounded one, they must stay within [`UNFUSED_ULPS`] of them (what
 //!   that costs, measured on lavapipe: exp and acos 1 ulp, sin and cos 2).
 //!
-//! Without a GPU this test prints why it skips, as `common::gpu_or_skip` does: with
+//! Without a GPU this test prints why it skips (`common::kernel`): with
 //! `KISSTIME_REQUIRE_GPU=1` (CI, on Mesa's lavapipe) a missing adapter is a failure; an
 //! adapter without `SHADER_F64` is a skip either way.
 //!
@@ -28,7 +28,9 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use kisstime::model::fmath::{TRIG_BOUND, acos_poly, cos_poly, exp_poly, sin_poly};
-use wgpu::util::DeviceExt;
+mod common;
+
+use common::kernel::F64Kernels;
 
 const PRELUDE_F64: &str = include_str!("../shaders/real_f64.wgsl");
 const PRELUDE_F32: &str = include_str!("../shaders/real_f32.wgsl");
@@ -75,160 +77,15 @@ fn rust_twin(which: usize, x: f64) -> f64 {
     }
 }
 
-/// A device with `SHADER_F64`, or `None` after printing why (the convention of
-/// `common::gpu_or_skip`: no adapter fails under `KISSTIME_REQUIRE_GPU=1`).
-fn f64_device_or_skip(test: &str) -> Option<(wgpu::Device, wgpu::Queue)> {
-    let skip = |why: String| {
-        // straight to the stderr handle: libtest captures eprintln! in passing tests
-        use std::io::Write;
-        let _ = writeln!(std::io::stderr(), "{test}: SKIPPED, {why}");
-    };
-    let required = std::env::var("KISSTIME_REQUIRE_GPU").is_ok_and(|v| v == "1");
-    let instance =
-        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
-        Ok(wanted) => pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
-            .into_iter()
-            .find(|a| {
-                a.get_info()
-                    .name
-                    .to_lowercase()
-                    .contains(&wanted.to_lowercase())
-            })
-            .ok_or_else(|| format!("no GPU adapter matches WGPU_ADAPTER_NAME={wanted:?}")),
-        Err(_) => pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            ..Default::default()
-        }))
-        .map_err(|e| format!("no GPU adapter found ({e})")),
-    };
-    let adapter = match adapter {
-        Ok(a) => a,
-        Err(why) => {
-            assert!(!required, "{test}: KISSTIME_REQUIRE_GPU=1 but {why}");
-            skip(why);
-            return None;
-        }
-    };
-    let info = adapter.get_info();
-    if !adapter.features().contains(wgpu::Features::SHADER_F64) {
-        skip(format!("the adapter {} has no SHADER_F64", info.name));
-        return None;
-    }
-    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-        label: Some("fmath test"),
-        required_features: wgpu::Features::SHADER_F64,
-        required_limits: adapter.limits(),
-        ..Default::default()
-    }))
-    .unwrap_or_else(|e| panic!("{test}: cannot open the device {}: {e}", info.name));
-    eprintln!(
-        "{test}: on {} ({:?}, driver {} {})",
-        info.name, info.backend, info.driver, info.driver_info
-    );
-    Some((device, queue))
-}
-
 /// The WGSL text: `prelude`, the polyfills, the entry points.
 fn shader(prelude: &str) -> String {
     [prelude, FMATH, ENTRY].join("\n")
 }
 
-/// The compute pipeline of `entry` in `source`; panics with the validation error if the
-/// text does not build.
-fn pipeline(device: &wgpu::Device, source: &str, entry: &str, what: &str) -> wgpu::ComputePipeline {
-    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(what),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(what),
-        layout: None,
-        module: &module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    if let Some(e) = pollster::block_on(scope.pop()) {
-        panic!("the {what} shader does not build: {e}");
-    }
-    pipeline
-}
-
-/// Runs the f64 pipeline on `xs` (interleaved as the entry point reads them).
-fn run_f64(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    pipeline: &wgpu::ComputePipeline,
-    xs: &[f64],
-) -> Vec<f64> {
-    let bytes = std::mem::size_of_val(xs) as u64;
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("xs"),
-        contents: bytemuck::cast_slice(xs),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("ys"),
-        size: bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let readback = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("fmath"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let mut encoder =
-        device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: None,
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups((xs.len() / 4).div_ceil(64) as u32, 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
-    queue.submit([encoder.finish()]);
-    let (tx, rx) = std::sync::mpsc::channel();
-    readback
-        .slice(..)
-        .map_async(wgpu::MapMode::Read, move |r| drop(tx.send(r)));
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("the GPU finishes");
-    rx.recv()
-        .expect("the map callback ran")
-        .expect("the results map");
-    let ys = {
-        let view = readback
-            .slice(..)
-            .get_mapped_range()
-            .expect("the mapped results are readable");
-        view.chunks_exact(8)
-            .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
-            .collect()
-    };
-    readback.unmap();
-    ys
+/// Runs the f64 pipeline on `xs` (interleaved as the entry point reads them, four
+/// arguments per invocation).
+fn run_f64(k: &F64Kernels, pipeline: &wgpu::ComputePipeline, xs: &[f64]) -> Vec<f64> {
+    k.run(pipeline, xs, xs.len(), xs.len().div_ceil(4))
 }
 
 /// splitmix64, for a fixed set of arguments.
@@ -317,7 +174,7 @@ fn arguments(per: usize) -> [Vec<f64>; 4] {
 /// largest distance in ulps per function (and from the standard library), and the first
 /// differing arguments in `problems`.
 fn compare(
-    gpu: (&wgpu::Device, &wgpu::Queue, &wgpu::ComputePipeline),
+    gpu: (&F64Kernels, &wgpu::ComputePipeline),
     args: &[Vec<f64>; 4],
     problems: &mut Vec<String>,
 ) -> [u64; 4] {
@@ -329,7 +186,7 @@ fn compare(
             xs[4 * i + which] = x;
         }
     }
-    let ys = run_f64(gpu.0, gpu.1, gpu.2, &xs);
+    let ys = run_f64(gpu.0, gpu.1, &xs);
     assert_eq!(ys.len(), xs.len());
     let std_fn: [fn(f64) -> f64; 4] = [f64::exp, f64::sin, f64::cos, f64::acos];
     let mut worst = [0; 4];
@@ -365,24 +222,19 @@ fn compare(
 #[test]
 fn wgsl_polyfills_match_their_rust_twins() {
     let name = "gpu_fmath";
-    let Some((device, queue)) = f64_device_or_skip(name) else {
+    let Some(k) = F64Kernels::open(name) else {
         return;
     };
     // the same text builds in the f32 shader (it is not run there)
-    pipeline(&device, &shader(PRELUDE_F32), "fmath_main", "f32 polyfill");
+    k.pipeline(&shader(PRELUDE_F32), "fmath_main", "f32 polyfill");
     let source = shader(PRELUDE_F64);
-    let main = pipeline(&device, &source, "fmath_main", "f64 polyfill");
+    let main = k.pipeline(&source, "fmath_main", "f64 polyfill");
 
     // does the device fuse fma, and does it contract a * b + c? (a² − (1 + 2⁻²⁹) is
     // 2⁻⁶⁰ exactly, and 0 when a² is rounded first)
-    let probe = pipeline(&device, &source, "fma_probe", "fma probe");
+    let probe = k.pipeline(&source, "fma_probe", "fma probe");
     let a = 1.0 + 2f64.powi(-30);
-    let p = run_f64(
-        &device,
-        &queue,
-        &probe,
-        &[a, a, -(1.0 + 2f64.powi(-29)), 0.0],
-    );
+    let p = run_f64(&k, &probe, &[a, a, -(1.0 + 2f64.powi(-29)), 0.0]);
     let fused = p[0] != 0.0;
     println!(
         "{name}: fma is {}; a * b + c is {}",
@@ -395,7 +247,7 @@ fn wgsl_polyfills_match_their_rust_twins() {
     );
 
     let mut problems = Vec::new();
-    let worst = compare((&device, &queue, &main), &arguments(16384), &mut problems);
+    let worst = compare((&k, &main), &arguments(16384), &mut problems);
     if !fused {
         // separately rounded: within the bound, not bit for bit
         problems.clear();
@@ -427,7 +279,7 @@ fn wgsl_polyfills_match_their_rust_twins() {
     for (i, &(which, x)) in specials.iter().enumerate() {
         sx[4 * i + which] = x;
     }
-    let sy = run_f64(&device, &queue, &main, &sx);
+    let sy = run_f64(&k, &main, &sx);
     for (i, &(which, x)) in specials.iter().enumerate() {
         let (gpu, cpu) = (sy[4 * i + which], rust_twin(which, x));
         let same = gpu.to_bits() == cpu.to_bits() || (gpu.is_nan() && cpu.is_nan());
