@@ -37,10 +37,23 @@ const RENAMED: &[(&str, &str)] = &[
     ("Clock::new", "clock_new"),
     ("Clock::phase", "clock_phase"),
     ("Path::still", "path_still"),
+    (
+        "EventLoop<'_>::transition_candidate",
+        "transition_candidate",
+    ),
+    ("EventLoop<'_>::pair_time", "pair_time"),
+    ("EventLoop<'_>::ball_ball_candidate", "ball_ball_candidate"),
+    ("EventLoop<'_>::item_time", "item_time"),
+    ("EventLoop<'_>::n_items", "n_items"),
+    ("EventLoop<'_>::item_candidate", "item_candidate"),
+    ("EventLoop<'_>::resolve", "resolve"),
+    ("EventLoop<'_>::involve", "involve"),
 ];
 
 const HOST_ONLY: &str = "host side only: the shader gets its inputs already checked";
 const TEXT: &str = "names and parsing for files and messages; the shader has codes";
+const CPU_PRUNE: &str = "the CPU's prune pass before the solves (the GPU spreads a table's \
+     pairs over its workgroup instead)";
 
 const TWINS: &[Twin] = &[
     Twin {
@@ -266,6 +279,109 @@ const TWINS: &[Twin] = &[
         wgsl_only: &[],
     },
     Twin {
+        rust: "src/simulate/cache.rs",
+        wgsl: "shaders/simulate/cache.wgsl",
+        rust_only: &[
+            (
+                "Slot::is_missing",
+                "an entry is missing when its step is MISSING_STEP",
+            ),
+            ("earliest", "in ball_ball_candidate, with entry_before"),
+            ("earliest_row", "in item_candidate, with entry_before"),
+            (
+                "insertion_stamp",
+                "an entry stores its step; its position is its index",
+            ),
+        ],
+        wgsl_only: &[(
+            "entry_before",
+            "the comparison of earliest and earliest_row",
+        )],
+    },
+    Twin {
+        rust: "src/simulate/event_loop.rs",
+        wgsl: "shaders/simulate/event_loop.wgsl",
+        rust_only: &[
+            ("default", "the host sets the limits"),
+            ("new", "the host checks the parameters"),
+            (
+                "reset",
+                "the host lays the tables out (src/gpu/simulate.rs)",
+            ),
+            ("balls", "the host reads the states back"),
+            ("time", "the host reads the clock back"),
+            ("outcome", "the host reads the status back"),
+            ("step", "the entry point's loop body (simulate_tables)"),
+            ("stop", "a status code (STATUS_*)"),
+            (
+                "advance",
+                "the entry point's evolve phase, one thread per ball",
+            ),
+            (
+                "path",
+                "every ball's path is computed once per step, one thread per ball",
+            ),
+            ("check_balls", "the host checks the tables"),
+            (
+                "choose",
+                "the entry point's choice, with comes_before as the comparison",
+            ),
+            ("EventLoop<'_>::candidates", "the entry point's choice"),
+            (
+                "EventLoop<'_>::energy",
+                "ball_energy where a candidate needs it",
+            ),
+            (
+                "EventLoop<'_>::stamp",
+                "an entry stores its step (cache.wgsl)",
+            ),
+            (
+                "EventLoop<'_>::stick_candidate",
+                "the strike is resolved on the host",
+            ),
+            (
+                "EventLoop<'_>::fill_pairs",
+                "the entry point's fill phase, one thread per pair",
+            ),
+            (
+                "EventLoop<'_>::fill_items",
+                "fill_row, one thread per ball row",
+            ),
+            ("EventLoop<'_>::rows", "the rows are one workgroup array"),
+            (
+                "EventLoop<'_>::rows_mut",
+                "the rows are one workgroup array",
+            ),
+            (
+                "EventLoop<'_>::circular_candidate",
+                "item_candidate with ITEMS_CIRCULAR",
+            ),
+            (
+                "EventLoop<'_>::linear_candidate",
+                "item_candidate with ITEMS_LINEAR",
+            ),
+            (
+                "EventLoop<'_>::pocket_candidate",
+                "item_candidate with ITEMS_POCKET",
+            ),
+            ("simulate", "one table on the CPU (the host runs batches)"),
+        ],
+        wgsl_only: &[
+            ("no_candidate", "WGSL has no Option"),
+            ("load_params", "reads the parameters from storage"),
+            ("linear_item", "reads a cushion from storage"),
+            ("circular_item", "reads a jaw from storage"),
+            ("pocket_item", "reads a pocket from storage"),
+            ("load_table", "a table's state into workgroup memory"),
+            ("store_table", "a table's state back to storage"),
+            ("after_clock", "t + τ with NEVER kept (WGSL has no ∞)"),
+            ("comes_before", "choose's comparison"),
+            ("fill_row", "one ball's row of fill_items"),
+            ("record", "writes an event record for the host"),
+            ("simulate_tables", "the entry point"),
+        ],
+    },
+    Twin {
         rust: "src/cpu/kernels.rs",
         wgsl: "shaders/kernels.wgsl",
         rust_only: &[
@@ -274,6 +390,10 @@ const TWINS: &[Twin] = &[
                 "the host cuts batches into chunks (src/gpu)",
             ),
             ("table_next", "inlined in the entry point next_collisions"),
+            ("TableMasks::new", CPU_PRUNE),
+            ("TableMasks::fill", CPU_PRUNE),
+            ("tables_next_masked", CPU_PRUNE),
+            ("prune_still", CPU_PRUNE),
             (
                 "next_collisions_of",
                 "the host cuts batches into chunks (src/gpu)",

@@ -38,12 +38,14 @@ mod dispatch;
 mod fault;
 mod pipelines;
 pub mod shader;
+mod simulate;
 
 pub use device::AdapterSummary;
 pub use dispatch::Kernel;
 #[cfg(feature = "testing")]
 pub use fault::Fault;
 pub use shader::shader_source;
+pub use simulate::{GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator};
 
 /// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the
 /// `testing` feature).

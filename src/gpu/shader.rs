@@ -31,6 +31,10 @@
 //! | `shaders/resolve/transition.wgsl` | `src/resolve/transition.rs` |
 //! | `shaders/kernels.wgsl` | `src/cpu/kernels.rs` (the per-table loops) |
 //!
+//! The event loop ([`simulate_source`]) is its own module: the same files without
+//! `kernels.wgsl`, then `shaders/simulate/cache.wgsl` (`src/simulate/cache.rs`) and
+//! `shaders/simulate/event_loop.wgsl` (`src/simulate/event_loop.rs`).
+//!
 //! f64 needs the adapter's `SHADER_F64` feature; without it, asking for f64 is an error.
 
 use crate::model::Precision;
@@ -128,6 +132,38 @@ pub const SHADER_FILES: [(&str, &str); 23] = [
     ),
     ("kernels.wgsl", include_str!("../../shaders/kernels.wgsl")),
 ];
+
+/// The event loop's own files, after [`SHADER_FILES`] less `kernels.wgsl` (its shader is
+/// a module of its own, with its own bindings).
+pub const SIMULATE_FILES: [(&str, &str); 2] = [
+    (
+        "simulate/cache.wgsl",
+        include_str!("../../shaders/simulate/cache.wgsl"),
+    ),
+    (
+        "simulate/event_loop.wgsl",
+        include_str!("../../shaders/simulate/event_loop.wgsl"),
+    ),
+];
+
+/// The WGSL source of the event loop for `precision`: the prelude, [`SHADER_FILES`]
+/// without the kernels' entry points, then [`SIMULATE_FILES`].
+pub fn simulate_source(precision: Precision) -> String {
+    let prelude = match precision {
+        Precision::F32 => include_str!("../../shaders/real_f32.wgsl"),
+        Precision::F64 => include_str!("../../shaders/real_f64.wgsl"),
+    };
+    std::iter::once(prelude)
+        .chain(
+            SHADER_FILES
+                .iter()
+                .filter(|(name, _)| *name != "kernels.wgsl")
+                .map(|(_, text)| *text),
+        )
+        .chain(SIMULATE_FILES.iter().map(|(_, text)| *text))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
 
 /// The full WGSL source for `precision`: the prelude, then [`SHADER_FILES`].
 pub fn shader_source(precision: Precision) -> String {

@@ -8,8 +8,9 @@ use crate::model::ball_state::BallState;
 use crate::model::sim_params::SimParams;
 use crate::model::table::Table;
 use crate::resolve::stick_ball::CueStrike;
+use crate::simulate::batch::EventRecord;
 use crate::simulate::event_loop::{EventLoop, Limits};
-use crate::simulate::events::{Event, EventKind, Outcome};
+use crate::simulate::events::{Event, EventKind};
 use std::io::Write;
 use std::path::Path;
 
@@ -169,25 +170,6 @@ pub struct ReplayStats {
     pub sim_seconds: f64,
 }
 
-/// One shot's results: its events, their agents' states (if kept), the outcome.
-struct ShotRun {
-    events: Vec<Event>,
-    agents: Vec<[BallState; 2]>,
-    outcome: Outcome,
-}
-
-/// The states of an event's ball agents right after it (the second one only for
-/// ball–ball events).
-fn agent_states(ev: &Event, balls: &[BallState]) -> [BallState; 2] {
-    let first = balls[ev.ball as usize];
-    let second = if ev.kind == EventKind::BallBall {
-        balls[ev.other as usize]
-    } else {
-        first
-    };
-    [first, second]
-}
-
 /// Where a replay writes: the checker's `events.csv` and `final.csv`, and optionally the
 /// reference set's `event_balls.csv` (each ball agent's state right after each event).
 pub struct ReplayOut<'w> {
@@ -209,50 +191,49 @@ pub fn replay(
     out: &mut ReplayOut,
 ) -> Result<ReplayStats, SimError> {
     let io = |e: std::io::Error| file_err(Path::new("<output>"), 0, e.to_string());
-    writeln!(out.events, "shot,k,t,type,agents").map_err(io)?;
-    writeln!(out.final_balls, "shot,ball,ball_id,state,x,y,pocket").map_err(io)?;
-    if let Some(w) = out.event_balls.as_mut() {
-        writeln!(w, "shot,k,ball_id,state,x,y,vx,vy,wx,wy,wz").map_err(io)?;
-    }
+    write_headers(out).map_err(io)?;
     let mut stats = ReplayStats::default();
     let n_max = shots.iter().map(|s| s.balls.len()).max().unwrap_or(0);
     let mut lp = EventLoop::new(table, params, limits, n_max)?;
-    let mut run = ShotRun {
-        events: Vec::new(),
-        agents: Vec::new(),
-        outcome: lp.outcome(),
-    };
-    let keep_agents = out.event_balls.is_some();
+    let mut records = Vec::new();
     for s in shots {
         let start = std::time::Instant::now();
         lp.reset(&s.balls, Some((s.cue, s.strike)))?;
-        run.events.clear();
-        run.agents.clear();
+        records.clear();
         while let Some(ev) = lp.step() {
-            run.events.push(ev);
-            if keep_agents {
-                run.agents.push(agent_states(&ev, lp.balls()));
-            }
+            records.push(EventRecord::new(ev, lp.balls()));
         }
-        run.outcome = lp.outcome();
+        let outcome = lp.outcome();
         stats.sim_seconds += start.elapsed().as_secs_f64();
         stats.shots += 1;
-        stats.events += run.events.len();
-        stats.cut += usize::from(run.outcome.cut.is_some());
-        write_shot(s, &run, &lp, table, out).map_err(io)?;
+        stats.events += records.len();
+        stats.cut += usize::from(outcome.cut.is_some());
+        write_shot(s, &records, lp.balls(), table, out).map_err(io)?;
     }
     Ok(stats)
 }
 
-/// Writes one shot's event rows and final rows.
-fn write_shot(
+/// Writes the header rows of the files of `out`.
+pub fn write_headers(out: &mut ReplayOut) -> std::io::Result<()> {
+    writeln!(out.events, "shot,k,t,type,agents")?;
+    writeln!(out.final_balls, "shot,ball,ball_id,state,x,y,pocket")?;
+    if let Some(w) = out.event_balls.as_mut() {
+        writeln!(w, "shot,k,ball_id,state,x,y,vx,vy,wx,wy,wz")?;
+    }
+    Ok(())
+}
+
+/// Writes one shot's rows: its events (with their agents' states, for
+/// `event_balls.csv`) and its balls' final states, from any simulator (the CPU's
+/// [`replay`], or the GPU's event loop).
+pub fn write_shot(
     s: &Shot,
-    run: &ShotRun,
-    lp: &EventLoop,
+    records: &[EventRecord],
+    final_balls: &[BallState],
     table: &Table,
     out: &mut ReplayOut,
 ) -> std::io::Result<()> {
-    for (k, ev) in run.events.iter().enumerate() {
+    for (k, ev) in records.iter().map(|r| &r.event).enumerate() {
         let ag = agents(ev, &s.ball_ids, table);
         writeln!(
             out.events,
@@ -263,9 +244,9 @@ fn write_shot(
         )?;
     }
     if let Some(w) = out.event_balls.as_mut() {
-        write_event_balls(s, run, w)?;
+        write_event_balls(s, records, w)?;
     }
-    for (i, b) in lp.balls().iter().enumerate() {
+    for (i, b) in final_balls.iter().enumerate() {
         let pocket = pocket_of(b, table);
         writeln!(
             out.final_balls,
@@ -281,8 +262,8 @@ fn write_shot(
 }
 
 /// Writes one shot's `event_balls.csv` rows (ball–ball events in the pair's order).
-fn write_event_balls(s: &Shot, run: &ShotRun, w: &mut dyn Write) -> std::io::Result<()> {
-    for (k, (ev, states)) in run.events.iter().zip(&run.agents).enumerate() {
+fn write_event_balls(s: &Shot, records: &[EventRecord], w: &mut dyn Write) -> std::io::Result<()> {
+    for (k, (ev, states)) in records.iter().map(|r| (&r.event, &r.states)).enumerate() {
         let two = ev.kind == EventKind::BallBall;
         let ids = [ev.ball, if two { ev.other } else { ev.ball }];
         for (b, id) in states.iter().zip(ids).take(if two { 2 } else { 1 }) {

@@ -58,9 +58,9 @@ pub const MAX_ITER: u32 = 64;
 /// At most this many steps of the walk into a convex dip before the critical point decides.
 pub const WALK_STEPS: u32 = 8;
 /// Relative step size at which a refinement has converged: a few ulps.
-const ROOT_RTOL: f64 = 4.0 * f64::EPSILON;
+pub(crate) const ROOT_RTOL: f64 = 4.0 * f64::EPSILON;
 /// Smallest absolute step size that still counts as progress.
-const ROOT_ATOL: f64 = 1e-300;
+pub(crate) const ROOT_ATOL: f64 = 1e-300;
 /// A derivative of `f` at a touching contact counts as zero when it is within this
 /// fraction of the magnitudes that formed it (rounding of the dot products).
 const APPROACH_BAND: f64 = 64.0 * f64::EPSILON;
@@ -482,7 +482,9 @@ pub fn wide_sideways(rel: &RelPath, h: f64, reach: f64) -> bool {
 /// The answer for a relative path that moves, within horizon `h` (rules 2–4).
 ///
 /// `h` must be finite and `≥ 0`. [`passes_wide`] and [`cannot_meet`] run before any root
-/// finding.
+/// finding. The CPU drivers repeat these steps up to [`first_entry`] in
+/// `src/cpu/lanes.rs` (`pair_before_entry`, then several searches at once): a change here
+/// goes there too (its tests compare the two).
 pub fn first_contact(rel: &RelPath, radius: f64, h: f64) -> Contact {
     // prune: the pair passes by, wide of contact (no rule applies)
     if passes_wide(rel, radius, h) {

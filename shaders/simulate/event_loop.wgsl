@@ -1,0 +1,600 @@
+// The per-table event loop (spec §3). WGSL twin of src/simulate/event_loop.rs: one
+// workgroup per table, the table's state in workgroup memory while a dispatch lasts and
+// in storage between dispatches.
+//
+// Each step: the threads fill the missing cache entries in parallel (ball pairs, then each
+// ball–table category row by row), each entry stamped with (step, position in its
+// category's fill order) as the Rust twin stamps it (simulate/cache.rs), so that the order
+// they are filled in does not matter; thread 0 reduces each category to its earliest
+// entry, chooses the winner with the Rust twin's tie rules (choose), the threads evolve
+// every ball to its time, thread 0 resolves it and invalidates the entries of the balls
+// involved. At most `events_per_dispatch` events per dispatch; the host dispatches again
+// until every table is done. Nothing is allocated per event; every loop is bounded.
+//
+// The strike is resolved on the host (resolve/stick_ball.rs has no twin): a table arrives
+// here after its stick_ball event, at step 1, or at step 0 without one. That gives the
+// Rust twin's events: after the strike the Rust loop keeps, from step 0, only entries
+// that are never (every ball was at rest), which no tie with a finite time can involve.
+//
+// Differences forced by WGSL: NEVER for ∞; a missing entry is marked by its step
+// MISSING_STEP instead of a NaN time; the candidates are kept in workgroup memory instead
+// of Option values.
+
+// The threads of a table's workgroup, and the rounds in which they cover the largest
+// per-table loop (GPU_MAX_PAIRS entries). Every per-thread loop runs LOOP_ROUNDS times on
+// every thread, with the work under an `if`.
+const LOOP_THREADS: u32 = 64u;
+const LOOP_ROUNDS: u32 = 2u;
+
+// Event kinds (Rust: EventKind, the same codes).
+const EVENT_STICK_BALL: u32 = 0u;
+const EVENT_BALL_BALL: u32 = 1u;
+const EVENT_LINEAR_CUSHION: u32 = 2u;
+const EVENT_CIRCULAR_CUSHION: u32 = 3u;
+const EVENT_POCKET: u32 = 4u;
+const EVENT_SLIDING_ROLLING: u32 = 5u;
+// no agent (Rust: NO_AGENT)
+const NO_AGENT: u32 = 0xffffffffu;
+
+// A table's status (Rust: EventLoop::done and Outcome::cut).
+const STATUS_RUNNING: u32 = 0u;
+const STATUS_DONE: u32 = 1u;
+const STATUS_CUT_EVENTS: u32 = 2u;
+const STATUS_CUT_TIME: u32 = 3u;
+
+// The ball–table categories, in the candidates' order (Rust: Items).
+const ITEMS_CIRCULAR: u32 = 0u;
+const ITEMS_LINEAR: u32 = 1u;
+const ITEMS_POCKET: u32 = 2u;
+
+// Reals and u32s of one table's state in storage (see load_table).
+const TABLE_REALS: u32 = 345u;
+const TABLE_UINTS: u32 = 251u;
+// Reals and u32s of one recorded event (t and the two agents' r, v, w, t; kind, ball,
+// other and the two agents' motion states).
+const EVENT_REALS: u32 = 21u;
+const EVENT_UINTS: u32 = 5u;
+
+// The batch's sizes (a uniform).
+struct LoopConfig {
+    n_tables: u32,
+    n_linear: u32,
+    n_circular: u32,
+    n_pockets: u32,
+    max_events: u32,
+    events_per_dispatch: u32,
+    groups_x: u32,
+    record_events: u32,
+}
+
+@group(0) @binding(0) var<uniform> cfg: LoopConfig;
+// Ball parameters (10), resolver parameters (8), max_time.
+@group(0) @binding(1) var<storage, read> sim: array<real>;
+// Straight cushions (10 reals each: p1, p2, direction, lx, ly, l0), then jaws (4: centre,
+// radius), then pockets (5: centre, radius, depth).
+@group(0) @binding(2) var<storage, read> geometry: array<real>;
+@group(0) @binding(3) var<storage, read_write> state_r: array<real>;
+@group(0) @binding(4) var<storage, read_write> state_u: array<u32>;
+@group(0) @binding(5) var<storage, read_write> events_r: array<real>;
+// Per table: the number of events recorded by this dispatch, then EVENT_UINTS per event.
+@group(0) @binding(6) var<storage, read_write> events_u: array<u32>;
+
+// The table's state while the dispatch lasts.
+var<workgroup> balls: array<BallState, GPU_MAX_BALLS>;
+// Each ball's next transition: absolute time (NEVER if none) and kind.
+var<workgroup> trans_t: array<real, GPU_MAX_BALLS>;
+var<workgroup> trans_kind: array<u32, GPU_MAX_BALLS>;
+// Pair entries in combinations order: absolute time and the step that filled them.
+var<workgroup> pair_t: array<real, GPU_MAX_PAIRS>;
+var<workgroup> pair_step: array<u32, GPU_MAX_PAIRS>;
+// Each ball's row of each ball–table category (index category * GPU_MAX_BALLS + ball):
+// the row's earliest time, its step and its item (Rust: RowBest).
+var<workgroup> row_t: array<real, 48>;
+var<workgroup> row_step: array<u32, 48>;
+var<workgroup> row_item: array<u32, 48>;
+// Each ball's path at the current time and its box.
+var<workgroup> paths: array<Path, GPU_MAX_BALLS>;
+var<workgroup> boxes: array<PathBox, GPU_MAX_BALLS>;
+var<workgroup> clock: real;
+var<workgroup> n_balls: u32;
+var<workgroup> n_events: u32;
+var<workgroup> status: u32;
+var<workgroup> n_recorded: u32;
+// The winner of this step (thread 0 writes it).
+var<workgroup> win_kind: u32;
+var<workgroup> win_t: real;
+var<workgroup> win_ball: u32;
+var<workgroup> win_other: u32;
+
+// One category's earliest candidate (Rust: Candidate); `valid` false for none.
+struct Candidate {
+    valid: bool,
+    t: real,
+    tier: u32,
+    energy: real,
+    kind: u32,
+    ball: u32,
+    other: u32,
+}
+
+fn no_candidate() -> Candidate {
+    return Candidate(false, NEVER, 0u, 0.0, 0u, NO_AGENT, NO_AGENT);
+}
+
+fn load_params() -> SimParams {
+    let ball = BallParams(sim[0], sim[1], sim[2], sim[3], sim[4], sim[5], sim[6], sim[7], sim[8], sim[9]);
+    let resolver = ResolverParams(sim[10], sim[11], sim[12], sim[13], sim[14], sim[15], sim[16], sim[17]);
+    return SimParams(ball, resolver);
+}
+
+fn linear_item(m: u32) -> LinearCushion {
+    let at = 10u * m;
+    return LinearCushion(
+        real3(geometry[at], geometry[at + 1u], geometry[at + 2u]),
+        real3(geometry[at + 3u], geometry[at + 4u], geometry[at + 5u]),
+        u32(geometry[at + 6u]),
+        geometry[at + 7u],
+        geometry[at + 8u],
+        geometry[at + 9u],
+    );
+}
+
+fn circular_item(m: u32) -> CircularCushion {
+    let at = 10u * cfg.n_linear + 4u * m;
+    return CircularCushion(real3(geometry[at], geometry[at + 1u], geometry[at + 2u]), geometry[at + 3u]);
+}
+
+fn pocket_item(m: u32) -> Pocket {
+    let at = 10u * cfg.n_linear + 4u * cfg.n_circular + 5u * m;
+    return Pocket(real3(geometry[at], geometry[at + 1u], geometry[at + 2u]), geometry[at + 3u], geometry[at + 4u]);
+}
+
+// Storage layout of one table. Reals: balls (10 each: r, v, w, t) at 0, transition times
+// at 160, pair times at 176, row times at 296, the clock at 344. u32s: motion states at
+// 0, transition kinds at 16, pair steps at 32, row steps at 152, row items at 200, then
+// n_balls, n_events, status at 248..250.
+fn load_table(table: u32, lid: u32) {
+    let r0 = table * TABLE_REALS;
+    let u0 = table * TABLE_UINTS;
+    for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let i = lid + round * LOOP_THREADS;
+        if i < GPU_MAX_BALLS {
+        let at = r0 + 10u * i;
+        balls[i] = BallState(
+            real3(state_r[at], state_r[at + 1u], state_r[at + 2u]),
+            real3(state_r[at + 3u], state_r[at + 4u], state_r[at + 5u]),
+            real3(state_r[at + 6u], state_r[at + 7u], state_r[at + 8u]),
+            state_u[u0 + i],
+            state_r[at + 9u],
+        );
+        trans_t[i] = state_r[r0 + 160u + i];
+        trans_kind[i] = state_u[u0 + 16u + i];
+    }
+    }
+    for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let k = lid + round * LOOP_THREADS;
+        if k < GPU_MAX_PAIRS {
+        pair_t[k] = state_r[r0 + 176u + k];
+        pair_step[k] = state_u[u0 + 32u + k];
+    }
+    }
+    for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let k = lid + round * LOOP_THREADS;
+        if k < 48u {
+        row_t[k] = state_r[r0 + 296u + k];
+        row_step[k] = state_u[u0 + 152u + k];
+        row_item[k] = state_u[u0 + 200u + k];
+    }
+    }
+    if lid == 0u {
+        clock = state_r[r0 + 344u];
+        n_balls = state_u[u0 + 248u];
+        n_events = state_u[u0 + 249u];
+        status = state_u[u0 + 250u];
+        n_recorded = 0u;
+    }
+}
+
+fn store_table(table: u32, lid: u32) {
+    let r0 = table * TABLE_REALS;
+    let u0 = table * TABLE_UINTS;
+    for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let i = lid + round * LOOP_THREADS;
+        if i < GPU_MAX_BALLS {
+        let at = r0 + 10u * i;
+        let b = balls[i];
+        state_r[at] = b.r.x;
+        state_r[at + 1u] = b.r.y;
+        state_r[at + 2u] = b.r.z;
+        state_r[at + 3u] = b.v.x;
+        state_r[at + 4u] = b.v.y;
+        state_r[at + 5u] = b.v.z;
+        state_r[at + 6u] = b.w.x;
+        state_r[at + 7u] = b.w.y;
+        state_r[at + 8u] = b.w.z;
+        state_r[at + 9u] = b.t;
+        state_u[u0 + i] = b.s;
+        state_r[r0 + 160u + i] = trans_t[i];
+        state_u[u0 + 16u + i] = trans_kind[i];
+    }
+    }
+    for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let k = lid + round * LOOP_THREADS;
+        if k < GPU_MAX_PAIRS {
+        state_r[r0 + 176u + k] = pair_t[k];
+        state_u[u0 + 32u + k] = pair_step[k];
+    }
+    }
+    for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let k = lid + round * LOOP_THREADS;
+        if k < 48u {
+        state_r[r0 + 296u + k] = row_t[k];
+        state_u[u0 + 152u + k] = row_step[k];
+        state_u[u0 + 200u + k] = row_item[k];
+    }
+    }
+    if lid == 0u {
+        state_r[r0 + 344u] = clock;
+        state_u[u0 + 249u] = n_events;
+        state_u[u0 + 250u] = status;
+        events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = n_recorded;
+    }
+}
+
+// The absolute time of an entry τ after the clock (NEVER stays NEVER).
+fn after_clock(tau: real) -> real {
+    return select(clock + tau, NEVER, tau >= NEVER);
+}
+
+// The winner among the categories' candidates (spec §3): the earliest time; of exact
+// ties the smallest (tier, −energy), then the earlier category.
+fn comes_before(c: Candidate, b: Candidate) -> bool {
+    if !b.valid {
+        return true;
+    }
+    return c.t < b.t || (c.t == b.t && (c.tier < b.tier || (c.tier == b.tier && c.energy > b.energy)));
+}
+
+// The earliest transition (ties: ball order).
+fn transition_candidate(p: BallParams) -> Candidate {
+    var best = 0u;
+    for (var i = 1u; i < n_balls; i++) {
+        if trans_t[i] < trans_t[best] {
+            best = i;
+        }
+    }
+    let kind = EVENT_SLIDING_ROLLING + trans_kind[best];
+    return Candidate(true, trans_t[best], 2u, ball_energy(balls[best], p), kind, best, NO_AGENT);
+}
+
+// τ until balls i < j collide, with pairs whose boxes stay apart skipped (the box test
+// comes before the overlap rule, Q3: boxes farther apart than 2R hold centres farther
+// apart than 2R at τ = 0 too).
+fn pair_time(i: u32, j: u32, p: BallParams) -> real {
+    let r = p.r;
+    let bi = balls[i];
+    let bj = balls[j];
+    let pocketed = bi.s == STATE_POCKETED || bj.s == STATE_POCKETED;
+    if pocketed || !(ball_translating(bi) || ball_translating(bj)) {
+        return NEVER;
+    }
+    if boxes_apart(boxes[i], boxes[j], 2.0 * r) {
+        return NEVER;
+    }
+    let rule = ball_ball_rules(bi, bj, r);
+    if rule >= 0.0 {
+        return rule;
+    }
+    return ball_ball_time_on(paths[i], paths[j], r);
+}
+
+// The earliest ball–ball collision (tier 3, energy |v1 − v2|²).
+fn ball_ball_candidate() -> Candidate {
+    let n = n_balls;
+    let n_pairs = n * (n - 1u) / 2u;
+    if n_pairs == 0u {
+        return no_candidate();
+    }
+    var best = 0u;
+    for (var k = 1u; k < n_pairs; k++) {
+        if entry_before(pair_t[k], pair_step[k], k, pair_t[best], pair_step[best], best) {
+            best = k;
+        }
+    }
+    let ij = pair_at(best, n);
+    let dv = balls[ij.x].v - balls[ij.y].v;
+    return Candidate(true, pair_t[best], 3u, dot(dv, dv), EVENT_BALL_BALL, ij.x, ij.y);
+}
+
+// τ until a translating ball on `path` (box `bx`) meets item m of a category, or NEVER;
+// items its box keeps clear of are skipped.
+fn item_time(which: u32, m: u32, path: Path, bx: PathBox, r: real) -> real {
+    if which == ITEMS_LINEAR {
+        let seg = linear_item(m);
+        if box_outside_extent(bx, seg) {
+            return NEVER;
+        }
+        return linear_cushion_time_on(path, seg, r);
+    }
+    var center: real2;
+    var rho: real;
+    if which == ITEMS_CIRCULAR {
+        let jaw = circular_item(m);
+        center = real2(jaw.center.x, jaw.center.y);
+        rho = jaw.radius + r;
+    } else {
+        let pocket = pocket_item(m);
+        center = real2(pocket.center.x, pocket.center.y);
+        rho = pocket.radius;
+    }
+    if box_outside_circle(bx, center, rho) || circle_out_of_reach(path, center, rho) {
+        return NEVER;
+    }
+    return circle_entry(path, center, rho);
+}
+
+fn n_items(which: u32) -> u32 {
+    switch which {
+        case ITEMS_CIRCULAR: {
+            return cfg.n_circular;
+        }
+        case ITEMS_LINEAR: {
+            return cfg.n_linear;
+        }
+        default: {
+            return cfg.n_pockets;
+        }
+    }
+}
+
+// Fills ball i's missing row of one ball–table category: every item in table order gets
+// its time; the row keeps the earliest (of equal times the first). A ball that does not
+// translate meets nothing.
+fn fill_row(which: u32, i: u32, r: real) {
+    let at = which * GPU_MAX_BALLS + i;
+    if row_step[at] != MISSING_STEP {
+        return;
+    }
+    let moving = ball_translating(balls[i]);
+    var best_t = NEVER;
+    var best_m = 0u;
+    for (var m = 0u; m < n_items(which); m++) {
+        var tau = NEVER;
+        if moving {
+            tau = item_time(which, m, paths[i], boxes[i], r);
+        }
+        let t = after_clock(tau);
+        if m == 0u || t < best_t {
+            best_t = t;
+            best_m = m;
+        }
+    }
+    row_t[at] = best_t;
+    row_step[at] = n_events;
+    row_item[at] = best_m;
+}
+
+// The earliest event of one ball–table category.
+fn item_candidate(which: u32, kind: u32, tier: u32, p: BallParams) -> Candidate {
+    if n_items(which) == 0u {
+        return no_candidate();
+    }
+    let base = which * GPU_MAX_BALLS;
+    var best = 0u;
+    for (var i = 1u; i < n_balls; i++) {
+        let a = base + i;
+        let b = base + best;
+        if entry_before(row_t[a], row_step[a], i, row_t[b], row_step[b], best) {
+            best = i;
+        }
+    }
+    let at = base + best;
+    return Candidate(true, row_t[at], tier, ball_energy(balls[best], p), kind, best, row_item[at]);
+}
+
+// Whether a translating path provably stays farther than rho from center within its
+// horizon: the pair solver's hull test on the path relative to the circle's centre, with
+// the reach 2 · (rho/2). Conservative, as for ball pairs.
+fn circle_out_of_reach(path: Path, center: real2, rho: real) -> bool {
+    let rel = RelPath(path.a, path.b, path.c - center);
+    return cannot_meet(rel, 0.5 * rho, path.horizon);
+}
+
+// Applies the winner (the balls already evolved to its time), then re-stamps, re-caches
+// the transitions of, and invalidates the entries of the balls involved.
+fn resolve(sp: SimParams) {
+    let p = sp.ball;
+    let rp = sp.resolver;
+    let i = win_ball;
+    let m = win_other;
+    let b = balls[i];
+    // Q17: a transition's agent is stamped t + (T − t), a collision's T
+    var stamp = win_t;
+    if win_kind >= EVENT_SLIDING_ROLLING {
+        stamp = clock + (win_t - clock);
+    }
+    var new_b: BallState;
+    switch win_kind {
+        case EVENT_BALL_BALL: {
+            let pair = resolve_ball_ball(b, balls[m], p, rp);
+            balls[m] = BallState(pair.b2.r, pair.b2.v, pair.b2.w, pair.b2.s, stamp);
+            new_b = pair.b1;
+        }
+        case EVENT_LINEAR_CUSHION: {
+            new_b = resolve_linear_cushion(b, linear_item(m), p, rp);
+        }
+        case EVENT_CIRCULAR_CUSHION: {
+            new_b = resolve_circular_cushion(b, circular_item(m), p, rp);
+        }
+        case EVENT_POCKET: {
+            new_b = resolve_pocket(b, pocket_item(m));
+        }
+        default: {
+            new_b = resolve_transition(b, trans_kind[i]);
+        }
+    }
+    balls[i] = BallState(new_b.r, new_b.v, new_b.w, new_b.s, stamp);
+    clock = win_t;
+    involve(i, p);
+    if win_kind == EVENT_BALL_BALL {
+        involve(m, p);
+    }
+}
+
+// Ball i took part in the last event: its next transition is recomputed from its new
+// state and every cached entry that names it is deleted.
+fn involve(i: u32, p: BallParams) {
+    let b = balls[i];
+    let next = next_transition(b, p);
+    trans_t[i] = select(b.t + next.x, NEVER, next.x >= NEVER);
+    trans_kind[i] = u32(next.y);
+    let n = n_balls;
+    for (var j = 0u; j < n; j++) {
+        if j != i {
+            pair_step[pair_index(min(i, j), max(i, j), n)] = MISSING_STEP;
+        }
+    }
+    for (var c = 0u; c < 3u; c++) {
+        row_step[c * GPU_MAX_BALLS + i] = MISSING_STEP;
+    }
+}
+
+// Appends the winner and its agents' states to this dispatch's records.
+fn record(table: u32) {
+    if cfg.record_events == 0u || n_recorded >= cfg.events_per_dispatch {
+        return;
+    }
+    let k = n_recorded;
+    let ru = table * (1u + EVENT_UINTS * cfg.events_per_dispatch) + 1u + EVENT_UINTS * k;
+    let rr = (table * cfg.events_per_dispatch + k) * EVENT_REALS;
+    let second = select(win_ball, win_other, win_kind == EVENT_BALL_BALL);
+    events_u[ru] = win_kind;
+    events_u[ru + 1u] = win_ball;
+    events_u[ru + 2u] = win_other;
+    events_u[ru + 3u] = balls[win_ball].s;
+    events_u[ru + 4u] = balls[second].s;
+    events_r[rr] = win_t;
+    for (var a = 0u; a < 2u; a++) {
+        let b = balls[select(win_ball, second, a == 1u)];
+        let at = rr + 1u + 10u * a;
+        events_r[at] = b.r.x;
+        events_r[at + 1u] = b.r.y;
+        events_r[at + 2u] = b.r.z;
+        events_r[at + 3u] = b.v.x;
+        events_r[at + 4u] = b.v.y;
+        events_r[at + 5u] = b.v.z;
+        events_r[at + 6u] = b.w.x;
+        events_r[at + 7u] = b.w.y;
+        events_r[at + 8u] = b.w.z;
+        events_r[at + 9u] = b.t;
+    }
+    n_recorded = k + 1u;
+}
+
+// One workgroup per table: up to events_per_dispatch steps of its loop (Rust:
+// EventLoop::step, with candidates, choose, advance and resolve).
+@compute @workgroup_size(64)
+fn simulate_tables(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let table = wid.y * cfg.groups_x + wid.x;
+    if table >= cfg.n_tables {
+        return;
+    }
+    let sp = load_params();
+    let p = sp.ball;
+    let max_time = sim[18];
+    load_table(table, lid);
+    workgroupBarrier();
+    for (var step = 0u; step < cfg.events_per_dispatch; step++) {
+        if workgroupUniformLoad(&status) != STATUS_RUNNING {
+            break;
+        }
+        let n = n_balls;
+        // the paths and boxes of every ball at the current time
+        for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let i = lid + round * LOOP_THREADS;
+        if i < n {
+            let path = trajectory(balls[i], p);
+            paths[i] = path;
+            boxes[i] = path_box(path);
+        }
+    }
+        workgroupBarrier();
+        // the missing pair entries, then the missing rows, in parallel
+        let n_pairs = n * (n - 1u) / 2u;
+        for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let k = lid + round * LOOP_THREADS;
+        if k < n_pairs {
+            if pair_step[k] == MISSING_STEP {
+                let ij = pair_at(k, n);
+                pair_t[k] = after_clock(pair_time(ij.x, ij.y, p));
+                pair_step[k] = n_events;
+            }
+        }
+    }
+        for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let q = lid + round * LOOP_THREADS;
+        if q < 3u * n {
+            fill_row(q / n, q % n, p.r);
+        }
+    }
+        workgroupBarrier();
+        if lid == 0u {
+            if n_events >= cfg.max_events {
+                status = STATUS_CUT_EVENTS;
+            } else {
+                // the candidates in category order: transition, ball–ball, circular
+                // cushion, linear cushion, pocket (the stick was resolved on the host)
+                var best = transition_candidate(p);
+                let pairs = ball_ball_candidate();
+                if pairs.valid && comes_before(pairs, best) {
+                    best = pairs;
+                }
+                let circular = item_candidate(ITEMS_CIRCULAR, EVENT_CIRCULAR_CUSHION, 3u, p);
+                if circular.valid && comes_before(circular, best) {
+                    best = circular;
+                }
+                let linear = item_candidate(ITEMS_LINEAR, EVENT_LINEAR_CUSHION, 3u, p);
+                if linear.valid && comes_before(linear, best) {
+                    best = linear;
+                }
+                let pocket = item_candidate(ITEMS_POCKET, EVENT_POCKET, 2u, p);
+                if pocket.valid && comes_before(pocket, best) {
+                    best = pocket;
+                }
+                if !best.valid || best.t >= NEVER {
+                    status = STATUS_DONE;
+                } else if best.t > max_time {
+                    status = STATUS_CUT_TIME;
+                } else {
+                    win_kind = best.kind;
+                    win_t = best.t;
+                    win_ball = best.ball;
+                    win_other = best.other;
+                }
+            }
+        }
+        if workgroupUniformLoad(&status) != STATUS_RUNNING {
+            break;
+        }
+        // every ball evolved to the winner's time (closed forms, labels kept)
+        let dt = win_t - clock;
+        for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let i = lid + round * LOOP_THREADS;
+        if i < n {
+            balls[i] = evolve(balls[i], dt, p);
+        }
+    }
+        workgroupBarrier();
+        if lid == 0u {
+            resolve(sp);
+            n_events += 1u;
+            record(table);
+        }
+        workgroupBarrier();
+    }
+    workgroupBarrier();
+    store_table(table, lid);
+}
