@@ -22,15 +22,9 @@ use kisstime::gpu::{GpuShot, GpuSimulator};
 use kisstime::io::shot_set::{ReplayOut, read_shots, read_table, write_headers, write_shot};
 use kisstime::simulate::{EventRecord, Limits, SimParams, simulate};
 use std::io::{BufWriter, Write};
-use std::path::Path;
-use std::process::Command;
 
 /// The event bound of the f32 run (the reference's longest shot has 1,108 events).
 const F32_MAX_EVENTS: usize = 3000;
-
-fn set_dir() -> std::path::PathBuf {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fullshots")).to_path_buf()
-}
 
 /// The first event at which `gpu` and `cpu` differ, with why.
 fn first_difference(gpu: &[EventRecord], cpu: &[EventRecord], t_tol: f64) -> Option<String> {
@@ -54,7 +48,7 @@ fn open(precision: Precision, test: &str) -> Option<GpuSimulator> {
 
 #[test]
 fn gpu_event_loop_replays_the_reference_set_as_the_cpu_does() {
-    let dir = set_dir();
+    let dir = common::fullshots_dir();
     let params = SimParams::default();
     let table = read_table(&dir).unwrap();
     let shots = read_shots(&dir, params.ball.r).unwrap();
@@ -137,7 +131,8 @@ fn gpu_event_loop_replays_the_reference_set_as_the_cpu_does() {
                 Some(w) => problems.push(format!("shot {}: {w}", shots[k].shot)),
             }
         }
-        let (passed, failed) = judge(&shots, &table, &runs);
+        let judged = judge(&shots, &table, &runs);
+        let (passed, failed) = judged.unwrap_or((0, 0));
         let events: usize = runs.iter().map(|r| r.events.len()).sum();
         println!(
             "{name}: {same} of 200 ordinary shots and {same_breaks} of 100 breaks as on the CPU; \
@@ -163,13 +158,13 @@ fn gpu_event_loop_replays_the_reference_set_as_the_cpu_does() {
     }
 }
 
-/// Runs the set's judge on the GPU's replay: `(passed, failed)`; `(300, 0)` is asserted
-/// only where python3 exists (CI has it).
+/// Runs the set's judge on the GPU's replay: `(passed, failed)`, or `None` where python3
+/// is missing (CI has it).
 fn judge(
     shots: &[kisstime::io::shot_set::Shot],
     table: &kisstime::simulate::Table,
     runs: &[kisstime::gpu::GpuRun],
-) -> (usize, usize) {
+) -> Option<(usize, usize)> {
     let out = tempfile::tempdir().unwrap();
     let (ev_path, fin_path) = (out.path().join("events.csv"), out.path().join("final.csv"));
     let mut events = BufWriter::new(std::fs::File::create(&ev_path).unwrap());
@@ -185,29 +180,9 @@ fn judge(
     }
     events.flush().unwrap();
     fin.flush().unwrap();
-    let run = Command::new("python3")
-        .arg(set_dir().join("check_fullshots.py"))
-        .arg(out.path())
-        .output();
-    let Ok(run) = run else {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "python3 is needed to run check_fullshots.py"
-        );
-        eprintln!("python3 not found: the checker was not run");
-        return (300, 0);
-    };
-    let text = String::from_utf8_lossy(&run.stdout).into_owned();
+    let (passed, failed, text) = common::check_fullshots(out.path())?;
     for l in text.lines().filter(|l| l.contains("FAIL")) {
         println!("  {l}");
     }
-    let last = text
-        .lines()
-        .rev()
-        .find(|l| l.contains(" passed, "))
-        .unwrap_or_else(|| panic!("check_fullshots.py printed no summary:\n{text}"));
-    let mut words = last.split_whitespace();
-    let passed = words.next().and_then(|w| w.parse().ok()).unwrap();
-    let failed = words.nth(1).and_then(|w| w.parse().ok()).unwrap();
-    (passed, failed)
+    Some((passed, failed))
 }

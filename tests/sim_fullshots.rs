@@ -3,33 +3,23 @@
 //! `events.csv` and `final.csv` are written to a temporary folder, and the set's own
 //! judge, `check_fullshots.py`, must report every shot passed.
 
+mod common;
+
 use kisstime::io::shot_set::{ReplayOut, read_shots, read_table, replay};
 use kisstime::simulate::{Limits, SimParams, Table};
 use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn set_dir() -> PathBuf {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fullshots")).to_path_buf()
-}
-
-/// `N passed, M failed` from the checker's last line.
-fn passed_failed(output: &str) -> Option<(usize, usize)> {
-    let last = output.lines().rev().find(|l| l.contains(" passed, "))?;
-    let mut words = last.split_whitespace();
-    let passed = words.next()?.parse().ok()?;
-    let failed = words.nth(1)?.parse().ok()?;
-    Some((passed, failed))
-}
 
 #[test]
 fn the_set_uses_the_built_in_nine_foot_table() {
-    assert_eq!(read_table(&set_dir()).unwrap(), Table::nine_foot());
+    assert_eq!(
+        read_table(&common::fullshots_dir()).unwrap(),
+        Table::nine_foot()
+    );
 }
 
 #[test]
 fn every_reference_shot_passes_the_checker() {
-    let dir = set_dir();
+    let dir = common::fullshots_dir();
     let params = SimParams::default();
     let table = read_table(&dir).unwrap();
     let shots = read_shots(&dir, params.ball.r).unwrap();
@@ -51,21 +41,9 @@ fn every_reference_shot_passes_the_checker() {
         "{} shots, {} events (the reference has 26,936)",
         stats.shots, stats.events
     );
-    let run = Command::new("python3")
-        .arg(dir.join("check_fullshots.py"))
-        .arg(out.path())
-        .output();
-    let Ok(run) = run else {
-        // CI has Python 3; elsewhere say why the checker did not run
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "python3 is needed to run check_fullshots.py"
-        );
-        eprintln!("python3 not found: the checker was not run (the replay above did)");
+    let Some((passed, failed, text)) = common::check_fullshots(out.path()) else {
         return;
     };
-    let text = String::from_utf8_lossy(&run.stdout).into_owned();
     println!("{text}");
-    let (passed, failed) = passed_failed(&text).expect("the checker's last line");
     assert_eq!((passed, failed), (300, 0), "check_fullshots.py:\n{text}");
 }

@@ -256,3 +256,36 @@ pub fn plain_array_npy<T: npyz::AutoSerialize + Copy>(shape: &[u64], values: &[T
     w.finish().expect("an in-memory npy file is finished");
     bytes
 }
+
+/// The full-shot reference set's folder (`../shared/fullshots`).
+pub fn fullshots_dir() -> std::path::PathBuf {
+    std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fullshots")).to_path_buf()
+}
+
+/// Runs the set's judge, `check_fullshots.py`, on a replay in `out` (its `events.csv` and
+/// `final.csv`): `Some((passed, failed, output))`, or `None` where python3 is missing
+/// (after saying so; in CI, which has it, that is a failure).
+pub fn check_fullshots(out: &std::path::Path) -> Option<(usize, usize, String)> {
+    let run = std::process::Command::new("python3")
+        .arg(fullshots_dir().join("check_fullshots.py"))
+        .arg(out)
+        .output();
+    let Ok(run) = run else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "python3 is needed to run check_fullshots.py"
+        );
+        eprintln!("python3 not found: the checker was not run");
+        return None;
+    };
+    let text = String::from_utf8_lossy(&run.stdout).into_owned();
+    let last = text
+        .lines()
+        .rev()
+        .find(|l| l.contains(" passed, "))
+        .unwrap_or_else(|| panic!("check_fullshots.py printed no summary:\n{text}"));
+    let mut words = last.split_whitespace();
+    let passed = words.next().and_then(|w| w.parse().ok()).unwrap();
+    let failed = words.nth(1).and_then(|w| w.parse().ok()).unwrap();
+    Some((passed, failed, text))
+}
