@@ -6,9 +6,9 @@
 // ball–table category row by row), each entry stamped with (step, position in its
 // category's fill order) as the Rust twin stamps it (simulate/cache.rs), so that the order
 // they are filled in does not matter; thread 0 reduces each category to its earliest
-// entry, chooses the winner with the Rust twin's tie rules (choose), the threads evolve
-// every ball to its time, thread 0 resolves it and invalidates the entries of the balls
-// involved. At most `events_per_dispatch` events per dispatch; the host dispatches again
+// entry and chooses the winner with the Rust twin's tie rules (its choose, with
+// comes_before as the comparison), the threads evolve every ball to its time, thread 0
+// resolves it and invalidates the entries of the balls involved. At most `events_per_dispatch` events per dispatch; the host dispatches again
 // until every table is done. Nothing is allocated per event; every loop is bounded.
 //
 // The strike is resolved on the host (resolve/stick_ball.rs has no twin): a table arrives
@@ -17,12 +17,12 @@
 // that are never (every ball was at rest), which no tie with a finite time can involve.
 //
 // Differences forced by WGSL: NEVER for ∞; a missing entry is marked by its step
-// MISSING_STEP instead of a NaN time; the candidates are kept in workgroup memory instead
-// of Option values.
+// MISSING_STEP instead of a NaN time; a candidate carries a `valid` flag instead of being
+// an Option; the winner is passed from thread 0 to the others in workgroup memory.
 
 // The threads of a table's workgroup, and the rounds in which they cover the largest
 // per-table loop (GPU_MAX_PAIRS entries). Every per-thread loop runs LOOP_ROUNDS times on
-// every thread, with the work under an `if`.
+// every thread, with the work under an `if`, so that every thread runs the same loops.
 const LOOP_THREADS: u32 = 64u;
 const LOOP_ROUNDS: u32 = 2u;
 
