@@ -125,3 +125,130 @@ fn gpu_and_auto_answer_like_the_cpu() {
         }
     }
 }
+
+const SIM_BALLS: &str = "table,ball,state,x,y,vx,vy,wx,wy,wz\n\
+    1,0,stationary,0.635,0.6,0,0,0,0,0\n\
+    1,1,stationary,0.635,1.905,0,0,0,0,0\n\
+    2,0,stationary,0.635,0.6,0,0,0,0,0\n\
+    2,5,stationary,0.3,1.905,0,0,0,0,0\n\
+    2,6,stationary,1.0,1.2,0,0,0,0,0\n\
+    3,2,rolling,0.3,0.3,0.5,1.0,-35.0,17.5,0\n\
+    3,7,stationary,0.9,1.5,0,0,0,0,0\n";
+const SIM_STRIKES: &str = "table,ball,V0,phi,theta,a,b\n1,0,2,90,0,0,0.2\n2,0,3,100,0,0.1,0\n";
+
+/// The rows of a CSV file after its header, split at commas.
+fn rows(path: &std::path::Path) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect()
+}
+
+/// Whether two rows hold the same words and numbers within 1e-9 (relative or absolute).
+fn rows_agree(a: &[String], b: &[String]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| match (x.parse::<f64>(), y.parse::<f64>()) {
+                (Ok(u), Ok(v)) => (u - v).abs() <= 1e-9 * u.abs().max(v.abs()).max(1.0),
+                _ => x == y,
+            })
+}
+
+#[test]
+fn simulate_on_the_gpu_gives_the_cpus_events_and_final_states() {
+    let name = "simulate --backend gpu";
+    if common::gpu_or_skip(kisstime::Precision::F64, name).is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let balls = dir.path().join("balls.csv");
+    let strikes = dir.path().join("strikes.csv");
+    std::fs::write(&balls, SIM_BALLS).unwrap();
+    std::fs::write(&strikes, SIM_STRIKES).unwrap();
+    let mut outputs = Vec::new();
+    for backend in ["cpu", "gpu"] {
+        let ev = dir.path().join(format!("ev_{backend}.csv"));
+        let fin = dir.path().join(format!("fin_{backend}.csv"));
+        let oc = dir.path().join(format!("oc_{backend}.csv"));
+        let out = kisstime(
+            &[
+                "simulate",
+                balls.to_str().unwrap(),
+                "--strikes",
+                strikes.to_str().unwrap(),
+                "-o",
+                ev.to_str().unwrap(),
+                "--final",
+                fin.to_str().unwrap(),
+                "--outcomes",
+                oc.to_str().unwrap(),
+                "--backend",
+                backend,
+                "--verbose",
+            ],
+            &[],
+        );
+        assert!(out.status.success(), "{backend}: {}", stderr(&out));
+        if backend == "gpu" {
+            assert!(stderr(&out).contains("on the GPU"), "{}", stderr(&out));
+        }
+        outputs.push((rows(&ev), rows(&fin), rows(&oc)));
+    }
+    let (cpu, gpu) = (&outputs[0], &outputs[1]);
+    assert!(cpu.0.len() > 10, "the shots have events");
+    for (what, a, b) in [
+        ("events", &cpu.0, &gpu.0),
+        ("final", &cpu.1, &gpu.1),
+        ("outcomes", &cpu.2, &gpu.2),
+    ] {
+        assert_eq!(a.len(), b.len(), "{what}: rows");
+        for (ra, rb) in a.iter().zip(b) {
+            assert!(rows_agree(ra, rb), "{what}: CPU {ra:?}, GPU {rb:?}");
+        }
+    }
+}
+
+#[test]
+fn simulate_auto_falls_back_to_the_cpu_with_a_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let balls = dir.path().join("balls.csv");
+    std::fs::write(&balls, SIM_BALLS).unwrap();
+    let env = [("WGPU_ADAPTER_NAME", "no-such-adapter-anywhere")];
+    let cpu = kisstime(&["simulate", balls.to_str().unwrap()], &[]);
+    let auto = kisstime(
+        &["simulate", balls.to_str().unwrap(), "--backend", "auto"],
+        &env,
+    );
+    assert!(auto.status.success(), "{}", stderr(&auto));
+    let err = stderr(&auto);
+    assert!(
+        err.contains("simulating on the CPU") && err.contains("no-such-adapter-anywhere"),
+        "{err}"
+    );
+    assert_eq!(
+        auto.stdout, cpu.stdout,
+        "the fallback is the CPU path itself"
+    );
+    let gpu = kisstime(
+        &["simulate", balls.to_str().unwrap(), "--backend", "gpu"],
+        &env,
+    );
+    assert_eq!(gpu.status.code(), Some(1), "{}", stderr(&gpu));
+    assert!(!stderr(&gpu).contains("panicked"), "{}", stderr(&gpu));
+}
+
+#[test]
+fn simulate_on_the_cpu_in_f32_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let balls = dir.path().join("balls.csv");
+    std::fs::write(&balls, SIM_BALLS).unwrap();
+    let out = kisstime(
+        &["simulate", balls.to_str().unwrap(), "--precision", "f32"],
+        &[],
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("f64 only"), "{}", stderr(&out));
+}

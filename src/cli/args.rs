@@ -121,7 +121,17 @@ pub struct SimulateArgs {
     /// The table `--plot` draws (its id in the input); needed when the input has several.
     #[arg(long, value_name = "K", requires = "plot")]
     pub table_id: Option<i64>,
-    /// Print the table, the batch size and the cut tables on stderr.
+    /// Where to simulate: `cpu` (Rayon, f64, the reference), `gpu` (the WGSL event loop,
+    /// one workgroup per table; at most 16 balls a table; an error when no GPU is usable)
+    /// or `auto` (the GPU when one works, else the CPU, saying why on stderr).
+    #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
+    pub backend: BackendArg,
+    /// The GPU's precision: `f64` (the default; needs SHADER_F64) or `f32` (faster, but it
+    /// decides contacts to a micrometre, so events part from the CPU's). The CPU computes
+    /// in f64.
+    #[arg(long, value_enum, default_value_t = PrecisionArg::F64)]
+    pub precision: PrecisionArg,
+    /// Print the table, the batch size, the backend and the cut tables on stderr.
     #[arg(short, long)]
     pub verbose: bool,
 }

@@ -1,16 +1,20 @@
 //! `kisstime simulate`: whole shots, from the strike to rest, for every table of a batch
-//! ([`kisstime::simulate::simulate_batch`]), streamed to the outputs chunk by chunk.
+//! ([`kisstime::simulate::simulate_batch`] on the CPU, streamed to the outputs chunk by
+//! chunk; or the GPU event loop, [`kisstime::gpu::GpuSimulator`], for `--backend gpu|auto`).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use kisstime::engine::{Backend, Precision};
+use kisstime::gpu::{GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator};
 use kisstime::io::Format;
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
 use kisstime::io::table_json::table_by_name;
 use kisstime::io::{output_error, write_output};
 use kisstime::simulate::{
-    BallState, BatchError, BatchOptions, Limits, SimError, SimParams, simulate_batch,
+    BallState, BatchError, BatchOptions, BatchStats, CueStrike, Limits, SimError, SimParams, Table,
+    TableRun, simulate_batch,
 };
 use kisstime::{Batch, Error, InputError};
 
@@ -127,7 +131,80 @@ fn out_err(path: Option<&Path>) -> impl Fn(std::io::Error) -> Error + '_ {
     }
 }
 
+/// The runs of the GPU event loop for `--backend gpu` and `auto` (with the seconds it
+/// took), or `None` where the CPU simulates: `--backend cpu`, or `auto` without a usable
+/// GPU, with a table of more than [`GPU_MAX_BALLS`] balls, or after a GPU failure (each
+/// said on stderr). With `gpu` those are errors.
+#[allow(clippy::too_many_arguments)]
+fn gpu_simulate(
+    args: &SimulateArgs,
+    batch: &Batch,
+    strikes: &[Option<(usize, CueStrike)>],
+    strike_rows: &[StrikeRow],
+    table: &Table,
+    params: SimParams,
+    limits: Limits,
+    record_events: bool,
+) -> Result<Option<(Vec<GpuRun>, f64)>, Error> {
+    let backend = args.backend.backend();
+    if backend == Backend::Cpu {
+        return Ok(None);
+    }
+    let fall_back = |why: String| -> Result<Option<(Vec<GpuRun>, f64)>, Error> {
+        match backend {
+            Backend::Auto => {
+                eprintln!("kisstime: simulating on the CPU: {why}");
+                Ok(None)
+            }
+            _ => Err(Error::Gpu(why)),
+        }
+    };
+    let n = batch.num_tables();
+    let input = batch.sim_input(strikes, params.ball.r);
+    let mut shots = Vec::with_capacity(n);
+    for k in 0..n {
+        let mut balls = Vec::new();
+        let strike =
+            input(k, &mut balls).map_err(|e| table_error(args, batch, strike_rows, k, e))?;
+        if balls.len() > GPU_MAX_BALLS {
+            return fall_back(format!(
+                "table {} has {} balls; the GPU event loop takes at most {GPU_MAX_BALLS}",
+                batch.table_id(k),
+                balls.len()
+            ));
+        }
+        shots.push(GpuShot { balls, strike });
+    }
+    let precision = args.precision.precision();
+    let mut gpu = match GpuSimulator::new(precision) {
+        Ok(g) => g,
+        Err(Error::GpuUnavailable(why)) if backend == Backend::Auto => {
+            eprintln!("kisstime: simulating on the CPU: {why}");
+            return Ok(None);
+        }
+        Err(e) => return fall_back(e.to_string()),
+    };
+    if args.verbose {
+        eprintln!(
+            "kisstime: simulating on the GPU {} in {}",
+            gpu.adapter(),
+            precision.name()
+        );
+    }
+    let started = std::time::Instant::now();
+    match gpu.simulate(table, params, limits, &shots, record_events) {
+        Ok(runs) => Ok(Some((runs, started.elapsed().as_secs_f64()))),
+        Err(e) => fall_back(format!("the GPU failed: {e}")),
+    }
+}
+
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
+    if args.backend.backend() == Backend::Cpu && args.precision.precision() == Precision::F32 {
+        return Err(InputError::new(
+            "--precision f32 needs --backend gpu or auto: the CPU simulates in f64 only",
+        )
+        .into());
+    }
     if args.max_time.is_nan() || args.max_time <= 0.0 {
         return Err(InputError::new(format!(
             "--max-time {} must be greater than 0",
@@ -181,6 +258,16 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         record_events: args.output.is_some(),
         ..BatchOptions::default()
     };
+    let mut gpu_runs = gpu_simulate(
+        args,
+        &batch,
+        &strikes,
+        &strike_rows,
+        &table,
+        params,
+        options.limits,
+        options.record_events,
+    )?;
     let events_path = args.output.as_deref();
     let final_path = args.final_states.as_deref();
     let outcomes_path = args.outcomes.as_deref();
@@ -212,29 +299,54 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                     None => None,
                 };
                 let bar = Progress::new("simulating", n as u64, "tables", n >= SHOW_TABLES);
-                let input = batch.sim_input(&strikes, params.ball.r);
-                let result = simulate_batch(&table, params, &options, n, input, |chunk| {
-                    for run in chunk.iter() {
-                        let ids = TableIds {
-                            table: batch.table_id(run.table),
-                            balls: batch.ball_ids(run.table),
-                        };
-                        if run.outcome.cut.is_some() && first_cut.is_none() {
-                            first_cut = Some(ids.table);
-                        }
-                        if let Some(w) = events.as_mut() {
-                            w.write_table(ids, &table, &run).map_err(&e_err)?;
-                        }
-                        if let Some(w) = finals.as_mut() {
-                            w.write_table(ids, &table, &run).map_err(&f_err)?;
-                        }
-                        if let Some(w) = outcomes.as_mut() {
-                            w.write_table(ids, &run).map_err(&o_err)?;
-                        }
+                let mut write_run = |run: &TableRun| -> Result<(), Error> {
+                    let ids = TableIds {
+                        table: batch.table_id(run.table),
+                        balls: batch.ball_ids(run.table),
+                    };
+                    if run.outcome.cut.is_some() && first_cut.is_none() {
+                        first_cut = Some(ids.table);
                     }
-                    bar.inc(chunk.len() as u64);
-                    Ok::<(), Error>(())
-                });
+                    if let Some(w) = events.as_mut() {
+                        w.write_table(ids, &table, run).map_err(&e_err)?;
+                    }
+                    if let Some(w) = finals.as_mut() {
+                        w.write_table(ids, &table, run).map_err(&f_err)?;
+                    }
+                    if let Some(w) = outcomes.as_mut() {
+                        w.write_table(ids, run).map_err(&o_err)?;
+                    }
+                    Ok(())
+                };
+                let result = match gpu_runs.take() {
+                    Some((runs, secs)) => {
+                        for (k, r) in runs.iter().enumerate() {
+                            write_run(&TableRun {
+                                table: k,
+                                events: &r.events,
+                                balls: &r.balls,
+                                outcome: r.outcome,
+                            })?;
+                        }
+                        bar.inc(n as u64);
+                        Ok(BatchStats {
+                            tables: n,
+                            events: runs.iter().map(|r| r.outcome.n_events).sum(),
+                            cut: runs.iter().filter(|r| r.outcome.cut.is_some()).count(),
+                            sim_seconds: secs,
+                        })
+                    }
+                    None => {
+                        let input = batch.sim_input(&strikes, params.ball.r);
+                        simulate_batch(&table, params, &options, n, input, |chunk| {
+                            for run in chunk.iter() {
+                                write_run(&run)?;
+                            }
+                            bar.inc(chunk.len() as u64);
+                            Ok::<(), Error>(())
+                        })
+                    }
+                };
                 bar.done();
                 let s = result.map_err(|e| match e {
                     BatchError::Table { table: k, error } => {
