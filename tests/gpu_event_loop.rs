@@ -186,3 +186,34 @@ fn judge(
     }
     Some((passed, failed))
 }
+
+/// Chunks and dispatch lengths change nothing: the 200 ordinary shots in chunks of 7
+/// tables and 17 events per dispatch give exactly the runs of one chunk of 32-event
+/// dispatches (the states go through storage between dispatches bit for bit).
+#[test]
+fn chunks_and_dispatch_lengths_do_not_change_the_runs() {
+    let Some(mut gpu) = open(Precision::F64, "gpu_event_loop chunks") else {
+        return;
+    };
+    let dir = common::fullshots_dir();
+    let params = SimParams::default();
+    let table = read_table(&dir).unwrap();
+    let shots = read_shots(&dir, params.ball.r).unwrap();
+    let inputs: Vec<GpuShot> = shots[100..]
+        .iter()
+        .map(|s| GpuShot {
+            balls: s.balls.clone(),
+            strike: Some((s.cue, s.strike)),
+        })
+        .collect();
+    let whole = gpu
+        .simulate(&table, params, Limits::default(), &inputs, true)
+        .unwrap();
+    gpu.max_tables_per_chunk = 7;
+    gpu.events_per_dispatch = 17;
+    let chunked = gpu
+        .simulate(&table, params, Limits::default(), &inputs, true)
+        .unwrap();
+    assert_eq!(whole.len(), 200);
+    assert_eq!(chunked, whole);
+}

@@ -45,7 +45,9 @@ pub use dispatch::Kernel;
 #[cfg(feature = "testing")]
 pub use fault::Fault;
 pub use shader::shader_source;
-pub use simulate::{GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator};
+pub use simulate::{
+    EVENTS_PER_DISPATCH, GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator, MAX_TABLES_PER_CHUNK,
+};
 
 /// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the
 /// `testing` feature).

@@ -9,9 +9,9 @@
 //! is done, reading the recorded events back after each dispatch. The states stay on the
 //! device between dispatches.
 //!
-//! Limits of this first version: at most [`GPU_MAX_BALLS`] balls per table, one chunk
-//! (the whole batch must fit the device's buffers), and no fall back to the CPU (the
-//! caller chooses).
+//! A batch is cut into chunks of whole tables that fit the device's buffers. Limits of
+//! this first version: at most [`GPU_MAX_BALLS`] balls per table, and no fall back to the
+//! CPU here (the caller chooses: `kisstime simulate --backend auto` does).
 
 use super::device::{self, AdapterSummary, gpu_error};
 use super::shader::simulate_source;
@@ -83,9 +83,18 @@ pub struct GpuSimulator {
     precision: Precision,
     pipeline: wgpu::ComputePipeline,
     max_groups_per_dim: u32,
+    /// The largest storage binding the device allows, in bytes.
+    max_binding: u64,
     /// Events per table and dispatch.
     pub events_per_dispatch: u32,
+    /// The most tables per chunk: a batch is cut into chunks of whole tables that fit the
+    /// device's largest storage binding, and of at most this many tables (by default
+    /// [`MAX_TABLES_PER_CHUNK`]), simulated one after the other.
+    pub max_tables_per_chunk: usize,
 }
+
+/// Tables per chunk, at most, by default.
+pub const MAX_TABLES_PER_CHUNK: usize = 1 << 20;
 
 impl GpuSimulator {
     /// Opens the GPU and builds the event loop's pipeline for `precision`.
@@ -117,12 +126,17 @@ impl GpuSimulator {
         }
         Ok(GpuSimulator {
             max_groups_per_dim: opened.limits.max_compute_workgroups_per_dimension,
+            max_binding: opened
+                .limits
+                .max_storage_buffer_binding_size
+                .min(opened.limits.max_buffer_size),
             device,
             queue: opened.queue,
             adapter: opened.adapter,
             precision,
             pipeline,
             events_per_dispatch: EVENTS_PER_DISPATCH,
+            max_tables_per_chunk: MAX_TABLES_PER_CHUNK,
         })
     }
 
@@ -144,6 +158,39 @@ impl GpuSimulator {
         shots: &[GpuShot],
         record_events: bool,
     ) -> Result<Vec<GpuRun>, Error> {
+        let per = self.events_per_dispatch.max(1) as usize;
+        let real = self.precision.real_size();
+        // the largest per-table buffer decides how many tables fit one binding
+        let per_table = (TABLE_REALS * real)
+            .max(per * EVENT_REALS * real)
+            .max(4 * (1 + per * EVENT_UINTS));
+        let fit = (self.max_binding / per_table as u64).max(1) as usize;
+        let chunk = self.max_tables_per_chunk.max(1).min(fit);
+        let mut runs = Vec::with_capacity(shots.len());
+        for (c, part) in shots.chunks(chunk).enumerate() {
+            runs.extend(self.simulate_chunk(
+                table,
+                params,
+                limits,
+                part,
+                c * chunk,
+                record_events,
+            )?);
+        }
+        Ok(runs)
+    }
+
+    /// [`GpuSimulator::simulate`] for one chunk of tables that fits the device's buffers;
+    /// `first` is the chunk's first table in the batch (for messages).
+    fn simulate_chunk(
+        &mut self,
+        table: &Table,
+        params: SimParams,
+        limits: Limits,
+        shots: &[GpuShot],
+        first: usize,
+        record_events: bool,
+    ) -> Result<Vec<GpuRun>, Error> {
         let n_tables = shots.len();
         // the parameters and every table checked as the CPU loop checks them
         let mut check = EventLoop::new(table, params, limits, GPU_MAX_BALLS)
@@ -152,10 +199,11 @@ impl GpuSimulator {
         let mut state_r = vec![0.0f64; n_tables * TABLE_REALS];
         let mut state_u = vec![0u32; n_tables * TABLE_UINTS];
         for (k, shot) in shots.iter().enumerate() {
-            let bad = |e: SimError| gpu_error(format!("table {k}: {e}"));
+            let at = first + k;
+            let bad = |e: SimError| gpu_error(format!("table {at}: {e}"));
             if shot.balls.len() > GPU_MAX_BALLS {
                 return Err(gpu_error(format!(
-                    "table {k}: {} balls, the GPU event loop takes at most {GPU_MAX_BALLS}",
+                    "table {at}: {} balls, the GPU event loop takes at most {GPU_MAX_BALLS}",
                     shot.balls.len()
                 )));
             }
