@@ -133,6 +133,14 @@ pub const SHADER_FILES: [(&str, &str); 23] = [
     ("kernels.wgsl", include_str!("../../shaders/kernels.wgsl")),
 ];
 
+/// The precision prelude (`shaders/real_f32.wgsl` or `shaders/real_f64.wgsl`).
+fn prelude(precision: Precision) -> &'static str {
+    match precision {
+        Precision::F32 => include_str!("../../shaders/real_f32.wgsl"),
+        Precision::F64 => include_str!("../../shaders/real_f64.wgsl"),
+    }
+}
+
 /// The event loop's own files, after [`SHADER_FILES`] less `kernels.wgsl` (its shader is
 /// a module of its own, with its own bindings).
 pub const SIMULATE_FILES: [(&str, &str); 2] = [
@@ -149,11 +157,7 @@ pub const SIMULATE_FILES: [(&str, &str); 2] = [
 /// The WGSL source of the event loop for `precision`: the prelude, [`SHADER_FILES`]
 /// without the kernels' entry points, then [`SIMULATE_FILES`].
 pub fn simulate_source(precision: Precision) -> String {
-    let prelude = match precision {
-        Precision::F32 => include_str!("../../shaders/real_f32.wgsl"),
-        Precision::F64 => include_str!("../../shaders/real_f64.wgsl"),
-    };
-    std::iter::once(prelude)
+    std::iter::once(prelude(precision))
         .chain(
             SHADER_FILES
                 .iter()
@@ -167,11 +171,7 @@ pub fn simulate_source(precision: Precision) -> String {
 
 /// The full WGSL source for `precision`: the prelude, then [`SHADER_FILES`].
 pub fn shader_source(precision: Precision) -> String {
-    let prelude = match precision {
-        Precision::F32 => include_str!("../../shaders/real_f32.wgsl"),
-        Precision::F64 => include_str!("../../shaders/real_f64.wgsl"),
-    };
-    std::iter::once(prelude)
+    std::iter::once(prelude(precision))
         .chain(SHADER_FILES.iter().map(|(_, text)| *text))
         .collect::<Vec<_>>()
         .join("\n")

@@ -53,6 +53,12 @@ const U_ROWS: usize = 152;
 const U_ITEMS: usize = 200;
 const U_N: usize = 248;
 const MISSING_STEP: u32 = u32::MAX;
+/// Pair entries and ball–table rows of one table (`GPU_MAX_PAIRS`, 3 · `GPU_MAX_BALLS`).
+const GPU_MAX_PAIRS: usize = GPU_MAX_BALLS * (GPU_MAX_BALLS - 1) / 2;
+const GPU_ROWS: usize = 3 * GPU_MAX_BALLS;
+/// The shader's "never" as the host writes it in f64 (f32 buffers get `NEVER_F32`).
+const NEVER_F64: f64 = 1.0e300;
+const NEVER_F32: f32 = 3.0e38;
 
 /// One table's shot: its balls (pooltool's order) and the strike, if any.
 #[derive(Clone, Debug)]
@@ -351,7 +357,7 @@ impl GpuSimulator {
             Precision::F32 => {
                 let narrow: Vec<f32> = v
                     .iter()
-                    .map(|&x| if x >= 1e300 { 3.0e38 } else { x as f32 })
+                    .map(|&x| if x >= NEVER_F64 { NEVER_F32 } else { x as f32 })
                     .collect();
                 bytemuck::cast_slice(&narrow).to_vec()
             }
@@ -409,7 +415,11 @@ impl GpuSimulator {
 
 /// The shader's "never" as the CPU's ∞.
 fn from_never(t: f64) -> f64 {
-    if t >= 3.0e38 { f64::INFINITY } else { t }
+    if t >= f64::from(NEVER_F32) {
+        f64::INFINITY
+    } else {
+        t
+    }
 }
 
 /// Lays out one table's state at its start (after the strike, which is resolved here)
@@ -456,15 +466,15 @@ fn start_table(
         let (t, kind) = next_transition(b, &params.ball).map_or((f64::INFINITY, 0), |(tau, k)| {
             (b.t + tau, transition_code(k))
         });
-        sr[R_TRANS + i] = if t.is_finite() { t } else { 1.0e300 };
+        sr[R_TRANS + i] = if t.is_finite() { t } else { NEVER_F64 };
         su[U_TRANS + i] = kind;
     }
-    for k in 0..120 {
-        sr[R_PAIRS + k] = 1.0e300;
+    for k in 0..GPU_MAX_PAIRS {
+        sr[R_PAIRS + k] = NEVER_F64;
         su[U_PAIRS + k] = MISSING_STEP;
     }
-    for k in 0..48 {
-        sr[R_ROWS + k] = 1.0e300;
+    for k in 0..GPU_ROWS {
+        sr[R_ROWS + k] = NEVER_F64;
         su[U_ROWS + k] = MISSING_STEP;
         su[U_ITEMS + k] = 0;
     }
