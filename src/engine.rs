@@ -1,5 +1,6 @@
-//! Backend choice: one [`Engine`] answers batches on the CPU, on the GPU, or on the GPU
-//! with the CPU as fallback (`auto`).
+//! Backend choice: one [`Engine`] answers collision batches, and one [`ShotEngine`]
+//! simulates whole shots and shot studies, on the CPU, on the GPU, or on the GPU with the
+//! CPU as fallback (`auto`).
 //!
 //! `auto` opens a GPU adapter when one works and otherwise uses the CPU, leaving a note
 //! that says why; a GPU failure during a batch (device lost, failed dispatch) redoes that
@@ -9,10 +10,16 @@
 use crate::batch::{Batch, NextCollision};
 use crate::cpu;
 use crate::error::Error;
-use crate::gpu::GpuEngine;
+use crate::gpu::{GPU_MAX_BALLS, GpuEngine, GpuRun, GpuShot, GpuSimulator};
 use crate::model::Params;
 pub use crate::model::Precision;
+use crate::model::sim_params::SimParams;
+use crate::model::table::Table;
 use crate::query::ball_ball::Contact;
+use crate::resolve::stick_ball::CueStrike;
+use crate::simulate::check::check_layout;
+use crate::simulate::{BatchError, BatchOptions, EventLoop, Limits, MAX_BALLS, simulate_batch};
+use crate::study::{self, Noise, RunOptions, Sample, StudyConfig};
 
 /// The backend used when none is asked for: the CPU, the reference.
 pub const DEFAULT_BACKEND: Backend = Backend::Cpu;
@@ -192,4 +199,233 @@ fn redone(batch: &Batch, tables: &std::ops::Range<usize>) -> &'static str {
     } else {
         "the chunk was"
     }
+}
+
+/// A configured backend for whole shots and shot studies: the CPU's event loop
+/// ([`crate::simulate`]), the GPU's ([`GpuSimulator`]), or the GPU with the CPU as
+/// fallback (`auto`), reusable across many batches.
+///
+/// `auto` opens the GPU when it works in the precision asked for and otherwise uses the
+/// CPU, with a note; a table or study of more than [`GPU_MAX_BALLS`] balls is run on the
+/// CPU with a note; a GPU failure during a batch (device lost, failed dispatch, failed
+/// readback) redoes that batch on the CPU in f64 with a note, and the CPU is used from then
+/// on. `gpu` reports each of these as an error. Bad input is an error on every backend.
+pub struct ShotEngine {
+    backend: Backend,
+    gpu: Option<GpuSimulator>,
+    notes: Vec<String>,
+}
+
+impl ShotEngine {
+    /// Opens the backend. Errors as [`Engine::new`].
+    pub fn new(backend: Backend, precision: Precision) -> Result<ShotEngine, Error> {
+        let mut notes = Vec::new();
+        let gpu = match backend {
+            Backend::Cpu => {
+                if precision == Precision::F32 {
+                    return Err(Error::Unsupported(
+                        "the CPU simulates in f64 only; use --precision f64, or --backend \
+                         gpu/auto for f32"
+                            .into(),
+                    ));
+                }
+                None
+            }
+            Backend::Gpu => Some(GpuSimulator::new(precision)?),
+            Backend::Auto => match GpuSimulator::new(precision) {
+                Ok(g) => Some(g),
+                Err(e) => {
+                    notes.push(format!("no usable GPU, simulating on the CPU in f64: {e}"));
+                    None
+                }
+            },
+        };
+        Ok(ShotEngine {
+            backend,
+            gpu,
+            notes,
+        })
+    }
+
+    /// The backend asked for.
+    pub fn backend(&self) -> Backend {
+        self.backend
+    }
+
+    /// The GPU event loop in use, if any.
+    pub fn gpu(&mut self) -> Option<&mut GpuSimulator> {
+        self.gpu.as_mut()
+    }
+
+    /// What simulates now, e.g. `"gpu f64: llvmpipe (Vulkan, …)"` or `"cpu f64 (2
+    /// threads)"`.
+    pub fn describe(&self) -> String {
+        match &self.gpu {
+            Some(g) => format!("gpu {}: {}", g.precision().name(), g.adapter()),
+            None => format!("cpu f64 ({} threads)", rayon::current_num_threads()),
+        }
+    }
+
+    /// Messages for the user about fallbacks since the last call (one line each).
+    pub fn take_notes(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.notes)
+    }
+
+    /// Runs `on_gpu` when there is a GPU and the work has at most [`GPU_MAX_BALLS`] balls
+    /// a table, with the CPU as the `auto` fallback.
+    fn run<T>(
+        &mut self,
+        what: &str,
+        n_balls: usize,
+        on_gpu: impl FnOnce(&mut GpuSimulator) -> Result<T, Error>,
+        on_cpu: impl FnOnce() -> Result<T, Error>,
+    ) -> Result<T, Error> {
+        let Some(gpu) = self.gpu.as_mut() else {
+            return on_cpu();
+        };
+        if n_balls > GPU_MAX_BALLS {
+            let why = format!(
+                "{what} has tables of {n_balls} balls; the GPU event loop takes at most \
+                 {GPU_MAX_BALLS}"
+            );
+            if self.backend == Backend::Auto {
+                self.notes
+                    .push(format!("{why}: simulated on the CPU in f64"));
+                return on_cpu();
+            }
+            return Err(Error::Unsupported(why));
+        }
+        match on_gpu(gpu) {
+            Err(e @ (Error::Gpu(_) | Error::GpuUnavailable(_)))
+                if self.backend == Backend::Auto =>
+            {
+                self.notes.push(format!(
+                    "{e}; {what} was redone on the CPU in f64, and the CPU is used from now on"
+                ));
+                self.gpu = None;
+                on_cpu()
+            }
+            other => other,
+        }
+    }
+
+    /// Simulates every shot on `table` to rest (or to a limit), in shot order, as
+    /// [`GpuSimulator::simulate`] does; on the CPU through
+    /// [`crate::simulate::simulate_batch`]. Every table is checked first, on the host, as
+    /// `simulate_batch` checks it (`check_layout` and [`EventLoop::reset`]): the first bad
+    /// one is [`BatchError::Table`] with its position, whatever the backend; any other
+    /// error is [`BatchError::Sink`].
+    pub fn simulate(
+        &mut self,
+        table: &Table,
+        params: SimParams,
+        limits: Limits,
+        shots: &[GpuShot],
+        record_events: bool,
+    ) -> Result<Vec<GpuRun>, BatchError<Error>> {
+        let mut lp = EventLoop::new(table, params, limits, MAX_BALLS)
+            .map_err(|error| BatchError::Table { table: 0, error })?;
+        for (k, shot) in shots.iter().enumerate() {
+            check_layout(table, params.ball.r, &shot.balls)
+                .and_then(|()| lp.reset(&shot.balls, shot.strike))
+                .map_err(|error| BatchError::Table { table: k, error })?;
+        }
+        let n_balls = shots.iter().map(|s| s.balls.len()).max().unwrap_or(0);
+        self.run(
+            "the batch",
+            n_balls,
+            |g| g.simulate(table, params, limits, shots, record_events),
+            || simulate_on_cpu(table, params, limits, shots, record_events),
+        )
+        .map_err(BatchError::Sink)
+    }
+
+    /// [`study::run_study`] on this backend ([`study::run_study_gpu`] on the GPU).
+    pub fn run_study(
+        &mut self,
+        config: &StudyConfig,
+        sigma: &Noise,
+        samples: usize,
+        seed: u64,
+        options: &RunOptions,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Vec<Sample>, Error> {
+        let progress = std::cell::RefCell::new(progress);
+        self.run(
+            "the study",
+            config.balls.len(),
+            |g| {
+                study::run_study_gpu(g, config, sigma, samples, seed, options, &mut |d, n| {
+                    (progress.borrow_mut())(d, n)
+                })
+            },
+            || {
+                study::run_study(config, sigma, samples, seed, options, &mut |d, n| {
+                    (progress.borrow_mut())(d, n)
+                })
+            },
+        )
+    }
+
+    /// [`study::run_strikes`] on this backend ([`study::run_strikes_gpu`] on the GPU).
+    pub fn run_strikes(
+        &mut self,
+        config: &StudyConfig,
+        strikes: &[CueStrike],
+        options: &RunOptions,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Vec<Sample>, Error> {
+        let progress = std::cell::RefCell::new(progress);
+        self.run(
+            "the study",
+            config.balls.len(),
+            |g| {
+                study::run_strikes_gpu(g, config, strikes, options, &mut |d, n| {
+                    (progress.borrow_mut())(d, n)
+                })
+            },
+            || {
+                study::run_strikes(config, strikes, options, &mut |d, n| {
+                    (progress.borrow_mut())(d, n)
+                })
+            },
+        )
+    }
+}
+
+/// [`ShotEngine::simulate`] on the CPU.
+fn simulate_on_cpu(
+    table: &Table,
+    params: SimParams,
+    limits: Limits,
+    shots: &[GpuShot],
+    record_events: bool,
+) -> Result<Vec<GpuRun>, Error> {
+    let options = BatchOptions {
+        limits,
+        record_events,
+        ..BatchOptions::default()
+    };
+    let mut runs = Vec::with_capacity(shots.len());
+    let input = |k: usize, balls: &mut Vec<crate::model::ball_state::BallState>| {
+        balls.clear();
+        balls.extend_from_slice(&shots[k].balls);
+        Ok(shots[k].strike)
+    };
+    simulate_batch(table, params, &options, shots.len(), input, |chunk| {
+        runs.extend(chunk.iter().map(|run| GpuRun {
+            events: run.events.to_vec(),
+            balls: run.balls.to_vec(),
+            outcome: run.outcome,
+        }));
+        Ok::<(), Error>(())
+    })
+    .map_err(|e| match e {
+        // the tables were checked before
+        BatchError::Table { table, error } => Error::from(crate::error::InputError::new(format!(
+            "table {table}: {error}"
+        ))),
+        BatchError::Sink(e) => e,
+    })?;
+    Ok(runs)
 }

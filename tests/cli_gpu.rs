@@ -252,3 +252,89 @@ fn simulate_on_the_cpu_in_f32_is_refused() {
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(stderr(&out).contains("f64 only"), "{}", stderr(&out));
 }
+
+/// `kisstime shots --backend gpu` (f64) gives the CPU's study: the same counts, and the
+/// same per-sample rows up to the last digits of the floats; `auto` without a matching
+/// adapter says why and gives the CPU's summary; the CPU in f32 is refused.
+#[test]
+fn shots_on_the_gpu_give_the_cpus_study_and_auto_falls_back_with_a_reason() {
+    if common::gpu_or_skip(kisstime::Precision::F64, "shots_gpu").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut summaries = Vec::new();
+    let mut csvs = Vec::new();
+    for backend in ["cpu", "gpu"] {
+        let csv = dir.path().join(format!("{backend}.csv"));
+        let out = kisstime(
+            &[
+                "shots",
+                "--samples",
+                "400",
+                "--json",
+                "--backend",
+                backend,
+                "-o",
+                csv.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(out.status.success(), "{backend}: {}", stderr(&out));
+        let mut v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let described = v["backend"].as_str().unwrap().to_owned();
+        assert!(
+            described.starts_with(&format!("{backend} f64")),
+            "{described}"
+        );
+        for timing in ["backend", "seconds", "samples_per_s", "threads"] {
+            v.as_object_mut().unwrap().remove(timing);
+        }
+        summaries.push(v);
+        csvs.push(std::fs::read_to_string(&csv).unwrap());
+    }
+    // counts exactly; statistics to 1e-9 (the GPU's f64 sums may round differently)
+    let (cpu, gpu) = (&summaries[0], &summaries[1]);
+    for key in [
+        "first_contact",
+        "outcome",
+        "intended_potted",
+        "intended_pockets",
+        "scratch",
+        "scratch_pockets",
+        "others_potted",
+        "in_target",
+        "no_ball_hit",
+        "cut_by_cap",
+    ] {
+        assert_eq!(cpu[key], gpu[key], "{key}");
+    }
+    let (a, b) = (&csvs[0], &csvs[1]);
+    assert_eq!(a.lines().count(), 401);
+    let fields = |line: &str| -> Vec<String> { line.split(',').map(str::to_owned).collect() };
+    for (ra, rb) in a.lines().zip(b.lines()) {
+        assert!(rows_agree(&fields(ra), &fields(rb)), "CPU {ra}\nGPU {rb}");
+    }
+
+    let env = [("WGPU_ADAPTER_NAME", "no-such-adapter-anywhere")];
+    let auto = kisstime(
+        &["shots", "--samples", "50", "--json", "--backend", "auto"],
+        &env,
+    );
+    assert!(auto.status.success(), "{}", stderr(&auto));
+    let err = stderr(&auto);
+    assert!(
+        err.contains("simulating on the CPU") && err.contains("no-such-adapter-anywhere"),
+        "{err}"
+    );
+    let v: serde_json::Value = serde_json::from_slice(&auto.stdout).unwrap();
+    assert!(v["backend"].as_str().unwrap().starts_with("cpu f64"));
+    let gpu = kisstime(&["shots", "--samples", "50", "--backend", "gpu"], &env);
+    assert_eq!(gpu.status.code(), Some(1), "{}", stderr(&gpu));
+    let f32_cpu = kisstime(&["shots", "--samples", "50", "--precision", "f32"], &[]);
+    assert_eq!(f32_cpu.status.code(), Some(2), "{}", stderr(&f32_cpu));
+    assert!(
+        stderr(&f32_cpu).contains("f64 only"),
+        "{}",
+        stderr(&f32_cpu)
+    );
+}

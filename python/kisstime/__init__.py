@@ -286,9 +286,17 @@ def simulate(
     max_events: int = 200_000,
     max_time: float = 3600.0,
     events: bool = True,
+    backend: str = "cpu",
+    precision: Optional[str] = None,
 ) -> SimResult:
     """Whole shots from the cue strike to rest with pooltool 0.6.0's physics
-    (``kisstime simulate``; CPU, f64, every core).
+    (``kisstime simulate``).
+
+    ``backend`` is ``"cpu"`` (Rayon, f64, every core: the reference), ``"gpu"`` (the WGSL
+    event loop, one workgroup per table, at most 16 balls a table; ``RuntimeError`` when no
+    GPU is usable) or ``"auto"`` (the GPU when one works, else the CPU, with a
+    ``RuntimeWarning`` saying why; a GPU failure mid-batch is redone on the CPU).
+    ``precision`` is the GPU's, ``"f64"`` (the default; needs ``SHADER_F64``) or ``"f32"``.
 
     ``strikes`` (at most one per table, applied at t = 0) is a structured array of
     :data:`STRIKE_DTYPE` or a dict of its columns. ``table`` is ``"9ft"`` (pooltool's 9-ft
@@ -315,6 +323,8 @@ def simulate(
         int(max_events),
         float(max_time),
         bool(events),
+        backend,
+        precision,
     )
     return SimResult(_load(ev) if ev is not None else None, _load(fin), _load(oc))
 
@@ -450,6 +460,8 @@ def _study_chunk(
     noise: Optional[float] = None,
     max_events: int = 10_000,
     max_time: float = 600.0,
+    backend: str = "cpu",
+    precision: Optional[str] = None,
 ) -> bytes:
     """Samples ``first .. first + n`` of a study (noisy from ``seed``, or rows of the given
     strikes) as an opaque blob for :func:`_study_merge` (what a Dask task computes)."""
@@ -464,6 +476,8 @@ def _study_chunk(
         None if noise is None else float(noise),
         int(max_events),
         float(max_time),
+        backend,
+        precision,
     )
 
 
@@ -491,6 +505,8 @@ def shot_study(
     max_events: int = 10_000,
     max_time: float = 600.0,
     chunk: Optional[int] = None,
+    backend: str = "cpu",
+    precision: Optional[str] = None,
 ) -> Study:
     """A Monte Carlo shot study (``kisstime shots``): one table, one intended shot,
     ``samples`` noisy strikes drawn from ``seed`` (sample i's noise depends on (seed, i)
@@ -502,12 +518,22 @@ def shot_study(
     columns) evaluates exactly those strikes without noise instead. ``noise`` multiplies the
     scenario's standard deviations (0 replays the intended shot). ``chunk`` samples run
     between two checks for Ctrl-C (default 16,384); the result does not depend on it.
+    ``backend`` and ``precision`` are :func:`simulate`'s (the GPU runs each chunk's samples
+    as one batch of tables).
     """
     sc = _scenario(scenario)
     per = 16_384 if chunk is None else int(chunk)
     if per < 1:
         raise ValueError(f"chunk {chunk}: at least 1")
-    options = dict(seed=seed, until=until, noise=noise, max_events=max_events, max_time=max_time)
+    options = dict(
+        seed=seed,
+        until=until,
+        noise=noise,
+        max_events=max_events,
+        max_time=max_time,
+        backend=backend,
+        precision=precision,
+    )
     if strikes is None:
         total = int(samples)
         if total < 1:

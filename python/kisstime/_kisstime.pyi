@@ -30,12 +30,12 @@ def next_collisions(
 ) -> bytes: ...
 def simulate(
     batch: Batch, strikes: Optional[tuple[_I, _I, list[_F]]], table_name: str,
-    max_events: int, max_time: float, events: bool,
+    max_events: int, max_time: float, events: bool, backend: str, precision: Optional[str],
 ) -> tuple[Optional[bytes], bytes, bytes]: ...
 def study_chunk(
     kind: str, text: str, source: str, dir: Optional[str], first: int, n: int, seed: int,
     strikes: Optional[tuple[_I, list[_F]]], until: str, noise: Optional[float],
-    max_events: int, max_time: float,
+    max_events: int, max_time: float, backend: str, precision: Optional[str],
 ) -> bytes: ...
 def study_merge(
     kind: str, text: str, source: str, dir: Optional[str], blobs: list[bytes], until: str

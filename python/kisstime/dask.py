@@ -107,6 +107,8 @@ def _run_chunk(
     noise: float | None,
     max_events: int,
     max_time: float,
+    backend: str = "cpu",
+    precision: str | None = None,
 ) -> bytes:
     """One task: samples ``first .. first + n`` (or rows ``first .. first + n`` of ``strikes``)."""
     if strikes is not None:
@@ -123,6 +125,8 @@ def _run_chunk(
         noise=noise,
         max_events=max_events,
         max_time=max_time,
+        backend=backend,
+        precision=precision,
     )
 
 
@@ -169,6 +173,8 @@ def shot_study(
     max_time: float = 600.0,
     npy: str | os.PathLike[str] | None = None,
     retries: int = 3,
+    backend: str = "cpu",
+    precision: str | None = None,
 ) -> kisstime.Study:
     """A shot study run on a Dask cluster; the same :class:`~kisstime.Study` as one process gives.
 
@@ -200,8 +206,9 @@ def shot_study(
         instead of noisy ones: every row, in order, each sample numbered by its ``sample``.
         Each task carries only its own rows. With no rows nothing is sent and the result
         is :func:`kisstime.shot_study`'s.
-    until, noise, max_events, max_time
-        As for :func:`kisstime.shot_study`.
+    until, noise, max_events, max_time, backend, precision
+        As for :func:`kisstime.shot_study`; ``backend`` applies on each worker (``"auto"``
+        uses a worker's GPU where it has one and its CPU elsewhere).
     npy
         If given, the per-sample rows (``Study.samples``) are written there as ``.npy``
         (``Study.save``).
@@ -230,7 +237,15 @@ def shot_study(
     columns = None if strikes is None else _strike_columns(strikes)
     total = _count("samples", samples, 1) if columns is None else len(columns["sample"])
     sc = kisstime.scenario(scenario)
-    options = dict(seed=seed, until=until, noise=noise, max_events=max_events, max_time=max_time)
+    options = dict(
+        seed=seed,
+        until=until,
+        noise=noise,
+        max_events=max_events,
+        max_time=max_time,
+        backend=backend,
+        precision=precision,
+    )
     if total == 0:
         # No strike rows: nothing to send; whatever one process gives.
         study = kisstime.shot_study(sc, strikes=columns, **options)

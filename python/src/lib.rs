@@ -16,15 +16,17 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use kisstime::batch::Batch;
+use kisstime::engine::ShotEngine;
+use kisstime::gpu::{GpuRun, GpuShot};
 use kisstime::io::npy::{batch_from_columns, batch_from_records};
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{match_strikes, sample_strikes_from_columns, strike_rows_from_columns};
 use kisstime::io::table_json::table_by_name;
 use kisstime::io::{Format, PairsWriter};
-use kisstime::simulate::{BatchError, BatchOptions, Limits, SimParams, simulate_batch};
+use kisstime::simulate::{BatchError, BatchOptions, Limits, SimParams, TableRun, simulate_batch};
 use kisstime::study::{
     Class, FirstContact, Pot, Result4, RunOptions, Sample, StudyConfig, Summary, Until,
-    noisy_strike, run_strikes,
+    noisy_strike,
 };
 use kisstime::{Backend, Engine, Error, Params, Precision};
 
@@ -86,8 +88,9 @@ fn params_of(p: (f64, f64, f64, f64, f64)) -> PyResult<Params> {
     Ok(params)
 }
 
-/// The engine a backend and precision name.
-fn engine_of(backend: &str, precision: Option<&str>) -> PyResult<Engine> {
+/// The backend and precision a backend and precision name (the precision's default is
+/// the backend's).
+fn backend_of(backend: &str, precision: Option<&str>) -> PyResult<(Backend, Precision)> {
     let backend = match backend {
         "cpu" => Backend::Cpu,
         "gpu" => Backend::Gpu,
@@ -108,7 +111,35 @@ fn engine_of(backend: &str, precision: Option<&str>) -> PyResult<Engine> {
             )));
         }
     };
+    Ok((backend, precision))
+}
+
+/// The engine a backend and precision name.
+fn engine_of(backend: &str, precision: Option<&str>) -> PyResult<Engine> {
+    let (backend, precision) = backend_of(backend, precision)?;
     Engine::new(backend, precision).map_err(py_err)
+}
+
+/// The shot engine a backend and precision name (the simulator's precision defaults to
+/// f64 on every backend).
+fn shot_engine_of(backend: &str, precision: Option<&str>) -> PyResult<ShotEngine> {
+    let (backend, precision) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
+    ShotEngine::new(backend, precision).map_err(py_err)
+}
+
+/// The engine's notes (fallbacks to the CPU) as Python `RuntimeWarning`s.
+fn warn_notes(py: Python<'_>, engine: &mut ShotEngine) -> PyResult<()> {
+    for note in engine.take_notes() {
+        let text = std::ffi::CString::new(format!("kisstime: {note}"))
+            .unwrap_or_else(|_| c"kisstime: a fallback to the CPU".to_owned());
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyRuntimeWarning>(),
+            &text,
+            1,
+        )?;
+    }
+    Ok(())
 }
 
 /// Consecutive table ranges of at most `per` tables.
@@ -239,8 +270,8 @@ fn pair_times<'py>(
 /// Whole shots from the strike to rest: `(events, final, outcomes)` as the `.npy` bytes of
 /// `kisstime simulate -o … --final … --outcomes …` (`events` is `None` unless asked).
 #[pyfunction]
-#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events))]
-#[allow(clippy::type_complexity)]
+#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision))]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
     batch: &PyBatch,
@@ -249,6 +280,8 @@ fn simulate<'py>(
     max_events: usize,
     max_time: f64,
     events: bool,
+    backend: &str,
+    precision: Option<&str>,
 ) -> PyResult<(
     Option<Bound<'py, PyBytes>>,
     Bound<'py, PyBytes>,
@@ -286,6 +319,9 @@ fn simulate<'py>(
         record_events: events,
         ..BatchOptions::default()
     };
+    let mut engine = shot_engine_of(backend, precision)?;
+    warn_notes(py, &mut engine)?;
+    let on_gpu = engine.gpu().is_some();
     let n = batch.num_tables();
     let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
     {
@@ -302,21 +338,42 @@ fn simulate<'py>(
         let input = batch.sim_input(&strikes, params.ball.r);
         for part in chunks(n, 16_384) {
             let offset = part.start;
-            let result = py.detach(|| {
-                let mut kept: Vec<kisstime::simulate::Chunk> = Vec::new();
-                simulate_batch(
-                    &tbl,
-                    params,
-                    &options,
-                    part.len(),
-                    |k, balls| input(offset + k, balls),
-                    |chunk| {
-                        kept.push(chunk.clone());
-                        Ok::<(), ()>(())
-                    },
-                )
-                .map(|_| kept)
-            });
+            let result = if on_gpu {
+                // the GPU's event loop (or the CPU, where `auto` falls back)
+                py.detach(|| {
+                    let mut shots = Vec::with_capacity(part.len());
+                    for k in part.clone() {
+                        let mut balls = Vec::new();
+                        let strike = input(k, &mut balls).map_err(|error| BatchError::Table {
+                            table: k - offset,
+                            error,
+                        })?;
+                        shots.push(GpuShot { balls, strike });
+                    }
+                    engine.simulate(&tbl, params, options.limits, &shots, events)
+                })
+            } else {
+                py.detach(|| {
+                    let mut kept: Vec<GpuRun> = Vec::with_capacity(part.len());
+                    simulate_batch(
+                        &tbl,
+                        params,
+                        &options,
+                        part.len(),
+                        |k, balls| input(offset + k, balls),
+                        |chunk| {
+                            kept.extend(chunk.iter().map(|run| GpuRun {
+                                events: run.events.to_vec(),
+                                balls: run.balls.to_vec(),
+                                outcome: run.outcome,
+                            }));
+                            Ok::<(), Error>(())
+                        },
+                    )
+                    .map(|_| kept)
+                })
+            };
+            warn_notes(py, &mut engine)?;
             let kept = match result {
                 Ok(kept) => kept,
                 Err(BatchError::Table { table: k, error }) => {
@@ -327,23 +384,25 @@ fn simulate<'py>(
                     );
                     return Err(py_err(e));
                 }
-                Err(BatchError::Sink(())) => {
-                    return Err(PyRuntimeError::new_err("simulation stopped"));
-                }
+                Err(BatchError::Sink(e)) => return Err(py_err(e)),
             };
-            for chunk in &kept {
-                for run in chunk.iter() {
-                    let k = offset + run.table;
-                    let ids = TableIds {
-                        table: batch.table_id(k),
-                        balls: batch.ball_ids(k),
-                    };
-                    if let Some(w) = ev_w.as_mut() {
-                        w.write_table(ids, &tbl, &run).map_err(mem_err)?;
-                    }
-                    fin_w.write_table(ids, &tbl, &run).map_err(mem_err)?;
-                    oc_w.write_table(ids, &run).map_err(mem_err)?;
+            for (j, r) in kept.iter().enumerate() {
+                let k = offset + j;
+                let run = TableRun {
+                    table: k,
+                    events: &r.events,
+                    balls: &r.balls,
+                    outcome: r.outcome,
+                };
+                let ids = TableIds {
+                    table: batch.table_id(k),
+                    balls: batch.ball_ids(k),
+                };
+                if let Some(w) = ev_w.as_mut() {
+                    w.write_table(ids, &tbl, &run).map_err(mem_err)?;
                 }
+                fin_w.write_table(ids, &tbl, &run).map_err(mem_err)?;
+                oc_w.write_table(ids, &run).map_err(mem_err)?;
             }
             py.check_signals()?;
         }
@@ -540,7 +599,7 @@ fn decode(blob: &[u8], ids: &mut Vec<i64>, out: &mut Vec<Sample>) -> Option<()> 
 /// One chunk of a study: samples `first .. first + n` (noisy, from `seed`; or rows
 /// `first .. first + n` of the given strikes), as an opaque blob for [`study_merge`].
 #[pyfunction]
-#[pyo3(signature = (kind, text, source, dir, first, n, seed, strikes, until, noise, max_events, max_time))]
+#[pyo3(signature = (kind, text, source, dir, first, n, seed, strikes, until, noise, max_events, max_time, backend, precision))]
 #[allow(clippy::too_many_arguments)]
 fn study_chunk<'py>(
     py: Python<'py>,
@@ -556,8 +615,16 @@ fn study_chunk<'py>(
     noise: Option<f64>,
     max_events: usize,
     max_time: f64,
+    backend: &str,
+    precision: Option<&str>,
 ) -> PyResult<Bound<'py, PyBytes>> {
     let config = config_of(kind, text, source, dir)?;
+    // checked now; the device is opened only for a chunk that has samples (the Python
+    // side checks its arguments with an empty chunk first)
+    let (backend_kind, precision_kind) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
+    if backend_kind == Backend::Cpu && precision_kind == Precision::F32 {
+        shot_engine_of(backend, precision)?;
+    }
     let until = until_of(until)?;
     if !(max_time.is_finite() && max_time > 0.0) || max_events == 0 {
         return Err(PyValueError::new_err(format!(
@@ -601,9 +668,15 @@ fn study_chunk<'py>(
             max_time,
         },
     };
-    let samples = py
-        .detach(|| run_strikes(&config, &strikes, &options, &mut |_, _| {}))
-        .map_err(py_err)?;
+    let samples = if strikes.is_empty() {
+        kisstime::study::run_strikes(&config, &[], &options, &mut |_, _| {}).map_err(py_err)?
+    } else {
+        let mut engine = shot_engine_of(backend, precision)?;
+        warn_notes(py, &mut engine)?;
+        let samples = py.detach(|| engine.run_strikes(&config, &strikes, &options, &mut |_, _| {}));
+        warn_notes(py, &mut engine)?;
+        samples.map_err(py_err)?
+    };
     let mut out = Vec::with_capacity(samples.len() * 256);
     for (id, s) in ids.iter().zip(&samples) {
         encode(&mut out, *id, s);

@@ -117,7 +117,7 @@ def test_shot_study_matches_the_cli(tmp_path):
     cli_summary = json.loads(r.stdout)
     study = kisstime.shot_study(samples=3000, seed=5, chunk=1000)
     # the summary: the CLI's, less the run's description
-    for key in ("seed", "strikes", "noise", "seconds", "samples_per_s", "threads"):
+    for key in ("seed", "strikes", "noise", "seconds", "samples_per_s", "threads", "backend"):
         cli_summary.pop(key)
     assert study.summary == cli_summary
     rows = list(csv.DictReader(open(out)))

@@ -78,6 +78,9 @@ struct LoopConfig {
 @group(0) @binding(5) var<storage, read_write> events_r: array<real>;
 // Per table: the number of events recorded by this dispatch, then EVENT_UINTS per event.
 @group(0) @binding(6) var<storage, read_write> events_u: array<u32>;
+// The tables still running after this dispatch (the host zeroes it before each dispatch
+// and reads back only this word until it is 0).
+@group(0) @binding(7) var<storage, read_write> running: atomic<u32>;
 
 // The table's state while the dispatch lasts.
 var<workgroup> balls: array<BallState, GPU_MAX_BALLS>;
@@ -238,6 +241,9 @@ fn store_table(table: u32, lid: u32) {
         state_u[u0 + 249u] = n_events;
         state_u[u0 + 250u] = status;
         events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = n_recorded;
+        if status == STATUS_RUNNING {
+            atomicAdd(&running, 1u);
+        }
     }
 }
 

@@ -242,7 +242,17 @@ pub struct ShotsArgs {
     /// Stop a sample before an event later than this simulated time in s; counted as cut.
     #[arg(long, default_value_t = 600.0)]
     pub max_time: f64,
-    /// Print the table and the run's size on stderr.
+    /// Where to simulate: `cpu` (Rayon, f64, the reference), `gpu` (the WGSL event loop,
+    /// one workgroup per sample; at most 16 balls; an error when no GPU is usable) or
+    /// `auto` (the GPU when one works, else the CPU, saying why on stderr).
+    #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
+    pub backend: BackendArg,
+    /// The GPU's precision: `f64` (the default; needs SHADER_F64) or `f32` (faster; its
+    /// outcome fractions agree with f64's within their confidence intervals, its single
+    /// samples may not). The CPU computes in f64.
+    #[arg(long, value_enum, default_value_t = PrecisionArg::F64)]
+    pub precision: PrecisionArg,
+    /// Print the table, the run's size and the backend on stderr.
     #[arg(short, long)]
     pub verbose: bool,
     /// Worker threads (default: one per core). Results do not depend on it.

@@ -24,6 +24,8 @@ pub struct Run<'a> {
     pub seconds: f64,
     /// Worker threads.
     pub threads: usize,
+    /// What simulated, e.g. `cpu f64 (2 threads)` or `gpu f32: NVIDIA H200 (Vulkan, …)`.
+    pub backend: String,
 }
 
 /// A fraction as a percentage: two decimals, or three significant digits below 1 %.
@@ -244,17 +246,17 @@ pub fn summary_text(run: &Run<'_>, s: &Summary) -> String {
     }
     let _ = writeln!(
         out,
-        "\n{n} samples in {:.3} s: {:.0} samples/s on {} threads (CPU, f64)",
+        "\n{n} samples in {:.3} s: {:.0} samples/s on {}",
         run.seconds,
         n as f64 / run.seconds.max(1e-9),
-        run.threads
+        run.backend
     );
     out
 }
 
 /// The summary as one JSON object (for scripts): the study's counts and statistics
 /// ([`Summary::to_json`]) with the run's description added (seed, noise or strike file,
-/// time, threads).
+/// time, threads, backend).
 pub fn summary_json(run: &Run<'_>, s: &Summary) -> String {
     let mut v = s.to_json(run.scenario);
     let n = s.samples;
@@ -267,6 +269,7 @@ pub fn summary_json(run: &Run<'_>, s: &Summary) -> String {
         "seconds": run.seconds,
         "samples_per_s": n as f64 / run.seconds.max(1e-9),
         "threads": run.threads,
+        "backend": run.backend,
     });
     if let (Value::Object(m), Value::Object(e)) = (&mut v, extra) {
         m.extend(e);

@@ -3,10 +3,11 @@
 use std::path::Path;
 
 use kisstime::Error;
+use kisstime::engine::{Backend, Precision, ShotEngine};
 use kisstime::io::strikes::read_sample_strikes;
 use kisstime::io::{output_error, write_output};
 use kisstime::simulate::{CueStrike, Limits};
-use kisstime::study::{Noise, RunOptions, StudyConfig, Summary, Until, run_strikes, run_study};
+use kisstime::study::{Noise, RunOptions, StudyConfig, Summary, Until};
 
 use super::args::{ShotsArgs, UntilArg};
 use super::commands::check_output;
@@ -59,6 +60,12 @@ fn read_scenario(path: Option<&Path>) -> Result<StudyConfig, Error> {
 }
 
 pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
+    let (backend, precision) = (args.backend.backend(), args.precision.precision());
+    if backend == Backend::Cpu && precision == Precision::F32 {
+        return Err(Error::Unsupported(
+            "--precision f32 needs --backend gpu or auto: the CPU simulates in f64 only".into(),
+        ));
+    }
     if let Some(out) = &args.output {
         check_output(out, "-o", &["csv"])?;
     }
@@ -94,23 +101,30 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
     let n = given
         .as_ref()
         .map_or(args.samples as usize, |(ids, _)| ids.len());
+    let mut engine = ShotEngine::new(backend, precision)?;
+    for note in engine.take_notes() {
+        eprintln!("kisstime: {note}");
+    }
     if args.verbose {
         eprintln!(
-            "kisstime: {n} samples of {} ({} balls, table {}), {} threads",
+            "kisstime: {n} samples of {} ({} balls, table {}) on {}",
             scenario.source,
             scenario.balls.len(),
             scenario.table_name,
-            rayon::current_num_threads()
+            engine.describe()
         );
     }
     let started = std::time::Instant::now();
     let bar = Progress::new("shots", n as u64, "samples", n >= SHOW_SAMPLES);
     let mut progress = |done: usize, _: usize| bar.set(done as u64);
     let samples = match &given {
-        Some((_, strikes)) => run_strikes(&scenario, strikes, &options, &mut progress),
-        None => run_study(&scenario, &sigma, n, args.seed, &options, &mut progress),
+        Some((_, strikes)) => engine.run_strikes(&scenario, strikes, &options, &mut progress),
+        None => engine.run_study(&scenario, &sigma, n, args.seed, &options, &mut progress),
     };
     bar.done();
+    for note in engine.take_notes() {
+        eprintln!("kisstime: {note}");
+    }
     let seconds = started.elapsed().as_secs_f64();
     let samples = samples?;
     let summary = Summary::of(&scenario, &samples, options.until);
@@ -125,6 +139,7 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
         strikes: args.strikes.as_deref(),
         seconds,
         threads: rayon::current_num_threads(),
+        backend: engine.describe(),
     };
     let report = if args.json {
         summary_json(&run, &summary) + "\n"

@@ -5,8 +5,8 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use kisstime::engine::{Backend, Precision};
-use kisstime::gpu::{GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator};
+use kisstime::engine::{Backend, Precision, ShotEngine};
+use kisstime::gpu::{GpuRun, GpuShot};
 use kisstime::io::Format;
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
@@ -132,9 +132,10 @@ fn out_err(path: Option<&Path>) -> impl Fn(std::io::Error) -> Error + '_ {
 }
 
 /// The runs of the GPU event loop for `--backend gpu` and `auto` (with the seconds it
-/// took), or `None` where the CPU simulates: `--backend cpu`, or `auto` without a usable
-/// GPU, with a table of more than [`GPU_MAX_BALLS`] balls, or after a GPU failure (each
-/// said on stderr). With `gpu` those are errors.
+/// took), or `None` where the CPU simulates (streamed): `--backend cpu`, or `auto` without
+/// a usable GPU (said on stderr). A table of more than 16 balls (`GPU_MAX_BALLS`) or a GPU
+/// failure is an error with `gpu`; with `auto` the batch is simulated on the CPU then
+/// ([`ShotEngine`], which says why on stderr).
 #[allow(clippy::too_many_arguments)]
 fn gpu_simulate(
     args: &SimulateArgs,
@@ -150,15 +151,20 @@ fn gpu_simulate(
     if backend == Backend::Cpu {
         return Ok(None);
     }
-    let fall_back = |why: String| -> Result<Option<(Vec<GpuRun>, f64)>, Error> {
-        match backend {
-            Backend::Auto => {
-                eprintln!("kisstime: simulating on the CPU: {why}");
-                Ok(None)
-            }
-            _ => Err(Error::Gpu(why)),
+    let precision = args.precision.precision();
+    let mut engine = ShotEngine::new(backend, precision)?;
+    let say = |engine: &mut ShotEngine| {
+        for note in engine.take_notes() {
+            eprintln!("kisstime: {note}");
         }
     };
+    say(&mut engine);
+    if engine.gpu().is_none() {
+        return Ok(None);
+    }
+    if args.verbose {
+        eprintln!("kisstime: simulating on the GPU: {}", engine.describe());
+    }
     let n = batch.num_tables();
     let input = batch.sim_input(strikes, params.ball.r);
     let mut shots = Vec::with_capacity(n);
@@ -166,36 +172,19 @@ fn gpu_simulate(
         let mut balls = Vec::new();
         let strike =
             input(k, &mut balls).map_err(|e| table_error(args, batch, strike_rows, k, e))?;
-        if balls.len() > GPU_MAX_BALLS {
-            return fall_back(format!(
-                "table {} has {} balls; the GPU event loop takes at most {GPU_MAX_BALLS}",
-                batch.table_id(k),
-                balls.len()
-            ));
-        }
         shots.push(GpuShot { balls, strike });
     }
-    let precision = args.precision.precision();
-    let mut gpu = match GpuSimulator::new(precision) {
-        Ok(g) => g,
-        Err(Error::GpuUnavailable(why)) if backend == Backend::Auto => {
-            eprintln!("kisstime: simulating on the CPU: {why}");
-            return Ok(None);
-        }
-        Err(e) => return fall_back(e.to_string()),
-    };
-    if args.verbose {
-        eprintln!(
-            "kisstime: simulating on the GPU {} in {}",
-            gpu.adapter(),
-            precision.name()
-        );
-    }
     let started = std::time::Instant::now();
-    match gpu.simulate(table, params, limits, &shots, record_events) {
-        Ok(runs) => Ok(Some((runs, started.elapsed().as_secs_f64()))),
-        Err(e) => fall_back(format!("the GPU failed: {e}")),
-    }
+    let runs = engine
+        .simulate(table, params, limits, &shots, record_events)
+        .map_err(|e| match e {
+            BatchError::Table { table: k, error } => {
+                table_error(args, batch, strike_rows, k, error)
+            }
+            BatchError::Sink(e) => e,
+        });
+    say(&mut engine);
+    Ok(Some((runs?, started.elapsed().as_secs_f64())))
 }
 
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {

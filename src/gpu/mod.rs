@@ -47,6 +47,7 @@ pub use fault::Fault;
 pub use shader::shader_source;
 pub use simulate::{
     EVENTS_PER_DISPATCH, GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator, MAX_TABLES_PER_CHUNK,
+    OnEvent,
 };
 
 /// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the

@@ -15,7 +15,7 @@
 
 use super::device::{self, AdapterSummary, gpu_error};
 use super::shader::simulate_source;
-use crate::error::{Error, SimError};
+use crate::error::{Error, InputError, SimError};
 use crate::model::ball_state::{BallState, ball_energy};
 use crate::model::sim_params::SimParams;
 use crate::model::table::Table;
@@ -24,9 +24,9 @@ use crate::model::{MotionState, Precision};
 use crate::motion::evolve::{TransitionKind, next_transition};
 use crate::resolve::stick_ball::{CueStrike, cue_strike};
 use crate::simulate::batch::EventRecord;
+use crate::simulate::check::check_layout;
 use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
 use crate::simulate::{EventLoop, Limits};
-use wgpu::util::DeviceExt;
 
 /// Events per table and dispatch, by default. Short dispatches keep a device responsive;
 /// on lavapipe (Mesa 22.3) a 16-ball break's first 256-event dispatch stopped part-way
@@ -60,6 +60,9 @@ const GPU_ROWS: usize = 3 * GPU_MAX_BALLS;
 const NEVER_F64: f64 = 1.0e300;
 const NEVER_F32: f32 = 3.0e38;
 
+/// What [`GpuSimulator::simulate_with`] hands each event to: `(table, record)`.
+pub type OnEvent<'a> = &'a mut dyn FnMut(usize, &EventRecord);
+
 /// One table's shot: its balls (pooltool's order) and the strike, if any.
 #[derive(Clone, Debug)]
 pub struct GpuShot {
@@ -83,14 +86,18 @@ pub struct GpuRun {
 
 /// The GPU event loop: device and pipeline, reused across calls.
 pub struct GpuSimulator {
-    device: wgpu::Device,
+    pub(super) device: wgpu::Device,
     queue: wgpu::Queue,
     adapter: AdapterSummary,
     precision: Precision,
     pipeline: wgpu::ComputePipeline,
-    max_groups_per_dim: u32,
+    pub(super) max_groups_per_dim: u32,
     /// The largest storage binding the device allows, in bytes.
     max_binding: u64,
+    watch: device::DeviceWatch,
+    /// A fault waiting for its dispatch: the fault, and how many dispatches run first.
+    #[cfg(feature = "testing")]
+    pub(super) pending_fault: Option<(super::Fault, u32)>,
     /// Events per table and dispatch.
     pub events_per_dispatch: u32,
     /// The most tables per chunk: a batch is cut into chunks of whole tables that fit the
@@ -139,6 +146,9 @@ impl GpuSimulator {
             device,
             queue: opened.queue,
             adapter: opened.adapter,
+            watch: opened.watch,
+            #[cfg(feature = "testing")]
+            pending_fault: None,
             precision,
             pipeline,
             events_per_dispatch: EVENTS_PER_DISPATCH,
@@ -151,11 +161,20 @@ impl GpuSimulator {
         &self.adapter
     }
 
-    /// Simulates every shot on `table` to rest (or to a limit), in shot order.
+    /// The precision the event loop computes in.
+    pub fn precision(&self) -> Precision {
+        self.precision
+    }
+
+    /// Simulates every shot on `table` to rest (or to a limit), in shot order; with
+    /// `record_events` each run keeps its events (see [`GpuSimulator::simulate_with`] to
+    /// stream them instead).
     ///
-    /// Errors: a table with more than [`GPU_MAX_BALLS`] balls, non-finite numbers or a bad
-    /// strike ([`Error::Gpu`] naming the table and the reason), bad parameters, or a
-    /// device failure.
+    /// Errors: a table with more than [`GPU_MAX_BALLS`] balls ([`Error::Unsupported`]); a
+    /// table the CPU refuses too (`check_layout`: non-finite numbers, a ball off the
+    /// table; a bad strike), as [`Error::Input`] naming the table and the reason; bad
+    /// parameters; or a device failure ([`Error::Gpu`]: validation, out of memory, a lost
+    /// device, a failed readback).
     pub fn simulate(
         &mut self,
         table: &Table,
@@ -164,6 +183,36 @@ impl GpuSimulator {
         shots: &[GpuShot],
         record_events: bool,
     ) -> Result<Vec<GpuRun>, Error> {
+        if !record_events {
+            return self.simulate_with(table, params, limits, shots, None);
+        }
+        let mut events: Vec<Vec<EventRecord>> = vec![Vec::new(); shots.len()];
+        let mut keep = |k: usize, e: &EventRecord| events[k].push(*e);
+        let mut runs = self.simulate_with(table, params, limits, shots, Some(&mut keep))?;
+        for (run, ev) in runs.iter_mut().zip(events) {
+            run.events = ev;
+        }
+        Ok(runs)
+    }
+
+    /// [`GpuSimulator::simulate`] that hands each event, in order within each table, to
+    /// `on_event(table, record)` as it is read back (after every dispatch) instead of
+    /// keeping it: a study watches a million shots' events without holding them. Without
+    /// `on_event` no event is read back. The runs' `events` stay empty.
+    pub fn simulate_with(
+        &mut self,
+        table: &Table,
+        params: SimParams,
+        limits: Limits,
+        shots: &[GpuShot],
+        on_event: Option<OnEvent<'_>>,
+    ) -> Result<Vec<GpuRun>, Error> {
+        let record_events = on_event.is_some();
+        let mut ignore = |_: usize, _: &EventRecord| {};
+        let on_event: &mut dyn FnMut(usize, &EventRecord) = match on_event {
+            Some(f) => f,
+            None => &mut ignore,
+        };
         let per = self.events_per_dispatch.max(1) as usize;
         let real = self.precision.real_size();
         // the largest per-table buffer decides how many tables fit one binding
@@ -181,13 +230,16 @@ impl GpuSimulator {
                 part,
                 c * chunk,
                 record_events,
+                &mut *on_event,
             )?);
         }
         Ok(runs)
     }
 
-    /// [`GpuSimulator::simulate`] for one chunk of tables that fits the device's buffers;
-    /// `first` is the chunk's first table in the batch (for messages).
+    /// [`GpuSimulator::simulate_with`] for one chunk of tables that fits the device's
+    /// buffers; `first` is the chunk's first table in the batch (for messages and for
+    /// `on_event`, which is called only with `record_events`).
+    #[allow(clippy::too_many_arguments)]
     fn simulate_chunk(
         &mut self,
         table: &Table,
@@ -196,6 +248,7 @@ impl GpuSimulator {
         shots: &[GpuShot],
         first: usize,
         record_events: bool,
+        on_event: &mut dyn FnMut(usize, &EventRecord),
     ) -> Result<Vec<GpuRun>, Error> {
         let n_tables = shots.len();
         // the parameters and every table checked as the CPU loop checks them
@@ -206,22 +259,26 @@ impl GpuSimulator {
         let mut state_u = vec![0u32; n_tables * TABLE_UINTS];
         for (k, shot) in shots.iter().enumerate() {
             let at = first + k;
-            let bad = |e: SimError| gpu_error(format!("table {at}: {e}"));
+            let bad = |e: SimError| Error::from(InputError::new(format!("table {at}: {e}")));
             if shot.balls.len() > GPU_MAX_BALLS {
-                return Err(gpu_error(format!(
+                return Err(Error::Unsupported(format!(
                     "table {at}: {} balls, the GPU event loop takes at most {GPU_MAX_BALLS}",
                     shot.balls.len()
                 )));
             }
+            check_layout(table, params.ball.r, &shot.balls).map_err(bad)?;
             check.reset(&shot.balls, shot.strike).map_err(bad)?;
-            runs.push(start_table(
+            let (run, strike) = start_table(
                 shot,
                 &params,
                 limits,
-                record_events,
                 &mut state_r[k * TABLE_REALS..(k + 1) * TABLE_REALS],
                 &mut state_u[k * TABLE_UINTS..(k + 1) * TABLE_UINTS],
-            ));
+            );
+            if let (true, Some(record)) = (record_events, strike) {
+                on_event(at, &record);
+            }
+            runs.push(run);
         }
         if n_tables == 0 {
             return Ok(runs);
@@ -268,21 +325,28 @@ impl GpuSimulator {
             groups_x,
             u32::from(record_events),
         ];
+        // a device lost before this chunk fails here, before any buffer is made
+        if let Some(e) = self.watch.fault() {
+            return Err(e);
+        }
         let dev = &self.device;
-        let reals = |label: &str, v: &[f64], usage: wgpu::BufferUsages| {
-            let bytes = self.real_bytes(v);
-            dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        // buffers filled through the queue (wgpu's `create_buffer_init` panics on a lost
+        // device; this way its failure is reported at the first dispatch)
+        let filled = |label: &str, bytes: &[u8], usage: wgpu::BufferUsages| {
+            let buffer = dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                contents: &bytes,
-                usage,
-            })
+                size: (bytes.len() as u64).max(4).next_multiple_of(4),
+                usage: usage | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            self.queue.write_buffer(&buffer, 0, bytes);
+            buffer
+        };
+        let reals = |label: &str, v: &[f64], usage: wgpu::BufferUsages| {
+            filled(label, &self.real_bytes(v), usage)
         };
         let uints = |label: &str, v: &[u32], usage: wgpu::BufferUsages| {
-            dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytemuck::cast_slice(v),
-                usage,
-            })
+            filled(label, bytemuck::cast_slice(v), usage)
         };
         let storage = wgpu::BufferUsages::STORAGE;
         let rw = storage | wgpu::BufferUsages::COPY_SRC;
@@ -291,11 +355,28 @@ impl GpuSimulator {
         let geo_buf = reals("geometry", &geometry, storage);
         let sr_buf = reals("state_r", &state_r, rw);
         let su_buf = uints("state_u", &state_u, rw);
-        let er_buf = reals("events_r", &vec![0.0; n_tables * per * EVENT_REALS], rw);
-        let eu_buf = uints("events_u", &vec![0; n_tables * (1 + per * EVENT_UINTS)], rw);
+        // the events buffers are one word where no event is read back
+        let (n_er, n_eu) = if record_events {
+            (
+                n_tables * per * EVENT_REALS,
+                n_tables * (1 + per * EVENT_UINTS),
+            )
+        } else {
+            (1, n_tables * (1 + per * EVENT_UINTS))
+        };
+        let er_buf = reals("events_r", &vec![0.0; n_er], rw);
+        let eu_buf = uints("events_u", &vec![0; n_eu], rw);
+        let running_buf = uints("running", &[0], rw | wgpu::BufferUsages::COPY_DST);
         let layout = self.pipeline.get_bind_group_layout(0);
         let entries: Vec<wgpu::BindGroupEntry> = [
-            &cfg_buf, &sim_buf, &geo_buf, &sr_buf, &su_buf, &er_buf, &eu_buf,
+            &cfg_buf,
+            &sim_buf,
+            &geo_buf,
+            &sr_buf,
+            &su_buf,
+            &er_buf,
+            &eu_buf,
+            &running_buf,
         ]
         .iter()
         .enumerate()
@@ -310,34 +391,34 @@ impl GpuSimulator {
             entries: &entries,
         });
         loop {
-            let mut encoder =
-                dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: None,
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                pass.dispatch_workgroups(groups_x, groups_y, 1);
-            }
-            self.queue.submit([encoder.finish()]);
-            let su = self.read_u32(&su_buf)?;
+            #[cfg_attr(not(feature = "testing"), allow(unused_mut))]
+            let mut row = groups_x;
+            #[cfg(feature = "testing")]
+            self.apply_pending_fault(&mut row);
+            self.queue
+                .write_buffer(&running_buf, 0, bytemuck::bytes_of(&0u32));
+            let mut read = vec![&running_buf];
             if record_events {
-                let eu = self.read_u32(&eu_buf)?;
-                let er = self.read_real(&er_buf)?;
-                for (k, run) in runs.iter_mut().enumerate() {
+                read.extend([&eu_buf, &er_buf]);
+            }
+            let back = self.dispatch_and_read([row, groups_y], &bind, &read)?;
+            if record_events {
+                let eu: Vec<u32> = bytemuck::pod_collect_to_vec(&back[1]);
+                let er = self.reals_of(&back[2]);
+                for k in 0..n_tables {
                     let base = k * (1 + per * EVENT_UINTS);
                     for e in 0..eu[base] as usize {
                         let u = &eu[base + 1 + e * EVENT_UINTS..base + 1 + (e + 1) * EVENT_UINTS];
                         let r0 = (k * per + e) * EVENT_REALS;
-                        run.events.push(event_record(u, &er[r0..r0 + EVENT_REALS])?);
+                        on_event(first + k, &event_record(u, &er[r0..r0 + EVENT_REALS])?);
                     }
                 }
             }
-            let running = (0..n_tables).any(|k| su[k * TABLE_UINTS + U_N + 2] == 0);
-            if !running {
-                let sr = self.read_real(&sr_buf)?;
+            let running: u32 = bytemuck::pod_read_unaligned(&back[0][..4]);
+            if running == 0 {
+                let back = self.dispatch_and_read([0, 0], &bind, &[&sr_buf, &su_buf])?;
+                let sr = self.reals_of(&back[0]);
+                let su: Vec<u32> = bytemuck::pod_collect_to_vec(&back[1]);
                 for (k, run) in runs.iter_mut().enumerate() {
                     finish_table(
                         run,
@@ -347,6 +428,95 @@ impl GpuSimulator {
                 }
                 return Ok(runs);
             }
+        }
+    }
+
+    /// One dispatch of `groups` workgroups (none where a count is 0), then `read` copied
+    /// back, in order. Any failure (validation, out of memory, a lost device, a failed
+    /// map) is an error, and no buffer is left mapped then.
+    fn dispatch_and_read(
+        &self,
+        groups: [u32; 2],
+        bind: &wgpu::BindGroup,
+        read: &[&wgpu::Buffer],
+    ) -> Result<Vec<Vec<u8>>, Error> {
+        let dev = &self.device;
+        let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = dev.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let mut encoder = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("kisstime event loop"),
+        });
+        if groups[0] > 0 && groups[1] > 0 {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("kisstime event loop"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, bind, &[]);
+            pass.dispatch_workgroups(groups[0], groups[1], 1);
+        }
+        let backs: Vec<wgpu::Buffer> = read
+            .iter()
+            .map(|b| {
+                let back = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("readback"),
+                    size: b.size(),
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                encoder.copy_buffer_to_buffer(b, 0, &back, 0, b.size());
+                back
+            })
+            .collect();
+        self.queue.submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        for (which, back) in backs.iter().enumerate() {
+            let tx = tx.clone();
+            back.slice(..)
+                .map_async(wgpu::MapMode::Read, move |r| drop(tx.send((which, r))));
+        }
+        drop(tx);
+        let polled = dev.poll(wgpu::PollType::wait_indefinitely());
+        let oom = pollster::block_on(oom.pop());
+        let invalid = pollster::block_on(scope.pop());
+        // every map callback has run once the poll returned
+        let mut mapped = vec![false; backs.len()];
+        let mut map_error = None;
+        for (which, r) in rx.try_iter() {
+            match r {
+                Ok(()) => mapped[which] = true,
+                Err(e) => map_error = Some(e),
+            }
+        }
+        let failure = if let Some(e) = oom.or(invalid) {
+            Some(gpu_error(format!("the GPU event loop failed: {e}")))
+        } else if let Err(e) = polled {
+            Some(gpu_error(format!("waiting for the GPU failed: {e}")))
+        } else if let Some(e) = map_error {
+            Some(gpu_error(format!(
+                "reading results back from the GPU failed: {e}"
+            )))
+        } else if mapped.iter().any(|m| !m) {
+            Some(gpu_error("the GPU results never became readable"))
+        } else {
+            self.watch.fault()
+        };
+        let mut out = Vec::with_capacity(backs.len());
+        for (back, was_mapped) in backs.iter().zip(&mapped) {
+            if *was_mapped {
+                if failure.is_none() {
+                    let view = back
+                        .slice(..)
+                        .get_mapped_range()
+                        .map_err(|e| gpu_error(format!("the results are not readable: {e}")));
+                    out.push(view.map(|v| v.to_vec()));
+                }
+                back.unmap();
+            }
+        }
+        match failure {
+            Some(e) => Err(e),
+            None => out.into_iter().collect(),
         }
     }
 
@@ -364,52 +534,15 @@ impl GpuSimulator {
         }
     }
 
-    /// The bytes of `buffer`, copied back from the device.
-    fn read_bytes(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, Error> {
-        let size = buffer.size();
-        let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        encoder.copy_buffer_to_buffer(buffer, 0, &readback, 0, size);
-        self.queue.submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        readback
-            .slice(..)
-            .map_async(wgpu::MapMode::Read, move |r| drop(tx.send(r)));
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| gpu_error(format!("the GPU did not finish: {e}")))?;
-        rx.recv()
-            .map_err(|e| gpu_error(format!("the readback was dropped: {e}")))?
-            .map_err(|e| gpu_error(format!("the results did not map: {e}")))?;
-        let bytes = readback
-            .slice(..)
-            .get_mapped_range()
-            .map_err(|e| gpu_error(format!("the results are not readable: {e}")))?
-            .to_vec();
-        readback.unmap();
-        Ok(bytes)
-    }
-
-    fn read_u32(&self, buffer: &wgpu::Buffer) -> Result<Vec<u32>, Error> {
-        Ok(bytemuck::pod_collect_to_vec(&self.read_bytes(buffer)?))
-    }
-
-    fn read_real(&self, buffer: &wgpu::Buffer) -> Result<Vec<f64>, Error> {
-        let bytes = self.read_bytes(buffer)?;
-        Ok(match self.precision {
-            Precision::F64 => bytemuck::pod_collect_to_vec(&bytes),
-            Precision::F32 => bytemuck::pod_collect_to_vec::<u8, f32>(&bytes)
+    /// Reals read back in the shader's precision, as f64.
+    fn reals_of(&self, bytes: &[u8]) -> Vec<f64> {
+        match self.precision {
+            Precision::F64 => bytemuck::pod_collect_to_vec(bytes),
+            Precision::F32 => bytemuck::pod_collect_to_vec::<u8, f32>(bytes)
                 .into_iter()
                 .map(f64::from)
                 .collect(),
-        })
+        }
     }
 }
 
@@ -423,21 +556,20 @@ fn from_never(t: f64) -> f64 {
 }
 
 /// Lays out one table's state at its start (after the strike, which is resolved here)
-/// and returns its run so far.
+/// and returns its run so far, with the strike's event record if there was one.
 fn start_table(
     shot: &GpuShot,
     params: &SimParams,
     limits: Limits,
-    record_events: bool,
     sr: &mut [f64],
     su: &mut [u32],
-) -> GpuRun {
+) -> (GpuRun, Option<EventRecord>) {
     let mut balls: Vec<BallState> = shot
         .balls
         .iter()
         .map(|b| BallState { t: 0.0, ..*b })
         .collect();
-    let mut events = Vec::new();
+    let mut strike = None;
     let mut n_events = 0u32;
     // the stick candidate of the CPU loop: at t = 0, every ball at rest, V0 > 0
     if let Some((cue, s)) = shot.strike {
@@ -446,15 +578,13 @@ fn start_table(
             let struck = cue_strike(&balls[cue], &s, &params.ball, &params.cue);
             balls[cue] = BallState { t: 0.0, ..struck };
             n_events = 1;
-            if record_events {
-                let event = Event {
-                    kind: EventKind::StickBall,
-                    t: 0.0,
-                    ball: cue as u32,
-                    other: NO_AGENT,
-                };
-                events.push(EventRecord::new(event, &balls));
-            }
+            let event = Event {
+                kind: EventKind::StickBall,
+                t: 0.0,
+                ball: cue as u32,
+                other: NO_AGENT,
+            };
+            strike = Some(EventRecord::new(event, &balls));
         }
     }
     for (i, b) in balls.iter().enumerate() {
@@ -489,15 +619,16 @@ fn start_table(
     } else {
         0
     };
-    GpuRun {
-        events,
+    let run = GpuRun {
+        events: Vec::new(),
         balls,
         outcome: Outcome {
             n_events: n_events as usize,
             t_end: 0.0,
             cut: None,
         },
-    }
+    };
+    (run, strike)
 }
 
 /// The shader's code of a transition kind (`TRANSITION_*` of `motion/evolve.wgsl`).

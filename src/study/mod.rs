@@ -7,7 +7,9 @@
 //!   its outcome columns);
 //! - [`noise`]: each sample's noisy strike;
 //! - [`run`]: the driver over samples on the event loop ([`crate::simulate`]), to rest or
-//!   to the first contact;
+//!   to the first contact, and the [`SampleWatch`] that turns a sample's events into its
+//!   outcome;
+//! - [`gpu`](mod@gpu): the same driver on the GPU event loop ([`crate::gpu::GpuSimulator`]);
 //! - [`stats`]: counts, Wilson intervals and summary statistics.
 //!
 //! The strike is pooltool 0.6.0's (`instantaneous_point` with squirt,
@@ -15,15 +17,18 @@
 //! per-sample CSV and the picture — is the command line's (`src/cli/`).
 
 pub mod config;
+pub mod gpu;
 pub mod noise;
 pub mod reference;
 pub mod run;
 pub mod stats;
 
 pub use config::{BUILTIN_NAME, BUILTIN_TOML, Noise, Spot, StudyConfig, Target};
+pub use gpu::{run_strikes_gpu, run_study_gpu};
 pub use noise::{clamped, noisy_strike};
 pub use reference::{REFERENCE_COLUMNS, write_reference_csv};
 pub use run::{
-    CHUNK, FirstContact, Pot, RunOptions, Sample, Until, run_strikes, run_study, simulate_sample,
+    CHUNK, FirstContact, Pot, RunOptions, Sample, SampleWatch, Until, run_strikes, run_study,
+    simulate_sample,
 };
 pub use stats::{Class, Result4, Stats, Summary, potted_as_called, wilson};

@@ -17,7 +17,7 @@ use crate::error::{Error, InputError, SimError};
 use crate::motion::evolve::evolve;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::event_loop::{EventLoop, Limits};
-use crate::simulate::events::{Cut, Event, EventKind};
+use crate::simulate::events::{Cut, Event, EventKind, Outcome};
 
 /// Samples simulated between two progress reports (memory stays bounded by the results).
 pub const CHUNK: usize = 16_384;
@@ -166,32 +166,56 @@ fn run_with(
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
-    crate::limits::check_memory(
-        &format!("a study of {samples} samples"),
-        (samples as u64).saturating_mul(std::mem::size_of::<Sample>() as u64),
-    )?;
     let initial = config.initial();
-    // the parameters and the ball count, checked once (the workers' loops cannot fail)
-    EventLoop::new(&config.table, config.params, options.limits, initial.len())?;
-    let mut out = Vec::with_capacity(samples);
-    let mut first = 0;
-    while first < samples {
-        let end = samples.min(first + CHUNK);
-        let part: Result<Vec<Sample>, Error> = (first..end)
+    run_chunks(config, samples, options, progress, |part| {
+        (part.start..part.end)
             .into_par_iter()
             .with_min_len(64)
             .map_init(
                 || {
                     EventLoop::new(&config.table, config.params, options.limits, initial.len())
-                        .expect("checked above")
+                        .expect("checked by run_chunks")
                 },
                 |lp, i| {
                     simulate_sample(lp, config, &initial, strike(i), options.until)
-                        .map_err(|e| Error::from(InputError::new(format!("sample {i}: {e}"))))
+                        .map_err(|e| sample_error(i, e))
                 },
             )
-            .collect();
-        out.extend(part?);
+            .collect()
+    })
+}
+
+/// A strike the simulator refuses, as the error of sample `i`.
+pub(super) fn sample_error(i: usize, e: SimError) -> Error {
+    Error::from(InputError::new(format!("sample {i}: {e}")))
+}
+
+/// The samples `0..samples` in chunks of [`CHUNK`], each computed by `chunk(range)`, with
+/// `progress` after each: the study's size checked against the memory first, and the
+/// parameters and ball count against the event loop (so that the workers' loops cannot
+/// fail).
+pub(super) fn run_chunks(
+    config: &StudyConfig,
+    samples: usize,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(usize, usize),
+    mut chunk: impl FnMut(std::ops::Range<usize>) -> Result<Vec<Sample>, Error>,
+) -> Result<Vec<Sample>, Error> {
+    crate::limits::check_memory(
+        &format!("a study of {samples} samples"),
+        (samples as u64).saturating_mul(std::mem::size_of::<Sample>() as u64),
+    )?;
+    EventLoop::new(
+        &config.table,
+        config.params,
+        options.limits,
+        config.initial().len(),
+    )?;
+    let mut out = Vec::with_capacity(samples);
+    let mut first = 0;
+    while first < samples {
+        let end = samples.min(first + CHUNK);
+        out.extend(chunk(first..end)?);
         first = end;
         progress(first, samples);
     }
@@ -228,6 +252,131 @@ fn first_contact_of(ev: &Event, cue: u32) -> Option<FirstContact> {
     }
 }
 
+/// What one sample comes to, built from its events as they go by: the same on the CPU's
+/// event loop ([`simulate_sample`]) and on the GPU's (`study::gpu`), which reports each
+/// event with the states of its balls right after it.
+#[derive(Clone, Debug)]
+pub struct SampleWatch {
+    cue: usize,
+    until: Until,
+    sample: Sample,
+    /// Events seen, the strike included.
+    seen: usize,
+    /// With [`Until::FirstContact`], once the first contact is seen: the events seen then
+    /// and the cue ball's centre; later events are ignored.
+    stop: Option<(usize, (f64, f64))>,
+}
+
+impl SampleWatch {
+    /// A watch of `strike` played from `initial` on `config`'s cue ball.
+    pub fn new(
+        config: &StudyConfig,
+        initial: &[crate::model::ball_state::BallState],
+        strike: CueStrike,
+        until: Until,
+    ) -> SampleWatch {
+        let cue = config.cue;
+        SampleWatch {
+            cue,
+            until,
+            sample: Sample {
+                strike,
+                first: FirstContact::Nothing,
+                first_t: f64::NAN,
+                contact_cue: (f64::NAN, f64::NAN),
+                contact_speed: f64::NAN,
+                contact_point: (f64::NAN, f64::NAN),
+                cut_angle: f64::NAN,
+                potted: Vec::new(),
+                cue_final: (initial[cue].r.x, initial[cue].r.y),
+                n_events: 0,
+                duration: 0.0,
+                cut: None,
+            },
+            seen: 0,
+            stop: None,
+        }
+    }
+
+    /// Whether the watch has all it needs ([`Until::FirstContact`] and the first contact
+    /// seen): the caller may stop the loop.
+    pub fn is_complete(&self) -> bool {
+        self.stop.is_some()
+    }
+
+    /// Takes event `ev` in. `cue_before` is the cue ball's state at time `t0` (any time
+    /// from its last change to `ev.t`), for its velocity just before the event;
+    /// `position(i)` gives ball `i`'s centre right after the event, for the balls `ev`
+    /// involves.
+    pub fn observe(
+        &mut self,
+        config: &StudyConfig,
+        ev: &Event,
+        cue_before: &crate::model::ball_state::BallState,
+        t0: f64,
+        position: impl Fn(usize) -> crate::model::vec3::Vec3,
+    ) {
+        if self.stop.is_some() {
+            return;
+        }
+        self.seen += 1;
+        let s = &mut self.sample;
+        if ev.kind == EventKind::BallPocket {
+            s.potted.push(Pot {
+                ball: ev.ball,
+                pocket: ev.other,
+                t: ev.t,
+            });
+        }
+        if s.first != FirstContact::Nothing {
+            return;
+        }
+        let cue = self.cue;
+        let Some(first) = first_contact_of(ev, cue as u32) else {
+            return;
+        };
+        let at = position(cue);
+        let v = evolve(cue_before, ev.t - t0, &config.params.ball).v;
+        s.first = first;
+        s.first_t = ev.t;
+        s.contact_cue = (at.x, at.y);
+        s.contact_speed = v.x.hypot(v.y);
+        s.contact_point = contact_point(config, first, (at.x, at.y));
+        if let FirstContact::Ball(k) = first {
+            let o = position(k as usize);
+            let (nx, ny) = (o.x - at.x, o.y - at.y);
+            s.contact_point = (0.5 * (at.x + o.x), 0.5 * (at.y + o.y));
+            s.cut_angle = (v.x * ny - v.y * nx)
+                .atan2(v.x * nx + v.y * ny)
+                .to_degrees();
+        }
+        if self.until == Until::FirstContact {
+            self.stop = Some((self.seen, (at.x, at.y)));
+        }
+    }
+
+    /// The sample, given the cue ball's centre at the end and how the loop ended (both
+    /// ignored once [`SampleWatch::is_complete`]: the sample ends at the first contact).
+    pub fn finish(self, cue_final: (f64, f64), outcome: Outcome) -> Sample {
+        let mut s = self.sample;
+        match self.stop {
+            Some((n_events, at)) => {
+                s.cue_final = at;
+                s.n_events = n_events;
+                s.duration = s.first_t;
+                s.cut = None;
+            }
+            None => {
+                s.cue_final = cue_final;
+                s.n_events = outcome.n_events;
+                s.duration = outcome.t_end;
+                s.cut = outcome.cut;
+            }
+        }
+        s
+    }
+}
+
 /// One sample on `lp`: the balls `initial`, `strike` on the study's cue ball, run
 /// [`Until`] the end asked for. Errors only on a strike the loop refuses.
 pub fn simulate_sample(
@@ -239,66 +388,20 @@ pub fn simulate_sample(
 ) -> Result<Sample, SimError> {
     let cue = config.cue;
     lp.reset(initial, Some((cue, strike)))?;
-    let mut s = Sample {
-        strike,
-        first: FirstContact::Nothing,
-        first_t: f64::NAN,
-        contact_cue: (f64::NAN, f64::NAN),
-        contact_speed: f64::NAN,
-        contact_point: (f64::NAN, f64::NAN),
-        cut_angle: f64::NAN,
-        potted: Vec::new(),
-        cue_final: (initial[cue].r.x, initial[cue].r.y),
-        n_events: 0,
-        duration: 0.0,
-        cut: None,
-    };
-    let mut found = false;
+    let mut watch = SampleWatch::new(config, initial, strike, until);
     loop {
         // the cue ball before the event, for its velocity at the first contact (its state
         // holds at the loop's time, whatever its own time stamp)
         let (before, t0) = (lp.balls()[cue], lp.time());
         let Some(ev) = lp.step() else { break };
-        if ev.kind == EventKind::BallPocket {
-            s.potted.push(Pot {
-                ball: ev.ball,
-                pocket: ev.other,
-                t: ev.t,
-            });
-        }
-        if found {
-            continue;
-        }
-        if let Some(first) = first_contact_of(&ev, cue as u32) {
-            found = true;
-            let balls = lp.balls();
-            let at = balls[cue].r;
-            let v = evolve(&before, ev.t - t0, &config.params.ball).v;
-            s.first = first;
-            s.first_t = ev.t;
-            s.contact_cue = (at.x, at.y);
-            s.contact_speed = v.x.hypot(v.y);
-            s.contact_point = contact_point(config, first, (at.x, at.y));
-            if let FirstContact::Ball(k) = first {
-                let o = balls[k as usize].r;
-                let (nx, ny) = (o.x - at.x, o.y - at.y);
-                s.contact_point = (0.5 * (at.x + o.x), 0.5 * (at.y + o.y));
-                s.cut_angle = (v.x * ny - v.y * nx)
-                    .atan2(v.x * nx + v.y * ny)
-                    .to_degrees();
-            }
-            if until == Until::FirstContact {
-                break;
-            }
+        let balls = lp.balls();
+        watch.observe(config, &ev, &before, t0, |i| balls[i].r);
+        if watch.is_complete() {
+            break;
         }
     }
     let end = lp.balls()[cue].r;
-    let outcome = lp.outcome();
-    s.cue_final = (end.x, end.y);
-    s.n_events = outcome.n_events;
-    s.duration = outcome.t_end;
-    s.cut = outcome.cut;
-    Ok(s)
+    Ok(watch.finish((end.x, end.y), lp.outcome()))
 }
 
 /// Where a cue ball centred at `(x, y)` touches the cushion of `first` (the nearest point

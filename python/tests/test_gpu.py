@@ -1,0 +1,104 @@
+"""The Python functions on the GPU event loop (``backend="gpu"`` / ``"auto"``): a study
+gives the CPU's samples (f64) and fractions (f32), ``simulate`` runs whole shots there, and
+``auto`` without a usable GPU warns and gives the CPU's arrays bit for bit.
+
+Without a GPU (no Vulkan driver) the GPU tests skip with the reason; with
+``KISSTIME_REQUIRE_GPU=1`` (CI, on Mesa's lavapipe) a missing GPU fails them."""
+
+from __future__ import annotations
+
+import os
+import pathlib
+import warnings
+
+import numpy as np
+import pytest
+
+import kisstime
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SHARED = ROOT.parent / "shared"
+SCENARIO = SHARED / "studies" / "dev_scenario.json"
+
+
+def strikes(n: int) -> np.ndarray:
+    return np.genfromtxt(SHARED / "studies" / "dev_strikes.csv", delimiter=",", names=True)[:n]
+
+
+def need_gpu(precision: str = "f64") -> None:
+    """Skips (or fails, with KISSTIME_REQUIRE_GPU=1) when no GPU runs the event loop."""
+    try:
+        kisstime.shot_study(SCENARIO, strikes=strikes(1), backend="gpu", precision=precision)
+    except RuntimeError as e:
+        if os.environ.get("KISSTIME_REQUIRE_GPU") == "1":
+            pytest.fail(f"KISSTIME_REQUIRE_GPU=1 but no usable GPU: {e}")
+        pytest.skip(f"no usable GPU: {e}")
+
+
+def break_example() -> tuple[np.ndarray, dict]:
+    balls = np.genfromtxt(
+        ROOT / "examples" / "break.csv", delimiter=",", names=True, dtype=None, encoding="utf-8"
+    )
+    arr = np.zeros(len(balls), dtype=kisstime.BALL_DTYPE)
+    for name in kisstime.BALL_DTYPE.names:
+        if name == "state":
+            arr[name] = [kisstime.STATES[s] if isinstance(s, str) else s for s in balls[name]]
+        else:
+            arr[name] = balls[name]
+    s = np.genfromtxt(
+        ROOT / "examples" / "break_strike.csv", delimiter=",", names=True, dtype=None, encoding="utf-8"
+    )
+    return arr, {n: np.atleast_1d(s[n]) for n in kisstime.STRIKE_DTYPE.names}
+
+
+def test_a_study_on_the_gpu_gives_the_cpus_samples_in_f64_and_fractions_in_f32():
+    need_gpu()
+    rows = strikes(400)
+    cpu = kisstime.shot_study(SCENARIO, strikes=rows)
+    gpu = kisstime.shot_study(SCENARIO, strikes=rows, backend="gpu", precision="f64", chunk=150)
+    assert gpu.potted == cpu.potted
+    assert np.array_equal(gpu.samples["first_contact"], cpu.samples["first_contact"])
+    assert np.array_equal(gpu.samples["n_events"], cpu.samples["n_events"])
+    assert np.allclose(gpu.samples["cue_x"], cpu.samples["cue_x"], rtol=0, atol=1e-6)
+    assert np.allclose(gpu.samples["cue_y"], cpu.samples["cue_y"], rtol=0, atol=1e-6)
+    f32 = kisstime.shot_study(SCENARIO, strikes=rows, backend="gpu", precision="f32")
+    for key in ("intended_potted", "scratch"):
+        lo, hi = cpu.summary[key]["ci95"]
+        assert lo <= f32.summary[key]["fraction"] <= hi, (key, f32.summary[key], cpu.summary[key])
+
+
+def test_simulate_runs_whole_shots_on_the_gpu():
+    need_gpu()
+    arr, strike = break_example()
+    cpu = kisstime.simulate(arr, strike)
+    gpu = kisstime.simulate(arr, strike, backend="gpu")
+    assert gpu.final.dtype == cpu.final.dtype and gpu.final.shape == cpu.final.shape
+    assert gpu.events.dtype == cpu.events.dtype
+    assert gpu.outcomes["cut"][0] == 0 and gpu.outcomes["events"][0] > 50
+    # the first events of a break are the CPU's (chaos parts them late)
+    n = 20
+    assert np.array_equal(gpu.events["type"][:n], cpu.events["type"][:n])
+    assert np.allclose(gpu.events["t"][:n], cpu.events["t"][:n], rtol=0, atol=1e-9)
+    quiet = kisstime.simulate(arr, strike, backend="gpu", events=False)
+    assert quiet.events is None and np.array_equal(quiet.final, gpu.final)
+
+
+def test_auto_without_a_gpu_warns_and_gives_the_cpus_arrays(monkeypatch):
+    arr, strike = break_example()
+    cpu = kisstime.simulate(arr, strike)
+    monkeypatch.setenv("WGPU_ADAPTER_NAME", "no-such-adapter-anywhere")
+    with pytest.warns(RuntimeWarning, match="simulating on the CPU"):
+        auto = kisstime.simulate(arr, strike, backend="auto")
+    assert auto.events.tobytes() == cpu.events.tobytes()
+    assert auto.final.tobytes() == cpu.final.tobytes()
+    with pytest.warns(RuntimeWarning, match="no-such-adapter-anywhere"):
+        study = kisstime.shot_study(SCENARIO, strikes=strikes(50), backend="auto")
+    assert study.potted == kisstime.shot_study(SCENARIO, strikes=strikes(50)).potted
+    with pytest.raises(RuntimeError, match="no-such-adapter-anywhere"):
+        kisstime.simulate(arr, strike, backend="gpu")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match="backend"):
+            kisstime.simulate(arr, strike, backend="tpu")
+        with pytest.raises(ValueError, match="f64 only"):
+            kisstime.shot_study(SCENARIO, strikes=strikes(5), precision="f32")

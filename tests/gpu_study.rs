@@ -1,0 +1,184 @@
+//! Shot studies on the GPU event loop (`kisstime::study::run_strikes_gpu`) against the CPU
+//! f64 study on the reference's 2,000 strikes (`../shared/studies`):
+//! - in f64 and in f32, every outcome fraction (the intended ball potted, the scratch,
+//!   each first-contact class) lies within the 95 % Wilson interval of the CPU's fraction;
+//! - in f64, every sample has the CPU's first contact and potted balls and ends within
+//!   1e-6 m of it (its printed counts say how many agree exactly);
+//! - the first-contact study ends each sample at its first contact as the CPU's does.
+//!
+//! Without a GPU the tests print why they skip (`common::gpu_or_skip`'s convention: with
+//! `KISSTIME_REQUIRE_GPU=1`, as in CI on lavapipe, a missing adapter fails).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use kisstime::Precision;
+use kisstime::gpu::GpuSimulator;
+use kisstime::io::strikes::read_sample_strikes;
+use kisstime::simulate::CueStrike;
+use kisstime::study::{
+    Class, RunOptions, Sample, StudyConfig, Summary, Until, run_strikes, run_strikes_gpu, wilson,
+};
+
+fn dir() -> PathBuf {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/studies")).to_path_buf()
+}
+
+fn reference() -> (StudyConfig, Vec<CueStrike>) {
+    let config = StudyConfig::read_reference(&dir().join("dev_scenario.json")).unwrap();
+    let strikes = read_sample_strikes(&dir().join("dev_strikes.csv")).unwrap();
+    (config, strikes.iter().map(|s| s.strike).collect())
+}
+
+fn open(precision: Precision, test: &str) -> Option<GpuSimulator> {
+    common::gpu_or_skip(precision, test)?;
+    Some(GpuSimulator::new(precision).expect("the event loop builds"))
+}
+
+/// The study's fractions, each as (name, count): the intended ball potted, the scratch,
+/// and each first-contact class.
+fn counts(config: &StudyConfig, samples: &[Sample]) -> Vec<(String, usize)> {
+    let s = Summary::of(config, samples, Until::Rest);
+    let mut out = vec![
+        ("intended potted".to_owned(), s.intended_potted()),
+        ("scratch".to_owned(), s.scratches),
+    ];
+    for (class, n) in &s.first {
+        let name = match class {
+            Class::Ball(k) => format!("first contact ball {}", config.balls[*k].id),
+            other => format!("first contact {other:?}"),
+        };
+        out.push((name, *n));
+    }
+    out
+}
+
+#[test]
+fn gpu_studies_lie_within_the_cpu_f64_studys_wilson_intervals() {
+    let (config, strikes) = reference();
+    let options = RunOptions::default();
+    let cpu = run_strikes(&config, &strikes, &options, &mut |_, _| {}).unwrap();
+    let n = cpu.len();
+    let cpu_counts = counts(&config, &cpu);
+    for precision in [Precision::F64, Precision::F32] {
+        let Some(mut gpu) = open(precision, "gpu_study") else {
+            return;
+        };
+        let started = std::time::Instant::now();
+        let got = run_strikes_gpu(&mut gpu, &config, &strikes, &options, &mut |_, _| {}).unwrap();
+        let secs = started.elapsed().as_secs_f64();
+        assert_eq!(got.len(), n);
+        let mut outside = Vec::new();
+        for ((name, k_cpu), (_, k_gpu)) in cpu_counts.iter().zip(counts(&config, &got)) {
+            let (lo, hi) = wilson(*k_cpu, n);
+            let p = k_gpu as f64 / n as f64;
+            println!(
+                "{}: {name}: GPU {k_gpu}, CPU {k_cpu} (95 % interval {:.4}..{:.4})",
+                precision.name(),
+                lo,
+                hi
+            );
+            if !(lo..=hi).contains(&p) {
+                outside.push(format!("{name}: GPU {p:.4}, CPU interval {lo:.4}..{hi:.4}"));
+            }
+        }
+        assert!(outside.is_empty(), "{}: {outside:?}", precision.name());
+        // sample by sample
+        let (mut first, mut potted, mut near) = (0, 0, 0);
+        let mut worst = 0.0f64;
+        for (g, c) in got.iter().zip(&cpu) {
+            first += usize::from(g.first == c.first);
+            potted += usize::from(
+                g.potted
+                    .iter()
+                    .map(|p| (p.ball, p.pocket))
+                    .eq(c.potted.iter().map(|p| (p.ball, p.pocket))),
+            );
+            let d = (g.cue_final.0 - c.cue_final.0).hypot(g.cue_final.1 - c.cue_final.1);
+            worst = worst.max(d);
+            near += usize::from(d <= 1e-6);
+        }
+        let events: usize = got.iter().map(|s| s.n_events).sum();
+        println!(
+            "{}: {n} samples, {events} events in {secs:.2} s; the CPU's first contact {first}, \
+             potted balls {potted}, cue ball within 1e-6 m {near} (farthest {worst:.2e} m)",
+            precision.name()
+        );
+        if precision == Precision::F64 {
+            assert_eq!((first, potted, near), (n, n, n), "f64 samples differ");
+        }
+    }
+}
+
+#[test]
+fn the_first_contact_study_ends_each_sample_at_its_first_contact_as_on_the_cpu() {
+    let (config, strikes) = reference();
+    let strikes = &strikes[..300];
+    let options = RunOptions {
+        until: Until::FirstContact,
+        ..RunOptions::default()
+    };
+    let cpu = run_strikes(&config, strikes, &options, &mut |_, _| {}).unwrap();
+    let Some(mut gpu) = open(Precision::F64, "gpu_study_first_contact") else {
+        return;
+    };
+    let mut progress = Vec::new();
+    let got = run_strikes_gpu(&mut gpu, &config, strikes, &options, &mut |d, n| {
+        progress.push((d, n))
+    })
+    .unwrap();
+    assert_eq!(progress.last(), Some(&(300, 300)));
+    for (k, (g, c)) in got.iter().zip(&cpu).enumerate() {
+        assert_eq!(g.first, c.first, "sample {k}");
+        assert_eq!(g.n_events, c.n_events, "sample {k}");
+        assert_eq!(g.cut, c.cut, "sample {k}");
+        assert_eq!(
+            g.potted.iter().map(|p| p.ball).collect::<Vec<_>>(),
+            c.potted.iter().map(|p| p.ball).collect::<Vec<_>>(),
+            "sample {k}"
+        );
+        for (a, b) in [
+            (g.first_t, c.first_t),
+            (g.duration, c.duration),
+            (g.cue_final.0, c.cue_final.0),
+            (g.cue_final.1, c.cue_final.1),
+            (g.contact_speed, c.contact_speed),
+        ] {
+            assert!(
+                (a - b).abs() <= 1e-9 || (a.is_nan() && b.is_nan()),
+                "sample {k}: GPU {a}, CPU {b}"
+            );
+        }
+        assert!(
+            (g.cut_angle - c.cut_angle).abs() <= 1e-6
+                || (g.cut_angle.is_nan() && c.cut_angle.is_nan()),
+            "sample {k}: cut angle GPU {}, CPU {}",
+            g.cut_angle,
+            c.cut_angle
+        );
+    }
+}
+
+#[test]
+fn a_refused_strike_is_the_error_of_its_sample() {
+    let (config, strikes) = reference();
+    let mut strikes = strikes[..5].to_vec();
+    strikes[3].a = 0.9;
+    strikes[3].b = 0.9;
+    let Some(mut gpu) = open(Precision::F64, "gpu_study_bad_strike") else {
+        return;
+    };
+    let err = run_strikes_gpu(
+        &mut gpu,
+        &config,
+        &strikes,
+        &RunOptions::default(),
+        &mut |_, _| {},
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, kisstime::Error::Input(_)) && err.to_string().contains("sample 3"),
+        "{err}"
+    );
+}
