@@ -1,10 +1,16 @@
 #!/usr/bin/env bash
-# The GPU benchmarks for a lent device machine (issue 16), as one prepared run: `kisstime
-# bench` on the GPU in f32 and f64, `midshot` and `worst`, 1e5 and 1e6 tables of 16 balls,
-# each reporting per-pair and next-collision pairs/s, the upload / kernel / readback split
-# (kernel-only vs end to end) and the agreement with the CPU f64 reference, plus one CPU
-# run for scale. Prints one table at the end; the raw JSON lines go to $OUT/bench.jsonl.
-# Stays well under 5 minutes on an H200 (each run has its own timeout).
+# The GPU benchmarks for a lent device machine (issues 16 and 17), as one prepared run:
+# - the kernels: `kisstime bench` on the GPU in f32 and f64, `midshot` and `worst`, 1e5 and
+#   1e6 tables of 16 balls, each reporting per-pair and next-collision pairs/s, the upload /
+#   kernel / readback split (kernel-only vs end to end) and the agreement with the CPU f64
+#   reference, plus one CPU run for scale;
+# - whole shots: `kisstime bench --sim` on the GPU event loop in f32 and f64, ordinary shots
+#   and breaks, 1e5 and 1e6 tables: shots/s and events/s end to end and kernel-only, and
+#   (for 1e5 ordinary shots, where the CPU runs beside it) the tables whose events differ
+#   from the CPU's.
+# PARTS="kernels sim" (the default) chooses the parts. Prints one table per part at the
+# end; the raw JSON goes to $OUT/bench.jsonl and $OUT/sim.jsonl. Each run has its own
+# timeout (150 s), so the whole stays within one 10-minute device call.
 #
 # Here (x86-64, this checkout): build the binary and fetch the Vulkan loader, once:
 #   cargo build --release && mkdir -p .dev && cp target/release/kisstime .dev/
@@ -16,6 +22,8 @@ set -uo pipefail
 BIN="${1:-.dev/kisstime}"
 OUT="${OUT:-$(mktemp -d)}"
 SIZES="${SIZES:-100000 1000000}"
+SIM_SIZES="${SIM_SIZES:-100000 1000000}"
+PARTS="${PARTS:-kernels sim}"
 mkdir -p "$OUT"
 if compgen -G ".gl/*.deb" > /dev/null; then
   for f in .gl/*.deb; do dpkg -x "$f" /; done
@@ -27,34 +35,51 @@ export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
 command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
 echo "binary: $BIN; cores: $(nproc); sizes: $SIZES"
 : > "$OUT/bench.jsonl"
-run() { # label, then kisstime bench arguments
-  local label="$1"; shift
+: > "$OUT/sim.jsonl"
+run() { # output file, label, then kisstime bench arguments
+  local file="$1" label="$2"; shift 2
   local start=$SECONDS
-  if timeout 150 "$BIN" bench "$@" --json >> "$OUT/bench.jsonl" 2>> "$OUT/stderr.txt"; then
+  if timeout 150 "$BIN" bench "$@" --json >> "$file" 2>> "$OUT/stderr.txt"; then
     echo "ok   $label ($((SECONDS - start)) s)"
   else
     echo "FAIL $label (exit $?, $((SECONDS - start)) s; see stderr.txt)"
   fi
 }
-for n in $SIZES; do
-  for scenario in midshot worst; do
-    for precision in f32 f64; do
-      run "gpu $precision $scenario $n" --scenario "$scenario" --tables "$n" --backend gpu --precision "$precision" --reps 3
+if [[ " $PARTS " == *" kernels "* ]]; then
+  for n in $SIZES; do
+    for scenario in midshot worst; do
+      for precision in f32 f64; do
+        run "$OUT/bench.jsonl" "gpu $precision $scenario $n" --scenario "$scenario" --tables "$n" --backend gpu --precision "$precision" --reps 3
+      done
     done
   done
-done
-run "cpu f64 midshot 100000" --scenario midshot --tables 100000 --backend cpu --reps 3
+  run "$OUT/bench.jsonl" "cpu f64 midshot 100000" --scenario midshot --tables 100000 --backend cpu --reps 3
+fi
+if [[ " $PARTS " == *" sim "* ]]; then
+  for n in $SIM_SIZES; do
+    for workload in ordinary breaks; do
+      for precision in f32 f64; do
+        # the CPU beside the GPU only where it is quick: ordinary shots, the smaller size
+        backend=gpu
+        if [ "$workload" = ordinary ] && [ "$n" = "${SIM_SIZES%% *}" ]; then backend=all; fi
+        run "$OUT/sim.jsonl" "sim $backend $precision $workload $n" --sim "$workload" --tables "$n" --backend "$backend" --precision "$precision" --reps 1
+      done
+    done
+  done
+fi
 # one table of everything that ran (the JSON objects follow one another in the file)
-python3 - "$OUT/bench.jsonl" <<'PY' || cat "$OUT/bench.jsonl"
+python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" <<'PY' || cat "$OUT/bench.jsonl" "$OUT/sim.jsonl"
 import json, sys
-text, dec, at, rows = open(sys.argv[1]).read(), json.JSONDecoder(), 0, []
-while True:
-    while at < len(text) and text[at].isspace():
-        at += 1
-    if at >= len(text):
-        break
-    obj, at = dec.raw_decode(text, at)
-    rows.append(obj)
+def objects(path):
+    text, dec, at, out = open(path).read(), json.JSONDecoder(), 0, []
+    while True:
+        while at < len(text) and text[at].isspace():
+            at += 1
+        if at >= len(text):
+            return out
+        obj, at = dec.raw_decode(text, at)
+        out.append(obj)
+rows, sims = objects(sys.argv[1]), objects(sys.argv[2])
 g = lambda v: "-" if v is None else f"{v / 1e6:,.0f} M"
 k = lambda s: "-" if not s else f"{s['kernel_s'] * 1e3:.2f}/{(s['upload_s'] + s['kernel_s'] + s['readback_s']) * 1e3:.2f} ms"
 print(f"{'scenario':<8} {'tables':>8} {'backend':<8} {'pairs/s':>10} {'next/s':>10} "
@@ -66,4 +91,15 @@ for r in rows:
               f"{g(b['pair_times_pairs_per_s']):>10} {g(b['next_collisions_pairs_per_s']):>10} "
               f"{k(b['pair_times_gpu_split']):>18} {k(b['next_collisions_gpu_split']):>18} "
               f"{a.get('pairs_outside_tier', '-'):>12} {b['device']}")
+if sims:
+    print()
+    print(f"{'workload':<9} {'tables':>8} {'backend':<8} {'shots/s':>12} {'events/s':>12} "
+          f"{'kernel shots/s':>15} {'ev/shot':>8} {'cut':>4} {'differ':>10} device")
+    for r in sims:
+        for b in r["backends"]:
+            d = b.get("tables_differ")
+            print(f"{r['workload']:<9} {r['tables']:>8} {b['backend'] + ' ' + b['precision']:<8} "
+                  f"{b['shots_per_s']:>12,.0f} {b['events_per_s']:>12,.0f} "
+                  f"{b.get('kernel_shots_per_s') or 0:>15,.0f} {b['events_per_shot']:>8.1f} "
+                  f"{b['cut']:>4} {'-' if d is None else f'{d[0]}/{d[1]}':>10} {b['device']}")
 PY

@@ -99,7 +99,16 @@ fn gpu_bench_without_a_gpu_is_an_error_and_all_skips_it() {
 fn sim_bench_reports_shots_and_events_per_second() {
     for (workload, balls) in [("ordinary", None), ("breaks", Some(50 * 16))] {
         let args = [
-            "bench", "--sim", workload, "--tables", "50", "--reps", "1", "--json",
+            "bench",
+            "--sim",
+            workload,
+            "--tables",
+            "50",
+            "--reps",
+            "1",
+            "--json",
+            "--backend",
+            "cpu",
         ];
         let out = kisstime(&args, &[]);
         assert!(
@@ -112,22 +121,34 @@ fn sim_bench_reports_shots_and_events_per_second() {
         assert_eq!(json["workload"], workload);
         assert_eq!(json["tables"], 50);
         assert_eq!(json["reps"], 1);
-        assert_eq!(json["cut"], 0, "{json}");
         if let Some(balls) = balls {
             assert_eq!(json["balls"], balls);
         }
-        assert!(json["shots_per_s"].as_f64().unwrap() > 0.0, "{json}");
-        assert!(json["events_per_s"].as_f64().unwrap() > 0.0, "{json}");
+        let cpu = &json["backends"][0];
+        assert_eq!(cpu["backend"], "cpu", "{json}");
+        assert_eq!(cpu["cut"], 0, "{json}");
+        assert!(cpu["shots_per_s"].as_f64().unwrap() > 0.0, "{json}");
+        assert!(cpu["events_per_s"].as_f64().unwrap() > 0.0, "{json}");
         assert!(json["threads"].as_u64().unwrap() >= 1);
         // a break has many more events than the strike and the cue ball's transitions
-        let per_shot = json["events_per_shot"].as_f64().unwrap();
+        let per_shot = cpu["events_per_shot"].as_f64().unwrap();
         assert!(
             per_shot > if balls.is_some() { 20.0 } else { 3.0 },
             "{json}"
         );
     }
     let out = kisstime(
-        &["bench", "--sim", "breaks", "--tables", "20", "--reps", "1"],
+        &[
+            "bench",
+            "--sim",
+            "breaks",
+            "--tables",
+            "20",
+            "--reps",
+            "1",
+            "--backend",
+            "cpu",
+        ],
         &[("RAYON_NUM_THREADS", "1")],
     );
     assert!(out.status.success());
@@ -146,7 +167,7 @@ fn bench_refuses_bad_values_with_exit_code_2() {
         &["bench", "--sim", "ordinary", "--reps", "0"],
         &["bench", "--sim", "breaks", "--tables", "-3"],
         &["bench", "--sim", "massé"],
-        &["bench", "--sim", "breaks", "--backend", "gpu"],
+        &["bench", "--sim", "breaks", "--balls", "8"],
         &["bench", "--sim", "breaks", "--scenario", "worst"],
         &["bench", "--tables", "0"],
         &["bench", "--reps", "0"],
@@ -154,4 +175,48 @@ fn bench_refuses_bad_values_with_exit_code_2() {
         let out = kisstime(args, &[]);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
     }
+}
+
+/// `bench --sim --backend all` on a GPU: the CPU's figures, then the GPU event loop's with
+/// its split and its agreement with the CPU (f64 ordinary shots: the CPU's events).
+#[test]
+fn sim_bench_measures_the_gpu_event_loop_beside_the_cpu() {
+    if common::gpu_or_skip(kisstime::Precision::F64, "sim_bench_gpu").is_none() {
+        return;
+    }
+    let args = [
+        "bench",
+        "--sim",
+        "ordinary",
+        "--tables",
+        "60",
+        "--reps",
+        "1",
+        "--json",
+        "--backend",
+        "all",
+        "--precision",
+        "f64",
+    ];
+    let out = kisstime(&args, &[]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+    let (cpu, gpu) = (&json["backends"][0], &json["backends"][1]);
+    assert_eq!(
+        (&cpu["backend"], &gpu["backend"]),
+        (&"cpu".into(), &"gpu".into())
+    );
+    assert_eq!(gpu["precision"], "f64");
+    assert_eq!(gpu["events"], cpu["events"], "{json}");
+    assert_eq!(gpu["tables_differ"], serde_json::json!([0, 0]), "{json}");
+    assert!(
+        gpu["gpu_split"]["kernel_s"].as_f64().unwrap() > 0.0,
+        "{json}"
+    );
+    assert!(gpu["dispatches"].as_u64().unwrap() >= 1, "{json}");
+    assert!(gpu["kernel_shots_per_s"].as_f64().unwrap() > 0.0, "{json}");
 }

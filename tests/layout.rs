@@ -6,10 +6,11 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// The library's top-level modules, lowest first.
+/// The library's top-level modules, lowest first. `engine` chooses the backend for the
+/// kernels and for whole shots and studies, so it sits on top.
 const LAYERS: &[&str] = &[
     "error", "model", "motion", "query", "resolve", "limits", "simulate", "batch", "cpu", "gpu",
-    "engine", "compare", "io", "workload", "study",
+    "compare", "io", "workload", "study", "engine",
 ];
 
 /// Every `.rs` file under `dir`.

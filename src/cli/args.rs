@@ -272,10 +272,12 @@ pub enum UntilArg {
 #[derive(Args)]
 pub struct BenchArgs {
     /// Whole-shot mode: simulate built-in shots from the strike to rest with the simulator
-    /// (`kisstime simulate`'s, events not kept) instead of timing the collision kernels;
-    /// reports shots/s, events/s and events per shot. `breaks`: a racked break; `ordinary`:
-    /// 6 to 16 balls, the cue ball struck towards one of them.
-    #[arg(long, value_enum, conflicts_with_all = ["scenario", "balls", "backend", "precision"])]
+    /// (`kisstime simulate`'s, events not kept) instead of timing the collision kernels,
+    /// on the backends `--backend` names (the GPU's event loop in `--precision`, with its
+    /// upload / kernel / readback split and its agreement with the CPU); reports shots/s,
+    /// events/s and events per shot. `breaks`: a racked break; `ordinary`: 6 to 16 balls,
+    /// the cue ball struck towards one of them.
+    #[arg(long, value_enum, conflicts_with_all = ["scenario", "balls"])]
     pub sim: Option<SimWorkloadArg>,
     /// Number of tables (at least 1; default 10,000, with --sim 2,000 breaks or 10,000
     /// ordinary shots).

@@ -8,15 +8,16 @@
 //! tiers (`kisstime::compare`).
 //!
 //! With `--sim breaks|ordinary` it times the simulator instead: built-in whole shots
-//! ([`kisstime::workload::generate_shots`]) from the strike to rest through
-//! [`simulate_batch`] without keeping the events, once to warm up and then `reps` times;
-//! the median wall time gives shots/s and events/s.
+//! ([`kisstime::workload::generate_shots`]) from the strike to rest without keeping the
+//! events, on the CPU ([`simulate_batch`]) and on the GPU's event loop
+//! ([`GpuSimulator`], with its upload / kernel / readback split), once to warm up and then
+//! `reps` times; the median wall time gives shots/s and events/s.
 
 use std::time::Instant;
 
 use kisstime::compare::{compare_pairs, next_disagreements};
 use kisstime::engine::{Backend, Engine, Precision};
-use kisstime::gpu::GpuTimings;
+use kisstime::gpu::{GpuRun, GpuShot, GpuSimulator, GpuTimings};
 use kisstime::io::{output_error, write_output};
 use kisstime::simulate::{BatchError, BatchOptions, SimParams, Table, simulate_batch};
 use kisstime::workload::{ShotTable, ShotWorkload, Workload, generate, generate_shots};
@@ -33,7 +34,17 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
             ShotWorkload::Breaks => 2_000,
             ShotWorkload::Ordinary => 10_000,
         });
-        let report = run_sim_bench(workload, tables, args.seed, args.reps)?;
+        let report = run_sim_bench(&SimBenchConfig {
+            workload,
+            tables,
+            seed: args.seed,
+            reps: args.reps,
+            cpu: args.backend != BenchBackend::Gpu,
+            gpu: (args.backend != BenchBackend::Cpu).then_some(args.precision.precision()),
+        })?;
+        if args.backend == BenchBackend::Gpu && report.backends.is_empty() {
+            return Err(Error::GpuUnavailable(report.skipped.join("; ")));
+        }
         let text = if args.json {
             serde_json::to_string_pretty(&report).expect("the report serialises") + "\n"
         } else {
@@ -281,7 +292,22 @@ pub struct SimBenchReport {
     pub reps: usize,
     /// Rayon worker threads.
     pub threads: usize,
-    /// Median wall time of one run, in seconds.
+    /// One entry per backend measured.
+    pub backends: Vec<SimFigures>,
+    /// Backends that could not be measured, and why.
+    pub skipped: Vec<String>,
+}
+
+/// One backend's figures for `kisstime bench --sim`.
+#[derive(Clone, Debug, Serialize)]
+pub struct SimFigures {
+    /// `cpu` or `gpu`.
+    pub backend: String,
+    /// `f64` or `f32`.
+    pub precision: String,
+    /// The device: CPU threads or the GPU adapter.
+    pub device: String,
+    /// Median wall time of one run (end to end), in seconds.
     pub median_s: f64,
     /// Shots per second (tables / median time).
     pub shots_per_s: f64,
@@ -293,81 +319,199 @@ pub struct SimBenchReport {
     pub events_per_shot: f64,
     /// Tables cut by an event or time limit (should be 0).
     pub cut: usize,
+    /// GPU: the last run's upload / kernel / readback split ("kernel": every dispatch of
+    /// the event loop, waited for).
+    pub gpu_split: Option<GpuSplit>,
+    /// GPU: dispatches per run.
+    pub dispatches: Option<u64>,
+    /// GPU: shots per second of the kernel time alone.
+    pub kernel_shots_per_s: Option<f64>,
+    /// GPU, when the CPU ran too: tables whose event count differs from the CPU's, and
+    /// tables with a ball more than 1e-6 m from the CPU's final position.
+    pub tables_differ: Option<(usize, usize)>,
 }
 
-/// Runs `kisstime bench --sim`: `tables` shots of `workload` from `seed`, simulated once
-/// to warm up and then `reps` times without keeping the events.
-pub fn run_sim_bench(
-    workload: ShotWorkload,
-    tables: usize,
-    seed: u64,
-    reps: usize,
-) -> Result<SimBenchReport, Error> {
+/// What the sim bench measures: the CPU, and the GPU in a precision.
+#[derive(Clone, Copy, Debug)]
+pub struct SimBenchConfig {
+    /// The workload.
+    pub workload: ShotWorkload,
+    /// Tables (shots).
+    pub tables: usize,
+    /// Workload seed.
+    pub seed: u64,
+    /// Measured runs after one warm-up.
+    pub reps: usize,
+    /// Measure the CPU.
+    pub cpu: bool,
+    /// Measure the GPU event loop in this precision, if any.
+    pub gpu: Option<Precision>,
+}
+
+/// Runs `kisstime bench --sim`: the configured shots simulated on each backend once to
+/// warm up and then `reps` times, without keeping the events.
+pub fn run_sim_bench(config: &SimBenchConfig) -> Result<SimBenchReport, Error> {
     let params = SimParams::default();
     let table = Table::nine_foot();
-    let shots: Vec<ShotTable> = generate_shots(workload, tables, seed, params.ball.r);
+    let workload = config.workload;
+    let shots: Vec<ShotTable> = generate_shots(workload, config.tables, config.seed, params.ball.r);
     let options = BatchOptions {
         record_events: false,
         ..BatchOptions::default()
     };
-    let run = || {
-        simulate_batch(
-            &table,
-            params,
-            &options,
-            shots.len(),
-            |k, buf| {
-                let s = &shots[k];
-                buf.clear();
-                buf.extend_from_slice(&s.balls);
-                Ok(s.strike())
-            },
-            |_| Ok::<(), std::convert::Infallible>(()),
-        )
-        .map_err(|e| match e {
-            BatchError::Table { table, error } => Error::Unsupported(format!(
-                "generated {} table #{table}: {error}",
-                workload.name()
-            )),
-            BatchError::Sink(never) => match never {},
-        })
-    };
-    let (median, stats) = timed(reps, run)?;
-    Ok(SimBenchReport {
+    let generated = |e: String| Error::Unsupported(format!("generated {}: {e}", workload.name()));
+    let mut report = SimBenchReport {
         mode: "sim".into(),
         workload: workload.name().into(),
-        tables: stats.tables,
+        tables: shots.len(),
         balls: shots.iter().map(|s| s.balls.len()).sum(),
-        seed,
-        reps,
+        seed: config.seed,
+        reps: config.reps,
         threads: rayon::current_num_threads(),
-        median_s: median,
-        shots_per_s: stats.tables as f64 / median,
-        events_per_s: stats.events as f64 / median,
-        events: stats.events,
-        events_per_shot: stats.events as f64 / stats.tables.max(1) as f64,
-        cut: stats.cut,
-    })
+        backends: Vec::new(),
+        skipped: Vec::new(),
+    };
+    let figures = |backend: &str, precision: &str, device: String, median: f64, runs: &[GpuRun]| {
+        let events: usize = runs.iter().map(|r| r.outcome.n_events).sum();
+        SimFigures {
+            backend: backend.into(),
+            precision: precision.into(),
+            device,
+            median_s: median,
+            shots_per_s: runs.len() as f64 / median,
+            events_per_s: events as f64 / median,
+            events,
+            events_per_shot: events as f64 / runs.len().max(1) as f64,
+            cut: runs.iter().filter(|r| r.outcome.cut.is_some()).count(),
+            gpu_split: None,
+            dispatches: None,
+            kernel_shots_per_s: None,
+            tables_differ: None,
+        }
+    };
+    let mut cpu_runs = None;
+    if config.cpu {
+        let run = || {
+            let mut runs = Vec::with_capacity(shots.len());
+            simulate_batch(
+                &table,
+                params,
+                &options,
+                shots.len(),
+                |k, buf| {
+                    let s = &shots[k];
+                    buf.clear();
+                    buf.extend_from_slice(&s.balls);
+                    Ok(s.strike())
+                },
+                |chunk| {
+                    runs.extend(chunk.iter().map(|r| GpuRun {
+                        events: Vec::new(),
+                        balls: r.balls.to_vec(),
+                        outcome: r.outcome,
+                    }));
+                    Ok::<(), std::convert::Infallible>(())
+                },
+            )
+            .map_err(|e| match e {
+                BatchError::Table { table, error } => generated(format!("table #{table}: {error}")),
+                BatchError::Sink(never) => match never {},
+            })?;
+            Ok(runs)
+        };
+        let (median, runs) = timed(config.reps, run)?;
+        let device = format!("{} threads", rayon::current_num_threads());
+        report
+            .backends
+            .push(figures("cpu", "f64", device, median, &runs));
+        cpu_runs = Some(runs);
+    }
+    if let Some(precision) = config.gpu {
+        match GpuSimulator::new(precision) {
+            Err(e) => report
+                .skipped
+                .push(format!("gpu {}: {e}", precision.name())),
+            Ok(mut gpu) => {
+                let inputs: Vec<GpuShot> = shots
+                    .iter()
+                    .map(|s| GpuShot {
+                        balls: s.balls.clone(),
+                        strike: s.strike(),
+                    })
+                    .collect();
+                let limits = options.limits;
+                let (median, runs) = timed(config.reps, || {
+                    gpu.simulate(&table, params, limits, &inputs, false)
+                })?;
+                let split = GpuSplit::from(gpu.timings());
+                let device = gpu.adapter().to_string();
+                let mut f = figures("gpu", precision.name(), device, median, &runs);
+                f.kernel_shots_per_s = Some(runs.len() as f64 / split.kernel_s.max(1e-12));
+                f.gpu_split = Some(split);
+                f.dispatches = Some(gpu.dispatches());
+                f.tables_differ = cpu_runs.as_ref().map(|cpu| {
+                    let events = cpu
+                        .iter()
+                        .zip(&runs)
+                        .filter(|(c, g)| c.outcome.n_events != g.outcome.n_events)
+                        .count();
+                    let moved = cpu
+                        .iter()
+                        .zip(&runs)
+                        .filter(|(c, g)| {
+                            c.balls
+                                .iter()
+                                .zip(&g.balls)
+                                .any(|(a, b)| (a.r.x - b.r.x).hypot(a.r.y - b.r.y) > 1e-6)
+                        })
+                        .count();
+                    (events, moved)
+                });
+                report.backends.push(f);
+            }
+        }
+    }
+    Ok(report)
 }
 
 impl SimBenchReport {
     /// The report as readable lines.
     pub fn to_text(&self) -> String {
-        format!(
-            "kisstime bench --sim: {}, {} tables ({} balls), seed {}, {} threads, median of {} runs\n\n\
-             {:.3} s a run: {:.0} shots/s, {:.0} events/s, {:.1} events per shot, {} tables cut\n",
-            self.workload,
-            self.tables,
-            self.balls,
-            self.seed,
-            self.threads,
-            self.reps,
-            self.median_s,
-            self.shots_per_s,
-            self.events_per_s,
-            self.events_per_shot,
-            self.cut
-        )
+        let mut out = format!(
+            "kisstime bench --sim: {}, {} tables ({} balls), seed {}, {} threads, median of {} runs\n\n",
+            self.workload, self.tables, self.balls, self.seed, self.threads, self.reps,
+        );
+        for f in &self.backends {
+            out += &format!(
+                "{} {}: {:.3} s a run: {:.0} shots/s, {:.0} events/s, {:.1} events per shot, {} tables cut\n",
+                f.backend,
+                f.precision,
+                f.median_s,
+                f.shots_per_s,
+                f.events_per_s,
+                f.events_per_shot,
+                f.cut
+            );
+            if let (Some(s), Some(k)) = (&f.gpu_split, f.kernel_shots_per_s) {
+                out += &format!(
+                    "  device: {}\n  upload {:.1} ms, kernel {:.1} ms ({} dispatches; {k:.0} shots/s), readback {:.1} ms\n",
+                    f.device,
+                    1e3 * s.upload_s,
+                    1e3 * s.kernel_s,
+                    f.dispatches.unwrap_or(0),
+                    1e3 * s.readback_s
+                );
+            }
+            if let Some((events, moved)) = f.tables_differ {
+                out += &format!(
+                    "  against the CPU: {events} tables with another event count, {moved} with a ball > 1e-6 m away\n"
+                );
+            }
+        }
+        for s in &self.skipped {
+            out += &format!("\nskipped: {s}\n");
+        }
+        out
     }
 }
 

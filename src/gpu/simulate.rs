@@ -13,6 +13,7 @@
 //! this first version: at most [`GPU_MAX_BALLS`] balls per table, and no fall back to the
 //! CPU here (the caller chooses: `kisstime simulate --backend auto` does).
 
+use super::GpuTimings;
 use super::device::{self, AdapterSummary, gpu_error};
 use super::shader::simulate_source;
 use crate::error::{Error, InputError, SimError};
@@ -98,6 +99,13 @@ pub struct GpuSimulator {
     /// A fault waiting for its dispatch: the fault, and how many dispatches run first.
     #[cfg(feature = "testing")]
     pub(super) pending_fault: Option<(super::Fault, u32)>,
+    /// The last call's timings (summed over chunks): `upload` the host's checks, layout
+    /// and buffers; `kernel` the dispatches until every table is done (with the 4-byte
+    /// "running" count after each, and the events where they are read back); `readback`
+    /// the final states.
+    timings: GpuTimings,
+    /// Dispatches of the last call.
+    dispatches: u64,
     /// Events per table and dispatch.
     pub events_per_dispatch: u32,
     /// The most tables per chunk: a batch is cut into chunks of whole tables that fit the
@@ -151,6 +159,8 @@ impl GpuSimulator {
             pending_fault: None,
             precision,
             pipeline,
+            timings: GpuTimings::default(),
+            dispatches: 0,
             events_per_dispatch: EVENTS_PER_DISPATCH,
             max_tables_per_chunk: MAX_TABLES_PER_CHUNK,
         })
@@ -164,6 +174,17 @@ impl GpuSimulator {
     /// The precision the event loop computes in.
     pub fn precision(&self) -> Precision {
         self.precision
+    }
+
+    /// The last call's upload / kernel / readback split (see the field docs of
+    /// [`GpuTimings`]: here "kernel" is every dispatch of the event loop, waited for).
+    pub fn timings(&self) -> GpuTimings {
+        self.timings
+    }
+
+    /// The dispatches of the last call (over all chunks).
+    pub fn dispatches(&self) -> u64 {
+        self.dispatches
     }
 
     /// Simulates every shot on `table` to rest (or to a limit), in shot order; with
@@ -221,6 +242,8 @@ impl GpuSimulator {
             .max(4 * (1 + per * EVENT_UINTS));
         let fit = (self.max_binding / per_table as u64).max(1) as usize;
         let chunk = self.max_tables_per_chunk.max(1).min(fit);
+        self.timings = GpuTimings::default();
+        self.dispatches = 0;
         let mut runs = Vec::with_capacity(shots.len());
         for (c, part) in shots.chunks(chunk).enumerate() {
             runs.extend(self.simulate_chunk(
@@ -251,6 +274,7 @@ impl GpuSimulator {
         on_event: &mut dyn FnMut(usize, &EventRecord),
     ) -> Result<Vec<GpuRun>, Error> {
         let n_tables = shots.len();
+        let clock = std::time::Instant::now();
         // the parameters and every table checked as the CPU loop checks them
         let mut check = EventLoop::new(table, params, limits, GPU_MAX_BALLS)
             .map_err(|e| gpu_error(format!("the simulation parameters: {e}")))?;
@@ -390,6 +414,8 @@ impl GpuSimulator {
             layout: &layout,
             entries: &entries,
         });
+        self.timings.upload += clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
         loop {
             #[cfg_attr(not(feature = "testing"), allow(unused_mut))]
             let mut row = groups_x;
@@ -402,6 +428,7 @@ impl GpuSimulator {
                 read.extend([&eu_buf, &er_buf]);
             }
             let back = self.dispatch_and_read([row, groups_y], &bind, &read)?;
+            self.dispatches += 1;
             if record_events {
                 let eu: Vec<u32> = bytemuck::pod_collect_to_vec(&back[1]);
                 let er = self.reals_of(&back[2]);
@@ -416,6 +443,8 @@ impl GpuSimulator {
             }
             let running: u32 = bytemuck::pod_read_unaligned(&back[0][..4]);
             if running == 0 {
+                self.timings.kernel += clock.elapsed().as_secs_f64();
+                let clock = std::time::Instant::now();
                 let back = self.dispatch_and_read([0, 0], &bind, &[&sr_buf, &su_buf])?;
                 let sr = self.reals_of(&back[0]);
                 let su: Vec<u32> = bytemuck::pod_collect_to_vec(&back[1]);
@@ -426,6 +455,7 @@ impl GpuSimulator {
                         &su[k * TABLE_UINTS..(k + 1) * TABLE_UINTS],
                     )?;
                 }
+                self.timings.readback += clock.elapsed().as_secs_f64();
                 return Ok(runs);
             }
         }
