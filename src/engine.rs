@@ -54,20 +54,52 @@ impl Backend {
     }
 }
 
-/// A configured backend, reusable across many batches (GPU resources are kept).
-pub struct Engine {
+/// What [`Engine`] and [`ShotEngine`] share: the backend asked for, the GPU side while it
+/// is in use, and the notes about fallbacks.
+struct Chosen<G> {
     backend: Backend,
-    gpu: Option<GpuEngine>,
+    gpu: Option<G>,
     notes: Vec<String>,
 }
 
-impl Engine {
-    /// Opens the backend.
-    ///
-    /// Errors: `cpu` with f32 ([`Error::Unsupported`]); `gpu` without a usable adapter or
-    /// without f64 support when f64 is asked for ([`Error::GpuUnavailable`]) or a device
-    /// that fails to start ([`Error::Gpu`]). `auto` never fails for want of a GPU.
-    pub fn new(backend: Backend, precision: Precision) -> Result<Engine, Error> {
+/// The GPU side of a backend ([`GpuEngine`] for the kernels, [`GpuSimulator`] for shots).
+trait GpuSide: Sized {
+    /// Opens it in `precision`.
+    fn open(precision: Precision) -> Result<Self, Error>;
+    /// Its precision.
+    fn precision(&self) -> Precision;
+    /// Its adapter.
+    fn adapter(&self) -> &crate::gpu::AdapterSummary;
+}
+
+impl GpuSide for GpuEngine {
+    fn open(precision: Precision) -> Result<Self, Error> {
+        GpuEngine::new(precision)
+    }
+    fn precision(&self) -> Precision {
+        GpuEngine::precision(self)
+    }
+    fn adapter(&self) -> &crate::gpu::AdapterSummary {
+        GpuEngine::adapter(self)
+    }
+}
+
+impl GpuSide for GpuSimulator {
+    fn open(precision: Precision) -> Result<Self, Error> {
+        GpuSimulator::new(precision)
+    }
+    fn precision(&self) -> Precision {
+        GpuSimulator::precision(self)
+    }
+    fn adapter(&self) -> &crate::gpu::AdapterSummary {
+        GpuSimulator::adapter(self)
+    }
+}
+
+impl<G: GpuSide> Chosen<G> {
+    /// Opens `backend` (see [`Engine::new`]); `doing` names the work in the notes
+    /// ("computing", "simulating").
+    fn open(backend: Backend, precision: Precision, doing: &str) -> Result<Chosen<G>, Error> {
         let mut notes = Vec::new();
         let gpu = match backend {
             Backend::Cpu => {
@@ -80,51 +112,35 @@ impl Engine {
                 }
                 None
             }
-            Backend::Gpu => Some(GpuEngine::new(precision)?),
-            Backend::Auto => match GpuEngine::new(precision) {
+            Backend::Gpu => Some(G::open(precision)?),
+            Backend::Auto => match G::open(precision) {
                 Ok(g) => Some(g),
                 Err(e) => {
-                    notes.push(format!("no usable GPU, computing on the CPU in f64: {e}"));
+                    notes.push(format!("no usable GPU, {doing} on the CPU in f64: {e}"));
                     None
                 }
             },
         };
-        Ok(Engine {
+        Ok(Chosen {
             backend,
             gpu,
             notes,
         })
     }
 
-    /// The backend asked for.
-    pub fn backend(&self) -> Backend {
-        self.backend
-    }
-
-    /// The GPU engine in use, if any.
-    pub fn gpu(&mut self) -> Option<&mut GpuEngine> {
-        self.gpu.as_mut()
-    }
-
-    /// What computes the batches now, e.g. `"gpu f32: NVIDIA H100 (Vulkan, …)"` or
-    /// `"cpu f64 (2 threads)"`.
-    pub fn describe(&self) -> String {
+    fn describe(&self) -> String {
         match &self.gpu {
             Some(g) => format!("gpu {}: {}", g.precision().name(), g.adapter()),
             None => format!("cpu f64 ({} threads)", rayon::current_num_threads()),
         }
     }
 
-    /// Messages for the user about fallbacks since the last call (one line each).
-    pub fn take_notes(&mut self) -> Vec<String> {
-        std::mem::take(&mut self.notes)
-    }
-
-    /// Runs `on_gpu` when there is a GPU, with the CPU as the `auto` fallback.
+    /// Runs `on_gpu` when there is a GPU, with the CPU as the `auto` fallback: `what` is
+    /// what was redone, for the note ("the batch was").
     fn run<T>(
         &mut self,
         what: &str,
-        on_gpu: impl FnOnce(&mut GpuEngine) -> Result<T, Error>,
+        on_gpu: impl FnOnce(&mut G) -> Result<T, Error>,
         on_cpu: impl FnOnce() -> Result<T, Error>,
     ) -> Result<T, Error> {
         let Some(gpu) = self.gpu.as_mut() else {
@@ -143,6 +159,45 @@ impl Engine {
             other => other,
         }
     }
+}
+
+/// A configured backend, reusable across many batches (GPU resources are kept).
+pub struct Engine {
+    chosen: Chosen<GpuEngine>,
+}
+
+impl Engine {
+    /// Opens the backend.
+    ///
+    /// Errors: `cpu` with f32 ([`Error::Unsupported`]); `gpu` without a usable adapter or
+    /// without f64 support when f64 is asked for ([`Error::GpuUnavailable`]) or a device
+    /// that fails to start ([`Error::Gpu`]). `auto` never fails for want of a GPU.
+    pub fn new(backend: Backend, precision: Precision) -> Result<Engine, Error> {
+        Ok(Engine {
+            chosen: Chosen::open(backend, precision, "computing")?,
+        })
+    }
+
+    /// The backend asked for.
+    pub fn backend(&self) -> Backend {
+        self.chosen.backend
+    }
+
+    /// The GPU engine in use, if any.
+    pub fn gpu(&mut self) -> Option<&mut GpuEngine> {
+        self.chosen.gpu.as_mut()
+    }
+
+    /// What computes the batches now, e.g. `"gpu f32: NVIDIA H100 (Vulkan, …)"` or
+    /// `"cpu f64 (2 threads)"`.
+    pub fn describe(&self) -> String {
+        self.chosen.describe()
+    }
+
+    /// Messages for the user about fallbacks since the last call (one line each).
+    pub fn take_notes(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.chosen.notes)
+    }
 
     /// The answer for every pair of every table, in pair order (see [`crate::batch`]).
     pub fn pair_times(&mut self, batch: &Batch, params: &Params) -> Result<Vec<Contact>, Error> {
@@ -159,7 +214,7 @@ impl Engine {
         tables: std::ops::Range<usize>,
     ) -> Result<Vec<Contact>, Error> {
         let cpu_tables = tables.clone();
-        self.run(
+        self.chosen.run(
             redone(batch, &tables),
             |g| g.pair_times_of(batch, params, tables),
             || cpu::pair_times_of(batch, params, cpu_tables),
@@ -184,7 +239,7 @@ impl Engine {
         tables: std::ops::Range<usize>,
     ) -> Result<Vec<NextCollision>, Error> {
         let cpu_tables = tables.clone();
-        self.run(
+        self.chosen.run(
             redone(batch, &tables),
             |g| g.next_collisions_of(batch, params, tables),
             || cpu::next_collisions_of(batch, params, cpu_tables),
@@ -211,68 +266,40 @@ fn redone(batch: &Batch, tables: &std::ops::Range<usize>) -> &'static str {
 /// readback) redoes that batch on the CPU in f64 with a note, and the CPU is used from then
 /// on. `gpu` reports each of these as an error. Bad input is an error on every backend.
 pub struct ShotEngine {
-    backend: Backend,
-    gpu: Option<GpuSimulator>,
-    notes: Vec<String>,
+    chosen: Chosen<GpuSimulator>,
 }
 
 impl ShotEngine {
     /// Opens the backend. Errors as [`Engine::new`].
     pub fn new(backend: Backend, precision: Precision) -> Result<ShotEngine, Error> {
-        let mut notes = Vec::new();
-        let gpu = match backend {
-            Backend::Cpu => {
-                if precision == Precision::F32 {
-                    return Err(Error::Unsupported(
-                        "the CPU simulates in f64 only; use --precision f64, or --backend \
-                         gpu/auto for f32"
-                            .into(),
-                    ));
-                }
-                None
-            }
-            Backend::Gpu => Some(GpuSimulator::new(precision)?),
-            Backend::Auto => match GpuSimulator::new(precision) {
-                Ok(g) => Some(g),
-                Err(e) => {
-                    notes.push(format!("no usable GPU, simulating on the CPU in f64: {e}"));
-                    None
-                }
-            },
-        };
         Ok(ShotEngine {
-            backend,
-            gpu,
-            notes,
+            chosen: Chosen::open(backend, precision, "simulating")?,
         })
     }
 
     /// The backend asked for.
     pub fn backend(&self) -> Backend {
-        self.backend
+        self.chosen.backend
     }
 
     /// The GPU event loop in use, if any.
     pub fn gpu(&mut self) -> Option<&mut GpuSimulator> {
-        self.gpu.as_mut()
+        self.chosen.gpu.as_mut()
     }
 
     /// What simulates now, e.g. `"gpu f64: llvmpipe (Vulkan, …)"` or `"cpu f64 (2
     /// threads)"`.
     pub fn describe(&self) -> String {
-        match &self.gpu {
-            Some(g) => format!("gpu {}: {}", g.precision().name(), g.adapter()),
-            None => format!("cpu f64 ({} threads)", rayon::current_num_threads()),
-        }
+        self.chosen.describe()
     }
 
     /// Messages for the user about fallbacks since the last call (one line each).
     pub fn take_notes(&mut self) -> Vec<String> {
-        std::mem::take(&mut self.notes)
+        std::mem::take(&mut self.chosen.notes)
     }
 
-    /// Runs `on_gpu` when there is a GPU and the work has at most [`GPU_MAX_BALLS`] balls
-    /// a table, with the CPU as the `auto` fallback.
+    /// [`Chosen::run`] for work of at most `n_balls` balls a table: more than
+    /// [`GPU_MAX_BALLS`] is an error with `gpu` and the CPU's work with `auto`.
     fn run<T>(
         &mut self,
         what: &str,
@@ -280,33 +307,20 @@ impl ShotEngine {
         on_gpu: impl FnOnce(&mut GpuSimulator) -> Result<T, Error>,
         on_cpu: impl FnOnce() -> Result<T, Error>,
     ) -> Result<T, Error> {
-        let Some(gpu) = self.gpu.as_mut() else {
-            return on_cpu();
-        };
-        if n_balls > GPU_MAX_BALLS {
+        if self.chosen.gpu.is_some() && n_balls > GPU_MAX_BALLS {
             let why = format!(
                 "{what} has tables of {n_balls} balls; the GPU event loop takes at most \
                  {GPU_MAX_BALLS}"
             );
-            if self.backend == Backend::Auto {
-                self.notes
+            if self.chosen.backend == Backend::Auto {
+                self.chosen
+                    .notes
                     .push(format!("{why}: simulated on the CPU in f64"));
                 return on_cpu();
             }
             return Err(Error::Unsupported(why));
         }
-        match on_gpu(gpu) {
-            Err(e @ (Error::Gpu(_) | Error::GpuUnavailable(_)))
-                if self.backend == Backend::Auto =>
-            {
-                self.notes.push(format!(
-                    "{e}; {what} was redone on the CPU in f64, and the CPU is used from now on"
-                ));
-                self.gpu = None;
-                on_cpu()
-            }
-            other => other,
-        }
+        self.chosen.run(&format!("{what} was"), on_gpu, on_cpu)
     }
 
     /// Simulates every shot on `table` to rest (or to a limit), in shot order, as

@@ -494,6 +494,27 @@ def _study_merge(scenario: Scenario, blobs: Sequence[bytes], *, until: str = "re
 _scenario = scenario
 
 
+def _study_options(
+    seed: int,
+    until: str,
+    noise: Optional[float],
+    max_events: int,
+    max_time: float,
+    backend: str,
+    precision: Optional[str],
+) -> dict:
+    """The keyword arguments of :func:`_study_chunk` that every chunk of a study shares."""
+    return dict(
+        seed=seed,
+        until=until,
+        noise=noise,
+        max_events=max_events,
+        max_time=max_time,
+        backend=backend,
+        precision=precision,
+    )
+
+
 def shot_study(
     scenario: Union[None, str, os.PathLike, Mapping[str, Any], Scenario] = None,
     *,
@@ -525,15 +546,7 @@ def shot_study(
     per = 16_384 if chunk is None else int(chunk)
     if per < 1:
         raise ValueError(f"chunk {chunk}: at least 1")
-    options = dict(
-        seed=seed,
-        until=until,
-        noise=noise,
-        max_events=max_events,
-        max_time=max_time,
-        backend=backend,
-        precision=precision,
-    )
+    options = _study_options(seed, until, noise, max_events, max_time, backend, precision)
     if strikes is None:
         total = int(samples)
         if total < 1:

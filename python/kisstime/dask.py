@@ -101,33 +101,16 @@ def _run_chunk(
     first: int,
     n: int,
     strikes: Mapping[str, numpy.ndarray] | None,
-    *,
-    seed: int,
-    until: str,
-    noise: float | None,
-    max_events: int,
-    max_time: float,
-    backend: str = "cpu",
-    precision: str | None = None,
+    **options: Any,
 ) -> bytes:
-    """One task: samples ``first .. first + n`` (or rows ``first .. first + n`` of ``strikes``)."""
+    """One task: samples ``first .. first + n`` (or rows ``first .. first + n`` of
+    ``strikes``), with :func:`kisstime.shot_study`'s ``options`` (``seed``, ``until``,
+    ``noise``, ``max_events``, ``max_time``, ``backend``, ``precision``)."""
     if strikes is not None:
         # Arrays that arrive in a task's arguments can lie at unaligned addresses in the
         # message's buffer; the extension reads aligned contiguous columns only.
         strikes = {name: numpy.require(col, requirements="CA") for name, col in strikes.items()}
-    return kisstime._study_chunk(
-        scenario,
-        first,
-        n,
-        seed=seed,
-        strikes=strikes,
-        until=until,
-        noise=noise,
-        max_events=max_events,
-        max_time=max_time,
-        backend=backend,
-        precision=precision,
-    )
+    return kisstime._study_chunk(scenario, first, n, strikes=strikes, **options)
 
 
 def _count(name: str, value: Any, minimum: int) -> int:
@@ -237,14 +220,8 @@ def shot_study(
     columns = None if strikes is None else _strike_columns(strikes)
     total = _count("samples", samples, 1) if columns is None else len(columns["sample"])
     sc = kisstime.scenario(scenario)
-    options = dict(
-        seed=seed,
-        until=until,
-        noise=noise,
-        max_events=max_events,
-        max_time=max_time,
-        backend=backend,
-        precision=precision,
+    options = kisstime._study_options(
+        seed, until, noise, max_events, max_time, backend, precision
     )
     if total == 0:
         # No strike rows: nothing to send; whatever one process gives.

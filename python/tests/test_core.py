@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import kisstime
+from arrays import balls_array, strike_columns
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SHARED = ROOT.parent / "shared"
@@ -89,16 +90,9 @@ def test_simulate_matches_the_cli_on_the_break_example(tmp_path):
     assert r.returncode == 0, r.stderr
     # the same input as arrays: the CLI's own .npy of the balls, the strikes as a dict
     npy_in = tmp_path / "in.npy"
-    balls = np.genfromtxt(balls_csv, delimiter=",", names=True, dtype=None, encoding="utf-8")
-    arr = np.zeros(len(balls), dtype=kisstime.BALL_DTYPE)
-    for name in kisstime.BALL_DTYPE.names:
-        if name == "state":
-            arr[name] = [kisstime.STATES[s] if isinstance(s, str) else s for s in balls[name]]
-        else:
-            arr[name] = balls[name]
+    arr = balls_array(balls_csv)
     np.save(npy_in, arr)
-    strikes = np.genfromtxt(strikes_csv, delimiter=",", names=True, dtype=None, encoding="utf-8")
-    strike_cols = {n: np.atleast_1d(strikes[n]) for n in kisstime.STRIKE_DTYPE.names}
+    strike_cols = strike_columns(strikes_csv)
     res = kisstime.simulate(arr, strike_cols)
     assert same(res.events, np.load(ev))
     assert same(res.final, np.load(fin))

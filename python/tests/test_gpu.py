@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import kisstime
+from arrays import balls_array, strike_columns
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SHARED = ROOT.parent / "shared"
@@ -36,19 +37,10 @@ def need_gpu(precision: str = "f64") -> None:
 
 
 def break_example() -> tuple[np.ndarray, dict]:
-    balls = np.genfromtxt(
-        ROOT / "examples" / "break.csv", delimiter=",", names=True, dtype=None, encoding="utf-8"
+    return (
+        balls_array(ROOT / "examples" / "break.csv"),
+        strike_columns(ROOT / "examples" / "break_strike.csv"),
     )
-    arr = np.zeros(len(balls), dtype=kisstime.BALL_DTYPE)
-    for name in kisstime.BALL_DTYPE.names:
-        if name == "state":
-            arr[name] = [kisstime.STATES[s] if isinstance(s, str) else s for s in balls[name]]
-        else:
-            arr[name] = balls[name]
-    s = np.genfromtxt(
-        ROOT / "examples" / "break_strike.csv", delimiter=",", names=True, dtype=None, encoding="utf-8"
-    )
-    return arr, {n: np.atleast_1d(s[n]) for n in kisstime.STRIKE_DTYPE.names}
 
 
 def test_a_study_on_the_gpu_gives_the_cpus_samples_in_f64_and_fractions_in_f32():

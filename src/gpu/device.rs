@@ -166,3 +166,76 @@ impl DeviceWatch {
             .map(|e| gpu_error(format!("the GPU device failed: {e}")))
     }
 }
+
+/// The error scopes one submission runs in: validation and out of memory (pushed by
+/// [`Scopes::push`] before encoding, popped by [`map_and_wait`]).
+pub(super) struct Scopes {
+    invalid: wgpu::ErrorScopeGuard,
+    oom: wgpu::ErrorScopeGuard,
+}
+
+impl Scopes {
+    /// Pushes the scopes on `device`.
+    pub(super) fn push(device: &wgpu::Device) -> Scopes {
+        let invalid = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        Scopes { invalid, oom }
+    }
+}
+
+/// Maps the first `len` bytes of each buffer of `buffers` for reading, waits for the
+/// device, and pops `scopes`: any failure (validation or out of memory in the submission,
+/// the wait, a map, a lost device or an error `watch` saw) is an error naming `what`, and
+/// no buffer is left mapped then. On success every buffer is mapped; the caller reads and
+/// unmaps them.
+pub(super) fn map_and_wait(
+    device: &wgpu::Device,
+    scopes: Scopes,
+    watch: &DeviceWatch,
+    buffers: &[(&wgpu::Buffer, u64)],
+    what: &str,
+) -> Result<(), Error> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    for (which, (buf, len)) in buffers.iter().enumerate() {
+        let tx = tx.clone();
+        buf.slice(..*len)
+            .map_async(wgpu::MapMode::Read, move |r| drop(tx.send((which, r))));
+    }
+    drop(tx);
+    let polled = device.poll(wgpu::PollType::wait_indefinitely());
+    let oom = pollster::block_on(scopes.oom.pop());
+    let invalid = pollster::block_on(scopes.invalid.pop());
+    // every map callback has run once the poll returned
+    let mut mapped = vec![false; buffers.len()];
+    let mut map_error = None;
+    for (which, r) in rx.try_iter() {
+        match r {
+            Ok(()) => mapped[which] = true,
+            Err(e) => map_error = Some(e),
+        }
+    }
+    let failure = if let Some(e) = oom.or(invalid) {
+        Some(gpu_error(format!("{what} failed: {e}")))
+    } else if let Err(e) = polled {
+        Some(gpu_error(format!("waiting for the GPU failed: {e}")))
+    } else if let Some(e) = map_error {
+        Some(gpu_error(format!(
+            "reading results back from the GPU failed: {e}"
+        )))
+    } else if mapped.iter().any(|m| !m) {
+        Some(gpu_error("the GPU results never became readable"))
+    } else {
+        watch.fault()
+    };
+    match failure {
+        Some(e) => {
+            for ((buf, _), was_mapped) in buffers.iter().zip(mapped) {
+                if was_mapped {
+                    buf.unmap();
+                }
+            }
+            Err(e)
+        }
+        None => Ok(()),
+    }
+}

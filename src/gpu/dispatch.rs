@@ -2,7 +2,7 @@
 
 use std::ops::Range;
 
-use super::device::gpu_error;
+use super::device::{Scopes, gpu_error, map_and_wait};
 use super::{GpuEngine, Precision};
 use crate::batch::Batch;
 use crate::error::Error;
@@ -156,8 +156,7 @@ impl GpuEngine {
     /// is an error, and no buffer is left mapped then.
     fn dispatch_and_map(&self, kernel: Kernel, grid: &Grid) -> Result<(), Error> {
         let bufs = self.bufs.as_ref().expect("upload made the buffers");
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let scopes = Scopes::push(&self.device);
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -176,47 +175,13 @@ impl GpuEngine {
         encoder.copy_buffer_to_buffer(&bufs.out_t, 0, &bufs.read_t, 0, bytes_t);
         encoder.copy_buffer_to_buffer(&bufs.out_code, 0, &bufs.read_code, 0, bytes_code);
         self.queue.submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        for (which, buf, bytes) in [(0, &bufs.read_t, bytes_t), (1, &bufs.read_code, bytes_code)] {
-            let tx = tx.clone();
-            buf.slice(..bytes)
-                .map_async(wgpu::MapMode::Read, move |r| drop(tx.send((which, r))));
-        }
-        drop(tx);
-        let polled = self.device.poll(wgpu::PollType::wait_indefinitely());
-        let oom = pollster::block_on(oom.pop());
-        let invalid = pollster::block_on(scope.pop());
-        // every map callback has run once the poll returned; leave no buffer mapped
-        let mut mapped = [false, false];
-        let mut map_error = None;
-        for (which, r) in rx.try_iter() {
-            match r {
-                Ok(()) => mapped[which] = true,
-                Err(e) => map_error = Some(e),
-            }
-        }
-        let failure = if let Some(e) = oom.or(invalid) {
-            Some(gpu_error(format!("the GPU dispatch failed: {e}")))
-        } else if let Err(e) = polled {
-            Some(gpu_error(format!("waiting for the GPU failed: {e}")))
-        } else if let Some(e) = map_error {
-            Some(gpu_error(format!(
-                "reading results back from the GPU failed: {e}"
-            )))
-        } else if !(mapped[0] && mapped[1]) {
-            Some(gpu_error("the GPU results never became readable"))
-        } else {
-            self.watch.fault()
-        };
-        if let Some(e) = failure {
-            for (buf, was_mapped) in [(&bufs.read_t, mapped[0]), (&bufs.read_code, mapped[1])] {
-                if was_mapped {
-                    buf.unmap();
-                }
-            }
-            return Err(e);
-        }
-        Ok(())
+        map_and_wait(
+            &self.device,
+            scopes,
+            &self.watch,
+            &[(&bufs.read_t, bytes_t), (&bufs.read_code, bytes_code)],
+            "the GPU dispatch",
+        )
     }
 
     /// Converts the grid's mapped results to f64 times and codes, and unmaps the buffers.

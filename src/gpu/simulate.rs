@@ -14,7 +14,7 @@
 //! CPU here (the caller chooses: `kisstime simulate --backend auto` does).
 
 use super::GpuTimings;
-use super::device::{self, AdapterSummary, gpu_error};
+use super::device::{self, AdapterSummary, Scopes, gpu_error, map_and_wait};
 use super::shader::simulate_source;
 use crate::error::{Error, InputError, SimError};
 use crate::model::ball_state::{BallState, ball_energy};
@@ -471,8 +471,7 @@ impl GpuSimulator {
         read: &[&wgpu::Buffer],
     ) -> Result<Vec<Vec<u8>>, Error> {
         let dev = &self.device;
-        let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
-        let oom = dev.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let scopes = Scopes::push(dev);
         let mut encoder = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("kisstime event loop"),
         });
@@ -485,7 +484,7 @@ impl GpuSimulator {
             pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(groups[0], groups[1], 1);
         }
-        let backs: Vec<wgpu::Buffer> = read
+        let backs: Vec<(wgpu::Buffer, u64)> = read
             .iter()
             .map(|b| {
                 let back = dev.create_buffer(&wgpu::BufferDescriptor {
@@ -495,59 +494,23 @@ impl GpuSimulator {
                     mapped_at_creation: false,
                 });
                 encoder.copy_buffer_to_buffer(b, 0, &back, 0, b.size());
-                back
+                (back, b.size())
             })
             .collect();
         self.queue.submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        for (which, back) in backs.iter().enumerate() {
-            let tx = tx.clone();
-            back.slice(..)
-                .map_async(wgpu::MapMode::Read, move |r| drop(tx.send((which, r))));
-        }
-        drop(tx);
-        let polled = dev.poll(wgpu::PollType::wait_indefinitely());
-        let oom = pollster::block_on(oom.pop());
-        let invalid = pollster::block_on(scope.pop());
-        // every map callback has run once the poll returned
-        let mut mapped = vec![false; backs.len()];
-        let mut map_error = None;
-        for (which, r) in rx.try_iter() {
-            match r {
-                Ok(()) => mapped[which] = true,
-                Err(e) => map_error = Some(e),
-            }
-        }
-        let failure = if let Some(e) = oom.or(invalid) {
-            Some(gpu_error(format!("the GPU event loop failed: {e}")))
-        } else if let Err(e) = polled {
-            Some(gpu_error(format!("waiting for the GPU failed: {e}")))
-        } else if let Some(e) = map_error {
-            Some(gpu_error(format!(
-                "reading results back from the GPU failed: {e}"
-            )))
-        } else if mapped.iter().any(|m| !m) {
-            Some(gpu_error("the GPU results never became readable"))
-        } else {
-            self.watch.fault()
-        };
+        let views: Vec<(&wgpu::Buffer, u64)> = backs.iter().map(|(b, n)| (b, *n)).collect();
+        map_and_wait(dev, scopes, &self.watch, &views, "the GPU event loop")?;
         let mut out = Vec::with_capacity(backs.len());
-        for (back, was_mapped) in backs.iter().zip(&mapped) {
-            if *was_mapped {
-                if failure.is_none() {
-                    let view = back
-                        .slice(..)
-                        .get_mapped_range()
-                        .map_err(|e| gpu_error(format!("the results are not readable: {e}")));
-                    out.push(view.map(|v| v.to_vec()));
-                }
-                back.unmap();
-            }
+        for (back, _) in &backs {
+            let bytes = back
+                .slice(..)
+                .get_mapped_range()
+                .map(|v| v.to_vec())
+                .map_err(|e| gpu_error(format!("the results are not readable: {e}")));
+            back.unmap();
+            out.push(bytes?);
         }
-        match failure {
-            Some(e) => Err(e),
-            None => out.into_iter().collect(),
-        }
+        Ok(out)
     }
 
     /// `v` in the shader's precision, as bytes.
