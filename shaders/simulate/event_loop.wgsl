@@ -162,32 +162,32 @@ fn load_table(table: u32, lid: u32) {
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let i = lid + round * LOOP_THREADS;
         if i < GPU_MAX_BALLS {
-        let at = r0 + 10u * i;
-        balls[i] = BallState(
-            real3(state_r[at], state_r[at + 1u], state_r[at + 2u]),
-            real3(state_r[at + 3u], state_r[at + 4u], state_r[at + 5u]),
-            real3(state_r[at + 6u], state_r[at + 7u], state_r[at + 8u]),
-            state_u[u0 + i],
-            state_r[at + 9u],
-        );
-        trans_t[i] = state_r[r0 + 160u + i];
-        trans_kind[i] = state_u[u0 + 16u + i];
-    }
+            let at = r0 + 10u * i;
+            balls[i] = BallState(
+                real3(state_r[at], state_r[at + 1u], state_r[at + 2u]),
+                real3(state_r[at + 3u], state_r[at + 4u], state_r[at + 5u]),
+                real3(state_r[at + 6u], state_r[at + 7u], state_r[at + 8u]),
+                state_u[u0 + i],
+                state_r[at + 9u],
+            );
+            trans_t[i] = state_r[r0 + 160u + i];
+            trans_kind[i] = state_u[u0 + 16u + i];
+        }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let k = lid + round * LOOP_THREADS;
         if k < GPU_MAX_PAIRS {
-        pair_t[k] = state_r[r0 + 176u + k];
-        pair_step[k] = state_u[u0 + 32u + k];
-    }
+            pair_t[k] = state_r[r0 + 176u + k];
+            pair_step[k] = state_u[u0 + 32u + k];
+        }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let k = lid + round * LOOP_THREADS;
         if k < 48u {
-        row_t[k] = state_r[r0 + 296u + k];
-        row_step[k] = state_u[u0 + 152u + k];
-        row_item[k] = state_u[u0 + 200u + k];
-    }
+            row_t[k] = state_r[r0 + 296u + k];
+            row_step[k] = state_u[u0 + 152u + k];
+            row_item[k] = state_u[u0 + 200u + k];
+        }
     }
     if lid == 0u {
         clock = state_r[r0 + 344u];
@@ -204,37 +204,37 @@ fn store_table(table: u32, lid: u32) {
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let i = lid + round * LOOP_THREADS;
         if i < GPU_MAX_BALLS {
-        let at = r0 + 10u * i;
-        let b = balls[i];
-        state_r[at] = b.r.x;
-        state_r[at + 1u] = b.r.y;
-        state_r[at + 2u] = b.r.z;
-        state_r[at + 3u] = b.v.x;
-        state_r[at + 4u] = b.v.y;
-        state_r[at + 5u] = b.v.z;
-        state_r[at + 6u] = b.w.x;
-        state_r[at + 7u] = b.w.y;
-        state_r[at + 8u] = b.w.z;
-        state_r[at + 9u] = b.t;
-        state_u[u0 + i] = b.s;
-        state_r[r0 + 160u + i] = trans_t[i];
-        state_u[u0 + 16u + i] = trans_kind[i];
-    }
+            let at = r0 + 10u * i;
+            let b = balls[i];
+            state_r[at] = b.r.x;
+            state_r[at + 1u] = b.r.y;
+            state_r[at + 2u] = b.r.z;
+            state_r[at + 3u] = b.v.x;
+            state_r[at + 4u] = b.v.y;
+            state_r[at + 5u] = b.v.z;
+            state_r[at + 6u] = b.w.x;
+            state_r[at + 7u] = b.w.y;
+            state_r[at + 8u] = b.w.z;
+            state_r[at + 9u] = b.t;
+            state_u[u0 + i] = b.s;
+            state_r[r0 + 160u + i] = trans_t[i];
+            state_u[u0 + 16u + i] = trans_kind[i];
+        }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let k = lid + round * LOOP_THREADS;
         if k < GPU_MAX_PAIRS {
-        state_r[r0 + 176u + k] = pair_t[k];
-        state_u[u0 + 32u + k] = pair_step[k];
-    }
+            state_r[r0 + 176u + k] = pair_t[k];
+            state_u[u0 + 32u + k] = pair_step[k];
+        }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let k = lid + round * LOOP_THREADS;
         if k < 48u {
-        state_r[r0 + 296u + k] = row_t[k];
-        state_u[u0 + 152u + k] = row_step[k];
-        state_u[u0 + 200u + k] = row_item[k];
-    }
+            state_r[r0 + 296u + k] = row_t[k];
+            state_u[u0 + 152u + k] = row_step[k];
+            state_u[u0 + 200u + k] = row_item[k];
+        }
     }
     if lid == 0u {
         state_r[r0 + 344u] = clock;
@@ -520,32 +520,32 @@ fn simulate_tables(
         let n = n_balls;
         // the paths and boxes of every ball at the current time
         for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let i = lid + round * LOOP_THREADS;
-        if i < n {
-            let path = trajectory(balls[i], p);
-            paths[i] = path;
-            boxes[i] = path_box(path);
+            let i = lid + round * LOOP_THREADS;
+            if i < n {
+                let path = trajectory(balls[i], p);
+                paths[i] = path;
+                boxes[i] = path_box(path);
+            }
         }
-    }
         workgroupBarrier();
         // the missing pair entries, then the missing rows, in parallel
         let n_pairs = n * (n - 1u) / 2u;
         for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let k = lid + round * LOOP_THREADS;
-        if k < n_pairs {
-            if pair_step[k] == MISSING_STEP {
-                let ij = pair_at(k, n);
-                pair_t[k] = after_clock(pair_time(ij.x, ij.y, p));
-                pair_step[k] = n_events;
+            let k = lid + round * LOOP_THREADS;
+            if k < n_pairs {
+                if pair_step[k] == MISSING_STEP {
+                    let ij = pair_at(k, n);
+                    pair_t[k] = after_clock(pair_time(ij.x, ij.y, p));
+                    pair_step[k] = n_events;
+                }
             }
         }
-    }
         for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let q = lid + round * LOOP_THREADS;
-        if q < 3u * n {
-            fill_row(q / n, q % n, p.r);
+            let q = lid + round * LOOP_THREADS;
+            if q < 3u * n {
+                fill_row(q / n, q % n, p.r);
+            }
         }
-    }
         workgroupBarrier();
         if lid == 0u {
             if n_events >= cfg.max_events {
@@ -588,11 +588,11 @@ fn simulate_tables(
         // every ball evolved to the winner's time (closed forms, labels kept)
         let dt = win_t - clock;
         for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let i = lid + round * LOOP_THREADS;
-        if i < n {
-            balls[i] = evolve(balls[i], dt, p);
+            let i = lid + round * LOOP_THREADS;
+            if i < n {
+                balls[i] = evolve(balls[i], dt, p);
+            }
         }
-    }
         workgroupBarrier();
         if lid == 0u {
             resolve(sp);
