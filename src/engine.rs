@@ -418,6 +418,8 @@ fn simulate_on_cpu(
     let options = BatchOptions {
         limits,
         record_events,
+        // ShotEngine::simulate checked every layout already
+        check_layout: false,
         ..BatchOptions::default()
     };
     let mut runs = Vec::with_capacity(shots.len());

@@ -42,8 +42,8 @@ use kisstime::resolve::ball_ball::{
     resolve_ball_ball,
 };
 use kisstime::resolve::ball_cushion::{
-    circular_normal, linear_normal, make_kiss_circular, make_kiss_linear, resolve_circular_cushion,
-    resolve_linear_cushion, stronge_cushion,
+    circular_normal, cushion_consts, linear_normal, make_kiss_circular, make_kiss_linear,
+    resolve_circular_cushion, resolve_linear_cushion, stronge_cushion,
 };
 use kisstime::resolve::stronge::{StrongeConsts, isclose, stronge_compliant};
 use kisstime::resolve::{resolve_pocket, resolve_transition};
@@ -859,16 +859,7 @@ fn bracket_start(r: f64, v_n0: f64, k: &StrongeConsts) -> Option<&'static str> {
 }
 
 fn default_consts() -> StrongeConsts {
-    let (p, rp) = (BallParams::default(), ResolverParams::default());
-    StrongeConsts {
-        mu: p.f_c,
-        e: p.e_c,
-        eta2: rp.eta2(),
-        beta_t: rp.beta_t,
-        beta_n: rp.beta_n,
-        k_n: rp.k_n,
-        m: p.m,
-    }
+    cushion_consts(&BallParams::default(), &ResolverParams::default())
 }
 
 #[test]
@@ -1038,16 +1029,7 @@ fn cushion_branches(b: &BallState, n: Vec3, p: &BallParams, rp: &ResolverParams)
         return "stronge: not approaching";
     }
     let v_t0 = -n.cross(vc).norm();
-    let k = StrongeConsts {
-        mu: p.f_c,
-        e: p.e_c,
-        eta2: rp.eta2(),
-        beta_t: rp.beta_t,
-        beta_n: rp.beta_n,
-        k_n: rp.k_n,
-        m: p.m,
-    };
-    match stronge_branch(v_t0 / v_n0, &k) {
+    match stronge_branch(v_t0 / v_n0, &cushion_consts(p, rp)) {
         "gross slip" => "stronge: gross slip",
         s if s.starts_with("stick") => "stronge: stick-slip",
         _ => "stronge: slip-stick-slip",

@@ -74,6 +74,12 @@ fn circular_normal(r: real3, seg: CircularCushion) -> real3 {
     return unit3(r - seg.center);
 }
 
+// The constants of Stronge's model for a ball on a cushion (§5.4): the cushion's friction
+// and restitution, the resolver's η², β_t, β_n and k_n, the ball's mass.
+fn cushion_consts(p: BallParams, rp: ResolverParams) -> StrongeConsts {
+    return StrongeConsts(p.f_c, p.e_c, eta2(rp), rp.beta_t, rp.beta_n, rp.k_n, p.m);
+}
+
 // Stronge's model applied along contact normal `n` (§5.4 steps 1–7). The ball leaves
 // sliding with v_z = 0; its position is unchanged.
 //
@@ -93,8 +99,7 @@ fn stronge_cushion(b: BallState, n: real3, p: BallParams, rp: ResolverParams) ->
     if v_t0 != 0.0 {
         t_hat = (1.0 / v_t0) * cross(m_t, n);
     }
-    let k = StrongeConsts(p.f_c, p.e_c, eta2(rp), rp.beta_t, rp.beta_n, rp.k_n, p.m);
-    let f = stronge_compliant(v_t0, v_n0, k);
+    let f = stronge_compliant(v_t0, v_n0, cushion_consts(p, rp));
     let v_tf = f.x;
     let v_nf = f.y;
     let dvn = (v_nf - v_n0) / rp.beta_n;

@@ -36,7 +36,7 @@ pub(super) fn gpu_error(what: impl std::fmt::Display) -> Error {
 
 /// Picks the adapter: the one whose name contains `WGPU_ADAPTER_NAME` (case-insensitive)
 /// when that variable is set, else wgpu's choice for high performance. Never panics.
-fn pick_adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter, Error> {
+pub(super) fn pick_adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter, Error> {
     if let Ok(wanted) = std::env::var("WGPU_ADAPTER_NAME") {
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
         let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();

@@ -2,6 +2,7 @@
 //! chunk limits, so that tests exercise the failure, fallback and chunking paths.
 
 use super::{ChunkLimits, GpuEngine, GpuSimulator};
+use crate::error::Error;
 
 /// A fault to inject into the next GPU call, so that tests can exercise the failure and
 /// fallback paths with real wgpu errors rather than hoping for them.
@@ -98,4 +99,12 @@ fn apply(
         Some((fault, n)) => *pending = Some((fault, n - 1)),
         None => {}
     }
+}
+
+/// The adapter the engines would open (`WGPU_ADAPTER_NAME`, else wgpu's high-performance
+/// choice), for test harnesses that build their own device on it.
+pub fn adapter() -> Result<wgpu::Adapter, Error> {
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    super::device::pick_adapter(&instance)
 }

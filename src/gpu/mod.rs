@@ -43,7 +43,7 @@ mod simulate;
 pub use device::AdapterSummary;
 pub use dispatch::Kernel;
 #[cfg(feature = "testing")]
-pub use fault::Fault;
+pub use fault::{Fault, adapter as test_adapter};
 pub use shader::shader_source;
 pub use simulate::{
     EVENTS_PER_DISPATCH, GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator, MAX_TABLES_PER_CHUNK,

@@ -414,6 +414,12 @@ impl GpuSimulator {
             layout: &layout,
             entries: &entries,
         });
+        // what each dispatch reads back, with its readback buffers, made once
+        let mut read = vec![&running_buf];
+        if record_events {
+            read.extend([&eu_buf, &er_buf]);
+        }
+        let per_dispatch = self.readbacks(&read);
         self.timings.upload += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
         loop {
@@ -423,11 +429,7 @@ impl GpuSimulator {
             self.apply_pending_fault(&mut row);
             self.queue
                 .write_buffer(&running_buf, 0, bytemuck::bytes_of(&0u32));
-            let mut read = vec![&running_buf];
-            if record_events {
-                read.extend([&eu_buf, &er_buf]);
-            }
-            let back = self.dispatch_and_read([row, groups_y], &bind, &read)?;
+            let back = self.dispatch_and_read([row, groups_y], &bind, &per_dispatch)?;
             self.dispatches += 1;
             if record_events {
                 let eu: Vec<u32> = bytemuck::pod_collect_to_vec(&back[1]);
@@ -445,7 +447,8 @@ impl GpuSimulator {
             if running == 0 {
                 self.timings.kernel += clock.elapsed().as_secs_f64();
                 let clock = std::time::Instant::now();
-                let back = self.dispatch_and_read([0, 0], &bind, &[&sr_buf, &su_buf])?;
+                let last = self.readbacks(&[&sr_buf, &su_buf]);
+                let back = self.dispatch_and_read([0, 0], &bind, &last)?;
                 let sr = self.reals_of(&back[0]);
                 let su: Vec<u32> = bytemuck::pod_collect_to_vec(&back[1]);
                 for (k, run) in runs.iter_mut().enumerate() {
@@ -461,14 +464,32 @@ impl GpuSimulator {
         }
     }
 
-    /// One dispatch of `groups` workgroups (none where a count is 0), then `read` copied
-    /// back, in order. Any failure (validation, out of memory, a lost device, a failed
-    /// map) is an error, and no buffer is left mapped then.
+    /// A readback buffer for each of `buffers`: `(source, readback)` pairs for
+    /// [`GpuSimulator::dispatch_and_read`].
+    fn readbacks<'b>(&self, buffers: &[&'b wgpu::Buffer]) -> Vec<(&'b wgpu::Buffer, wgpu::Buffer)> {
+        buffers
+            .iter()
+            .map(|b| {
+                let back = self.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("readback"),
+                    size: b.size(),
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                (*b, back)
+            })
+            .collect()
+    }
+
+    /// One dispatch of `groups` workgroups (none where a count is 0), then each source of
+    /// `read` copied to its readback buffer and returned, in order. Any failure
+    /// (validation, out of memory, a lost device, a failed map) is an error, and no buffer
+    /// is left mapped then.
     fn dispatch_and_read(
         &self,
         groups: [u32; 2],
         bind: &wgpu::BindGroup,
-        read: &[&wgpu::Buffer],
+        read: &[(&wgpu::Buffer, wgpu::Buffer)],
     ) -> Result<Vec<Vec<u8>>, Error> {
         let dev = &self.device;
         let scopes = Scopes::push(dev);
@@ -484,24 +505,14 @@ impl GpuSimulator {
             pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(groups[0], groups[1], 1);
         }
-        let backs: Vec<(wgpu::Buffer, u64)> = read
-            .iter()
-            .map(|b| {
-                let back = dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("readback"),
-                    size: b.size(),
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                encoder.copy_buffer_to_buffer(b, 0, &back, 0, b.size());
-                (back, b.size())
-            })
-            .collect();
+        for (src, back) in read {
+            encoder.copy_buffer_to_buffer(src, 0, back, 0, src.size());
+        }
         self.queue.submit([encoder.finish()]);
-        let views: Vec<(&wgpu::Buffer, u64)> = backs.iter().map(|(b, n)| (b, *n)).collect();
+        let views: Vec<(&wgpu::Buffer, u64)> = read.iter().map(|(s, b)| (b, s.size())).collect();
         map_and_wait(dev, scopes, &self.watch, &views, "the GPU event loop")?;
-        let mut out = Vec::with_capacity(backs.len());
-        for (back, _) in &backs {
+        let mut out = Vec::with_capacity(read.len());
+        for (_, back) in read {
             let bytes = back
                 .slice(..)
                 .get_mapped_range()

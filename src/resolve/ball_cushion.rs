@@ -67,6 +67,20 @@ pub fn circular_normal(r: Vec3, seg: &CircularCushion) -> Vec3 {
     (r - seg.center).unit()
 }
 
+/// The constants of Stronge's model for a ball on a cushion (§5.4): the cushion's friction
+/// and restitution, the resolver's η², β_t, β_n and k_n, the ball's mass.
+pub fn cushion_consts(p: &BallParams, rp: &ResolverParams) -> StrongeConsts {
+    StrongeConsts {
+        mu: p.f_c,
+        e: p.e_c,
+        eta2: rp.eta2(),
+        beta_t: rp.beta_t,
+        beta_n: rp.beta_n,
+        k_n: rp.k_n,
+        m: p.m,
+    }
+}
+
 /// Stronge's model applied along contact normal `n` (§5.4 steps 1–7). The ball leaves
 /// sliding with v_z = 0; its position is unchanged.
 ///
@@ -90,16 +104,7 @@ pub fn stronge_cushion(b: &BallState, n: Vec3, p: &BallParams, rp: &ResolverPara
     } else {
         (1.0 / v_t0) * m_t.cross(n)
     };
-    let k = StrongeConsts {
-        mu: p.f_c,
-        e: p.e_c,
-        eta2: rp.eta2(),
-        beta_t: rp.beta_t,
-        beta_n: rp.beta_n,
-        k_n: rp.k_n,
-        m: p.m,
-    };
-    let (v_tf, v_nf) = stronge_compliant(v_t0, v_n0, &k);
+    let (v_tf, v_nf) = stronge_compliant(v_t0, v_n0, &cushion_consts(p, rp));
     let dvn = (v_nf - v_n0) / rp.beta_n;
     let dvt = (v_tf - v_t0) / rp.beta_t;
     let v = b.v + dvn * n + dvt * t_hat;

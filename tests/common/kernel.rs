@@ -54,24 +54,7 @@ impl F64Kernels {
             let _ = writeln!(std::io::stderr(), "{test}: SKIPPED, {why}");
         };
         let required = std::env::var("KISSTIME_REQUIRE_GPU").is_ok_and(|v| v == "1");
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
-            Ok(wanted) => pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
-                .into_iter()
-                .find(|a| {
-                    a.get_info()
-                        .name
-                        .to_lowercase()
-                        .contains(&wanted.to_lowercase())
-                })
-                .ok_or_else(|| format!("no GPU adapter matches WGPU_ADAPTER_NAME={wanted:?}")),
-            Err(_) => pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-                power_preference: wgpu::PowerPreference::HighPerformance,
-                ..Default::default()
-            }))
-            .map_err(|e| format!("no GPU adapter found ({e})")),
-        };
+        let adapter = kisstime::gpu::test_adapter().map_err(|e| e.to_string());
         let adapter = match adapter {
             Ok(a) => a,
             Err(why) => {
