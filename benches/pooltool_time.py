@@ -22,6 +22,12 @@ whatever the balls' states):
               how pooltool's simulator calls it, one numba dispatch per pair.
   pair-njit   The same function called from a numba-compiled loop over all pairs:
               pooltool's per-pair arithmetic with no Python call overhead (a ceiling).
+  fused       The next collision of each table in one numba loop: for every pair,
+              the simulator's skip (either ball pocketed, or neither translating:
+              `stationary`, `spinning`), else `ball_ball_collision_time`, and the
+              table's minimum. The simulator's own step without its Python overhead,
+              and the workload `kisstime bench`'s "next collision" times (pairs counted
+              as above, skipped pairs included).
   batched     pooltool's vectorised quartic primitives: coefficients of all pairs
               (`solve.ball_ball_collision_coeffs`, in a numba loop), then
               `ptmath.roots.quartic.solve_many` and
@@ -44,6 +50,16 @@ rvw = [[x, y, R], [vx, vy, 0], [wx, wy, wz]] with pooltool's state code
 (stationary 0, spinning 1, sliding 2, rolling 3, pocketed 4) and pooltool's default
 BallParams (R 0.028575, m 0.170097, u_s 0.2, u_r 0.01, g 9.81); mu is u_s for a sliding
 ball and u_r otherwise, as the simulator passes it.
+
+Side by side (--bench SCENARIO --seed K, with --kisstime BIN): the input must be
+`BIN gen --scenario SCENARIO --tables N --balls B --seed K` byte for byte (checked); after
+pooltool's paths, the same run times `BIN bench --scenario SCENARIO --tables N --balls B
+--seed K --backend cpu --reps R --json` on the same tables and prints kisstime's next
+collision against `fused`, and its per pair against `pair-njit`:
+
+    target/release/kisstime gen --scenario midshot --tables 20000 --seed 7 -o /tmp/m.csv
+    /work/pooltool-venv/bin/python benches/pooltool_time.py /tmp/m.csv --no-simulator \
+        --kisstime target/release/kisstime --bench midshot --seed 7 --reps 5
 
 Sanity check (--kisstime BIN runs `BIN pairs FILE`, or --pairs-csv gives its output):
 per-pair times are compared with kisstime's `t` (agreement: both inf, or
@@ -202,6 +218,36 @@ def timeit(fn, reps: int):
     return min(ts), statistics.median(ts), out
 
 
+def side_by_side(args, tables, npairs, rate) -> None:
+    """Times `kisstime bench` on the tables of the input (checked to be `kisstime gen`'s
+    for --bench and --seed) and prints the ratios against pooltool's paths."""
+    import json
+
+    ns = {t[3] for t in tables}
+    if len(ns) != 1:
+        sys.exit("--bench: every table must have the same number of balls")
+    (n,) = ns
+    shape = ["--scenario", args.bench, "--tables", str(len(tables)), "--balls", str(n), "--seed", str(args.seed)]
+    with tempfile.TemporaryDirectory() as d:
+        regen = os.path.join(d, "gen.csv")
+        subprocess.run([args.kisstime, "gen", *shape, "-o", regen], check=True)
+        with open(regen, "rb") as f1, open(args.input, "rb") as f2:
+            if f1.read() != f2.read():
+                sys.exit(f"--bench: {args.input} is not `kisstime gen {' '.join(shape)}`")
+    out = subprocess.run(
+        [args.kisstime, "bench", *shape, "--backend", "cpu", "--reps", str(args.reps), "--json"],
+        check=True, capture_output=True, text=True,
+    ).stdout
+    cpu = json.loads(out)["backends"][0]
+    nxt, per = cpu["next_collisions_pairs_per_s"], cpu["pair_times_pairs_per_s"]
+    print(f"\nside by side, the same {npairs} pairs: kisstime bench {' '.join(shape)} --backend cpu "
+          f"--reps {args.reps} ({cpu['device']}, median)")
+    print(f"  next collision: kisstime {nxt:.4g} pairs/s, pooltool fused {rate['fused']:.4g} (median): "
+          f"{nxt / rate['fused']:.1f}x")
+    print(f"  per pair:       kisstime {per:.4g} pairs/s, pooltool pair-njit {rate['pair-njit']:.4g}, "
+          f"batched {rate['batched']:.4g} (medians): {per / rate['pair-njit']:.1f}x, {per / rate['batched']:.1f}x")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
@@ -211,6 +257,8 @@ def main() -> None:
     ap.add_argument("--kisstime", metavar="BIN", help="kisstime binary: run `BIN pairs INPUT` and compare")
     ap.add_argument("--pairs-csv", metavar="FILE", help="existing `kisstime pairs` output to compare with")
     ap.add_argument("--no-simulator", action="store_true", help="skip the simulator path (needs the panda3d stubs)")
+    ap.add_argument("--bench", metavar="SCENARIO", help="with --kisstime and --seed: time `BIN bench` on the same tables (see above)")
+    ap.add_argument("--seed", type=int, help="the seed the input was generated with (for --bench)")
     ap.add_argument("--examples", type=int, default=8, help="disagreements to print (default 8)")
     ap.add_argument("--radius", type=float, default=0.028575)
     ap.add_argument("--mu-s", type=float, default=0.2)
@@ -218,6 +266,8 @@ def main() -> None:
     ap.add_argument("--g", type=float, default=9.81)
     ap.add_argument("--mass", type=float, default=0.170097)
     args = ap.parse_args()
+    if args.bench is not None and (args.kisstime is None or args.seed is None):
+        sys.exit("--bench needs --kisstime BIN and --seed K")
 
     if args.no_simulator:
         _skip_package_inits()
@@ -275,6 +325,32 @@ def main() -> None:
     def pair_njit():
         return pair_njit_loop(rvw, s, mu, ga, gb, m, g, R)
 
+    # (a'') each table's next collision, the simulator's skip, one numba loop
+    starts = np.array([t[2] for t in tables], dtype=np.int64)
+    counts = np.array([t[3] for t in tables], dtype=np.int64)
+
+    @numba.njit(cache=False)
+    def fused_loop(rvw, s, mu, starts, counts, m, g, R, pocketed, still, spinning):
+        out = np.empty(starts.shape[0])
+        for t in range(starts.shape[0]):
+            best = np.inf
+            lo = starts[t]
+            for a in range(lo, lo + counts[t]):
+                for b in range(a + 1, lo + counts[t]):
+                    if s[a] == pocketed or s[b] == pocketed:
+                        continue
+                    if (s[a] == still or s[a] == spinning) and (s[b] == still or s[b] == spinning):
+                        continue
+                    dt = bbtime(rvw[a], rvw[b], s[a], s[b], mu[a], mu[b], m, m, g, g, R)
+                    if dt < best:
+                        best = dt
+            out[t] = best
+        return out
+
+    def fused():
+        return fused_loop(rvw, s, mu, starts, counts, m, g, R,
+                          const.pocketed, const.stationary, const.spinning)
+
     # (c) batched quartic primitives
     @numba.njit(cache=False)
     def coeffs_loop(rvw, s, mu, ga, gb, m, g, R):
@@ -295,7 +371,8 @@ def main() -> None:
         return get_real_positive_smallest_roots(quartic.solve_many(ps))
 
     results = {}
-    paths = [("pair-py", pair_py), ("pair-njit", pair_njit), ("batched", batched)]
+    results_rate = {}
+    paths = [("pair-py", pair_py), ("pair-njit", pair_njit), ("fused", fused), ("batched", batched)]
 
     # (b) the simulator's step
     if not args.no_simulator:
@@ -329,7 +406,11 @@ def main() -> None:
     for name, fn in paths:
         best, med, out = timeit(fn, args.reps)
         results[name] = out
+        results_rate[name] = npairs / med
         print(f"{name:<10} {best:9.4f} {med:9.4f} {npairs / best:15.4g} {npairs / med:17.4g}")
+
+    if args.bench is not None:
+        side_by_side(args, tables, npairs, results_rate)
 
     raw = results["pair-njit"]
     for name in ("pair-py", "batched"):

@@ -57,7 +57,7 @@ pub fn pair_times_of(
         (n_pairs as u64).saturating_mul(crate::limits::BYTES_PER_PAIR),
     )?;
     let mut out = vec![Contact::none(f64::INFINITY); n_pairs];
-    // hand each group of tables its own slice of the output
+    // hand each group of tables its own slice of the output, and each worker its scratch
     let mut tasks = Vec::new();
     let mut rest: &mut [Contact] = &mut out;
     for group in batch.table_groups(tables) {
@@ -66,22 +66,23 @@ pub fn pair_times_of(
         tasks.push((group, head));
         rest = tail;
     }
-    tasks.into_par_iter().for_each(|(group, slice)| {
-        let mut paths = Vec::new();
-        let mut queue = EntryQueue::new(params.radius);
-        let mut at = 0;
-        for k in group {
-            table_paths(batch.balls(k), params, &mut paths);
-            for (i, j) in pairs(paths.len()) {
-                match pair_before_entry(&paths[i], &paths[j], params.radius) {
-                    Ok(c) => slice[at] = c,
-                    Err((rel, h)) => queue.push(rel, h, at, slice),
+    let scratch = || (Vec::new(), EntryQueue::new(params.radius));
+    tasks
+        .into_par_iter()
+        .for_each_init(scratch, |(paths, queue), (group, slice)| {
+            let mut at = 0;
+            for k in group {
+                table_paths(batch.balls(k), params, paths);
+                for (i, j) in pairs(paths.len()) {
+                    match pair_before_entry(&paths[i], &paths[j], params.radius) {
+                        Ok(c) => slice[at] = c,
+                        Err((rel, h)) => queue.push(rel, h, at, slice),
+                    }
+                    at += 1;
                 }
-                at += 1;
             }
-        }
-        queue.flush(slice);
-    });
+            queue.flush(slice);
+        });
     Ok(out)
 }
 
@@ -203,8 +204,8 @@ impl TableMasks {
 }
 
 /// [`table_next`] for tables of up to [`MASK_BALLS`] balls, with the same answers: the
-/// prunes run first, then only the pairs they keep are solved. Appends the next collision
-/// of each table of `tables` to `out`.
+/// prunes run first, then only the pairs they keep are solved. Writes the next collision
+/// of each table of `tables` to `out` (as long as `tables`).
 ///
 /// Of the pairs that can answer (both balls on the table, at least one moving), a pair of
 /// a moving and a still ball that [`passes_wide`] is not solved: [`pair_contact`] answers
@@ -223,13 +224,12 @@ fn tables_next_masked(
     tables: Range<usize>,
     params: &Params,
     s: &mut NextScratch,
-    out: &mut Vec<NextCollision>,
+    out: &mut [NextCollision],
 ) {
     let radius = params.radius;
     let t = &mut s.masks;
     s.kept.clear();
     s.answers.clear();
-    let first = out.len();
     for k in tables.clone() {
         t.fill(batch.balls(k), params);
         let n = t.n.min(MASK_BALLS);
@@ -237,7 +237,7 @@ fn tables_next_masked(
         best.horizon = t.paths[..n]
             .iter()
             .fold(f64::INFINITY, |h, p| h.min(p.tmax));
-        out.push(best);
+        out[k - tables.start] = best;
         t.rows[..n].fill(0);
         let mut movers = t.moving;
         while movers != 0 {
@@ -277,7 +277,7 @@ fn tables_next_masked(
     }
     s.queue.flush(&mut s.answers);
     for (&(k, i, j), &c) in s.kept.iter().zip(&s.answers) {
-        out[first + k - tables.start].consider(c, i, j);
+        out[k - tables.start].consider(c, i, j);
     }
 }
 
@@ -344,18 +344,29 @@ pub fn next_collisions_of(
     tables: Range<usize>,
 ) -> Result<Vec<NextCollision>, Error> {
     params.validate()?;
-    let groups = batch.table_groups(tables);
-    let per_group: Vec<Vec<NextCollision>> = groups
+    let mut out = vec![NextCollision::none(0); tables.len()];
+    // hand each group of tables its own slice of the output, and each worker its scratch
+    let mut tasks = Vec::new();
+    let mut rest: &mut [NextCollision] = &mut out;
+    for group in batch.table_groups(tables) {
+        let (head, tail) = rest.split_at_mut(group.len());
+        tasks.push((group, head));
+        rest = tail;
+    }
+    let scratch = || {
+        let paths_moving = (Vec::new(), Vec::new());
+        let next = NextScratch {
+            masks: TableMasks::new(),
+            kept: Vec::new(),
+            answers: Vec::new(),
+            queue: EntryQueue::new(params.radius),
+        };
+        (paths_moving, next)
+    };
+    tasks
         .into_par_iter()
-        .map(|group| {
-            let (mut paths, mut moving) = (Vec::new(), Vec::new());
-            let mut scratch = NextScratch {
-                masks: TableMasks::new(),
-                kept: Vec::new(),
-                answers: Vec::new(),
-                queue: EntryQueue::new(params.radius),
-            };
-            let mut out = Vec::with_capacity(group.len());
+        .for_each_init(scratch, |s, (group, slice)| {
+            let ((paths, moving), scratch) = s;
             let mut k = group.start;
             while k < group.end {
                 // a run of small tables in chunks, or one large table
@@ -366,19 +377,19 @@ pub fn next_collisions_of(
                 {
                     end += 1;
                 }
+                let at = k - group.start;
                 if end > k {
-                    tables_next_masked(batch, k..end, params, &mut scratch, &mut out);
+                    let chunk = &mut slice[at..at + (end - k)];
+                    tables_next_masked(batch, k..end, params, scratch, chunk);
                     k = end;
                 } else {
-                    table_paths(batch.balls(k), params, &mut paths);
-                    out.push(table_next(batch, k, &paths, params.radius, &mut moving));
+                    table_paths(batch.balls(k), params, paths);
+                    slice[at] = table_next(batch, k, paths, params.radius, moving);
                     k += 1;
                 }
             }
-            out
-        })
-        .collect();
-    Ok(per_group.into_iter().flatten().collect())
+        });
+    Ok(out)
 }
 
 #[cfg(test)]

@@ -4,8 +4,9 @@
 //! One pair's search is a chain of dependent square roots and divisions (the inflection
 //! points, the walk into the dip, the Taylor start, the Newton steps) that leaves the CPU
 //! mostly waiting. Several pairs side by side, every operation on all of them at once ([`F2`], which
-//! the compiler turns into SSE2 instructions, or AVX2 ones where the CPU has them) and every test computed for all and then
-//! selected, keep it busy without a branch to mispredict. The common path of
+//! the compiler turns into SSE2 instructions, or AVX2 or AVX-512 ones where the CPU has
+//! them) and every test computed for all and then selected, keep it busy without a branch
+//! to mispredict. The common path of
 //! [`first_entry`] — the first piece a convex dip, the walk ending inside the contact while
 //! falling, then [`refine_from`](crate::query::ball_ball::refine_from) — is done here with
 //! the same operations on the same numbers; a pair that leaves it (3 % of `worst`'s
@@ -22,8 +23,8 @@ use crate::query::ball_ball::{
 };
 use crate::query::roots::NO_ROOT;
 
-/// Pairs searched at once.
-pub(crate) const LANES: usize = 4;
+/// Pairs searched at once: one 512-bit register of f64s (AVX-512), two of AVX2.
+pub(crate) const LANES: usize = 8;
 
 /// [`crate::query::ball_ball::pair_contact`] up to [`first_entry`]'s search for rule 4:
 /// `Ok` with the answer when it needs no search, else `Err` with the relative path and
@@ -101,7 +102,12 @@ impl EntryQueue {
         let four_r2 = 4.0 * self.radius * self.radius;
         let mut t = [NO_ROOT; LANES];
         let mut ok = [false; LANES];
-        if n == LANES {
+        if n >= 2 {
+            // a queue flushed short: its empty lanes repeat its first pair (their answers
+            // unused), which costs no more than searching the pairs one by one
+            for l in n..LANES {
+                (self.rel[l], self.h[l]) = (self.rel[0], self.h[0]);
+            }
             (t, ok) = first_entry_lanes(&self.rel, four_r2, &self.h);
         }
         for l in 0..n {
@@ -304,15 +310,20 @@ fn positive_root(a: F2, b: F2, c: F2) -> F2 {
 /// [`first_entry`] (`start_inside` false) for [`LANES`] pairs at once: the time of each
 /// lane, and whether it is [`first_entry`]'s answer (else the caller runs [`first_entry`]).
 ///
-/// On an x86-64 CPU with AVX2 (checked once per call, at run time) the same code is
-/// compiled with AVX2, so that a lane group is one 256-bit register: the same IEEE
-/// operations in the same order (Rust never fuses a multiply and an add), so the same
-/// bits, in about half the instructions.
+/// On an x86-64 CPU with AVX-512 or AVX2 (checked once per call, at run time) the same
+/// code is compiled for it, so that the lanes of a number are one 512-bit register, or
+/// two 256-bit ones: the same IEEE operations in the same order (Rust never fuses a
+/// multiply and an add), so the same bits, in a fraction of the instructions.
 pub(crate) fn first_entry_lanes(
     rel: &[RelPath; LANES],
     four_r2: f64,
     h: &[f64; LANES],
 ) -> ([f64; LANES], [bool; LANES]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the CPU has AVX-512, checked just above
+        return unsafe { first_entry_lanes_avx512(rel, four_r2, h) };
+    }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above
@@ -335,6 +346,20 @@ unsafe fn first_entry_lanes_avx2(
     first_entry_lanes_any(rel, four_r2, h)
 }
 
+/// [`first_entry_lanes`] compiled with AVX-512.
+///
+/// # Safety
+/// The CPU must have AVX-512 (its foundation, `avx512f`).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn first_entry_lanes_avx512(
+    rel: &[RelPath; LANES],
+    four_r2: f64,
+    h: &[f64; LANES],
+) -> ([f64; LANES], [bool; LANES]) {
+    first_entry_lanes_any(rel, four_r2, h)
+}
+
 /// [`first_entry_lanes`] for whatever the compiler targets (inlined into each version).
 #[inline(always)]
 fn first_entry_lanes_any(
@@ -342,7 +367,7 @@ fn first_entry_lanes_any(
     four_r2: f64,
     h: &[f64; LANES],
 ) -> ([f64; LANES], [bool; LANES]) {
-    // the lanes of each coefficient (plain loops: they inline into either version)
+    // the lanes of each coefficient (plain loops: they inline into every version)
     let lanes = |which: usize| {
         let mut v = V2 {
             x: F2::splat(0.0),
@@ -494,6 +519,8 @@ mod tests {
         let mut rng = Pcg64Mcg::seed_from_u64(16);
         let four_r2 = 4.0 * R * R;
         let (mut solved, mut handed_back) = (0, 0);
+        // the portable version always; AVX2's and AVX-512's where the CPU has them
+        let mut versions = [true, false, false];
         for _ in 0..100_000 {
             // pairs as the drivers queue them: past every prune
             let pairs: [(RelPath, f64); LANES] = std::array::from_fn(|_| {
@@ -507,10 +534,26 @@ mod tests {
             let rel = pairs.map(|(r, _)| r);
             let h = pairs.map(|(_, h)| h);
             let (t, ok) = first_entry_lanes(&rel, four_r2, &h);
-            // the portable version (the one above is AVX2's where the CPU has it)
-            let (t_any, ok_any) = first_entry_lanes_any(&rel, four_r2, &h);
-            assert_eq!(ok, ok_any);
-            assert_eq!(t.map(f64::to_bits), t_any.map(f64::to_bits));
+            // every version this CPU can run gives the same bits
+            let bits = |(t, ok): ([f64; LANES], [bool; LANES])| (t.map(f64::to_bits), ok);
+            assert_eq!(
+                bits((t, ok)),
+                bits(first_entry_lanes_any(&rel, four_r2, &h))
+            );
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU has AVX2
+                let avx2 = unsafe { first_entry_lanes_avx2(&rel, four_r2, &h) };
+                assert_eq!(bits((t, ok)), bits(avx2));
+                versions[1] = true;
+            }
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU has AVX-512
+                let avx512 = unsafe { first_entry_lanes_avx512(&rel, four_r2, &h) };
+                assert_eq!(bits((t, ok)), bits(avx512));
+                versions[2] = true;
+            }
             for l in 0..LANES {
                 if ok[l] {
                     let want = first_entry(&rel[l], four_r2, h[l], false);
@@ -526,6 +569,7 @@ mod tests {
             solved > 100_000,
             "{solved} solved, {handed_back} handed back"
         );
+        println!("versions compared (portable, AVX2, AVX-512): {versions:?}");
     }
 
     #[test]
@@ -543,6 +587,35 @@ mod tests {
         queue.flush(&mut out);
         for (k, &(rel, h)) in pairs.iter().enumerate() {
             assert_eq!(out[k], first_contact(&rel, R, h), "{rel:?} h {h}");
+        }
+    }
+
+    #[test]
+    fn a_queue_flushed_short_answers_as_first_contact() {
+        let mut rng = Pcg64Mcg::seed_from_u64(18);
+        for n in 1..=LANES {
+            for _ in 0..2_000 {
+                // n pairs that need the search, then a flush with n < LANES queued
+                let pairs: Vec<(RelPath, f64)> = (0..n)
+                    .map(|_| {
+                        loop {
+                            let (rel, h) = random_pair(&mut rng);
+                            if pair_before_entry_rel(&rel, h).is_none() {
+                                break (rel, h);
+                            }
+                        }
+                    })
+                    .collect();
+                let mut out = vec![Contact::none(0.0); n];
+                let mut queue = EntryQueue::new(R);
+                for (k, &(rel, h)) in pairs.iter().enumerate() {
+                    queue.push(rel, h, k, &mut out);
+                }
+                queue.flush(&mut out);
+                for (k, &(rel, h)) in pairs.iter().enumerate() {
+                    assert_eq!(out[k], first_contact(&rel, R, h), "n {n}: {rel:?} h {h}");
+                }
+            }
         }
     }
 
