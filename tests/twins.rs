@@ -395,6 +395,10 @@ const TWINS: &[Twin] = &[
             ("tables_next_masked", CPU_PRUNE),
             ("prune_still", CPU_PRUNE),
             (
+                "next",
+                "BitIter's Iterator::next: the prune pass's bit masks (CPU only)",
+            ),
+            (
                 "next_collisions_of",
                 "the host cuts batches into chunks (src/gpu)",
             ),

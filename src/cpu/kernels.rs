@@ -213,9 +213,11 @@ impl TableMasks {
 /// in the table's. That test runs first for all the still balls of each moving ball at
 /// once ([`prune_still`]): a loop over columns without branches that the compiler
 /// vectorises. The pairs kept (a bit mask per ball) then go through
-/// [`pair_before_entry`] in pair order; those that need the search wait in an
-/// [`EntryQueue`] shared by the tables, solved a few at a time, and each table's answers
-/// are then taken in pair order, so the tie rule picks what [`table_next`] picks. In
+/// [`pair_before_entry`] in pair order; a "none" is dropped there for the same reason,
+/// those that need the search wait in an [`EntryQueue`] shared by the tables, solved a few
+/// at a time, and each table's answers are then taken in pair order, so the tie rule
+/// picks what [`table_next`] picks. The table's horizon is the minimum of its moving balls'
+/// `tmax` (every other ball's is `∞`). In
 /// `midshot` (3 moving balls of 16) 42 pairs of 120 can answer; ~3 of them are left after
 /// the prune pass and ~1.2 searched. CPU only: the GPU twin spreads the pairs over its
 /// workgroup, where a prune pass would only add a barrier.
@@ -234,21 +236,14 @@ fn tables_next_masked(
         t.fill(batch.balls(k), params);
         let n = t.n.min(MASK_BALLS);
         let mut best = NextCollision::none(batch.table_id(k));
-        best.horizon = t.paths[..n]
-            .iter()
-            .fold(f64::INFINITY, |h, p| h.min(p.tmax));
+        // a still or pocketed ball's tmax is ∞: the table's horizon is its moving balls'
+        best.horizon = BitIter(t.moving).fold(f64::INFINITY, |h, m| h.min(t.paths[m].tmax));
         out[k - tables.start] = best;
         t.rows[..n].fill(0);
-        let mut movers = t.moving;
-        while movers != 0 {
-            let m = movers.trailing_zeros() as usize;
-            movers &= movers - 1;
+        for m in BitIter(t.moving) {
             // moving pairs (m, j), j > m: left to pair_before_entry
             t.rows[m] |= t.moving & u64::MAX.checked_shl(m as u32 + 1).unwrap_or(0);
-            let mut kept = prune_still(t, m, radius);
-            while kept != 0 {
-                let st = kept.trailing_zeros() as usize;
-                kept &= kept - 1;
+            for st in BitIter(prune_still(t, m, radius)) {
                 let j = t.still[st];
                 if j > m {
                     t.rows[m] |= 1 << j;
@@ -259,15 +254,17 @@ fn tables_next_masked(
         }
         let ids = batch.ball_ids(k);
         for i in 0..n {
-            let mut bits = t.rows[i];
-            while bits != 0 {
-                let j = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                let slot = s.answers.len();
-                s.kept.push((k, ids[i], ids[j]));
+            for j in BitIter(t.rows[i]) {
                 match pair_before_entry(&t.paths[i], &t.paths[j], radius) {
-                    Ok(c) => s.answers.push(c),
+                    // a "none" changes nothing but the pair's horizon, already the table's
+                    Ok(c) if !c.status.is_contact() => {}
+                    Ok(c) => {
+                        s.kept.push((k, ids[i], ids[j]));
+                        s.answers.push(c);
+                    }
                     Err((rel, h)) => {
+                        let slot = s.answers.len();
+                        s.kept.push((k, ids[i], ids[j]));
                         s.answers.push(Contact::none(h));
                         s.queue.push(rel, h, slot, &mut s.answers);
                     }
@@ -278,6 +275,22 @@ fn tables_next_masked(
     s.queue.flush(&mut s.answers);
     for (&(k, i, j), &c) in s.kept.iter().zip(&s.answers) {
         out[k - tables.start].consider(c, i, j);
+    }
+}
+
+/// The numbers of the set bits of a mask, ascending.
+struct BitIter(u64);
+
+impl Iterator for BitIter {
+    type Item = usize;
+
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let i = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(i)
     }
 }
 
