@@ -52,10 +52,11 @@ BallParams (R 0.028575, m 0.170097, u_s 0.2, u_r 0.01, g 9.81); mu is u_s for a 
 ball and u_r otherwise, as the simulator passes it.
 
 Side by side (--bench SCENARIO --seed K, with --kisstime BIN): the input must be
-`BIN gen --scenario SCENARIO --tables N --balls B --seed K` byte for byte (checked); after
+`BIN gen --scenario SCENARIO --tables N --balls B --seed K` byte for byte (checked); before
 pooltool's paths, the same run times `BIN bench --scenario SCENARIO --tables N --balls B
---seed K --backend cpu --reps R --json` on the same tables and prints kisstime's next
-collision against `fused`, and its per pair against `pair-njit`:
+--seed K --backend cpu --reps R --json` on the same tables, and after them prints
+kisstime's next collision against `fused`, and its per pair against `pair-njit` and
+`batched`:
 
     target/release/kisstime gen --scenario midshot --tables 20000 --seed 7 -o /tmp/m.csv
     /work/pooltool-venv/bin/python benches/pooltool_time.py /tmp/m.csv --no-simulator \
@@ -218,9 +219,9 @@ def timeit(fn, reps: int):
     return min(ts), statistics.median(ts), out
 
 
-def side_by_side(args, tables, npairs, rate) -> None:
+def kisstime_bench(args, tables) -> dict:
     """Times `kisstime bench` on the tables of the input (checked to be `kisstime gen`'s
-    for --bench and --seed) and prints the ratios against pooltool's paths."""
+    for --bench and --seed); returns its CPU figures."""
     import json
 
     ns = {t[3] for t in tables}
@@ -234,14 +235,18 @@ def side_by_side(args, tables, npairs, rate) -> None:
         with open(regen, "rb") as f1, open(args.input, "rb") as f2:
             if f1.read() != f2.read():
                 sys.exit(f"--bench: {args.input} is not `kisstime gen {' '.join(shape)}`")
-    out = subprocess.run(
-        [args.kisstime, "bench", *shape, "--backend", "cpu", "--reps", str(args.reps), "--json"],
-        check=True, capture_output=True, text=True,
-    ).stdout
+    command = [args.kisstime, "bench", *shape, "--backend", "cpu", "--reps", str(args.reps), "--json"]
+    out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
     cpu = json.loads(out)["backends"][0]
+    cpu["command"] = " ".join(command[1:-1])
+    return cpu
+
+
+def side_by_side(cpu: dict, npairs: int, rate: dict) -> None:
+    """Prints kisstime's figures against pooltool's paths."""
     nxt, per = cpu["next_collisions_pairs_per_s"], cpu["pair_times_pairs_per_s"]
-    print(f"\nside by side, the same {npairs} pairs: kisstime bench {' '.join(shape)} --backend cpu "
-          f"--reps {args.reps} ({cpu['device']}, median)")
+    print(f"\nside by side, the same {npairs} pairs: kisstime {cpu['command']} "
+          f"({cpu['device']}, median; run before pooltool's paths)")
     print(f"  next collision: kisstime {nxt:.4g} pairs/s, pooltool fused {rate['fused']:.4g} (median): "
           f"{nxt / rate['fused']:.1f}x")
     print(f"  per pair:       kisstime {per:.4g} pairs/s, pooltool pair-njit {rate['pair-njit']:.4g}, "
@@ -291,6 +296,8 @@ def main() -> None:
 
     R, g, m = args.radius, args.g, args.mass
     tables, rvw, s = load(args.input, R)
+    # kisstime first, with no numba code compiled or run in this process yet
+    kisstime_cpu = kisstime_bench(args, tables) if args.bench is not None else None
     mu = np.where(s == const.sliding, args.mu_s, args.mu_r).astype(np.float64)
     ga, gb, keys = pair_index(tables)
     npairs = len(ga)
@@ -409,8 +416,8 @@ def main() -> None:
         results_rate[name] = npairs / med
         print(f"{name:<10} {best:9.4f} {med:9.4f} {npairs / best:15.4g} {npairs / med:17.4g}")
 
-    if args.bench is not None:
-        side_by_side(args, tables, npairs, results_rate)
+    if kisstime_cpu is not None:
+        side_by_side(kisstime_cpu, npairs, results_rate)
 
     raw = results["pair-njit"]
     for name in ("pair-py", "batched"):
