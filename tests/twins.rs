@@ -389,6 +389,10 @@ const TWINS: &[Twin] = &[
                 "pair_times_of",
                 "the host cuts batches into chunks (src/gpu)",
             ),
+            (
+                "group_slices",
+                "the host's Rayon tasks (the GPU's workgroups need none)",
+            ),
             ("table_next", "inlined in the entry point next_collisions"),
             ("TableMasks::new", CPU_PRUNE),
             ("TableMasks::fill", CPU_PRUNE),

@@ -57,15 +57,8 @@ pub fn pair_times_of(
         (n_pairs as u64).saturating_mul(crate::limits::BYTES_PER_PAIR),
     )?;
     let mut out = vec![Contact::none(f64::INFINITY); n_pairs];
-    // hand each group of tables its own slice of the output, and each worker its scratch
-    let mut tasks = Vec::new();
-    let mut rest: &mut [Contact] = &mut out;
-    for group in batch.table_groups(tables) {
-        let len = batch.pairs_of_tables(group.clone()).len();
-        let (head, tail) = rest.split_at_mut(len);
-        tasks.push((group, head));
-        rest = tail;
-    }
+    let tasks = group_slices(batch, tables, &mut out, |g| batch.pairs_of_tables(g).len());
+    // each worker keeps its scratch from task to task
     let scratch = || (Vec::new(), EntryQueue::new(params.radius));
     tasks
         .into_par_iter()
@@ -84,6 +77,24 @@ pub fn pair_times_of(
             queue.flush(slice);
         });
     Ok(out)
+}
+
+/// The table groups of `tables` ([`Batch::table_groups`], one Rayon task each), each with
+/// its own slice of `out`, in order: `len(group)` items each.
+fn group_slices<'a, T>(
+    batch: &Batch,
+    tables: Range<usize>,
+    out: &'a mut [T],
+    len: impl Fn(Range<usize>) -> usize,
+) -> Vec<(Range<usize>, &'a mut [T])> {
+    let mut tasks = Vec::new();
+    let mut rest = out;
+    for group in batch.table_groups(tables) {
+        let (head, tail) = rest.split_at_mut(len(group.clone()));
+        tasks.push((group, head));
+        rest = tail;
+    }
+    tasks
 }
 
 /// The next collision of table `k` from its ball paths (the tie rule of
@@ -294,14 +305,18 @@ impl Iterator for BitIter {
     }
 }
 
-/// Scratch space of [`tables_next_masked`], reused from chunk to chunk.
+/// Scratch space of [`next_collisions_of`]'s workers, reused from chunk to chunk.
 struct NextScratch {
+    /// [`tables_next_masked`]'s tables.
     masks: TableMasks,
     /// The pairs kept, in order: table, ball ids.
     kept: Vec<(usize, i64, i64)>,
     /// Their answers.
     answers: Vec<Contact>,
     queue: EntryQueue,
+    /// [`table_next`]'s paths and moving balls, for tables of more than [`MASK_BALLS`].
+    paths: Vec<BallPath>,
+    moving: Vec<usize>,
 }
 
 /// Tables that [`tables_next_masked`] takes at a time: enough searches to fill its queue.
@@ -358,28 +373,19 @@ pub fn next_collisions_of(
 ) -> Result<Vec<NextCollision>, Error> {
     params.validate()?;
     let mut out = vec![NextCollision::none(0); tables.len()];
-    // hand each group of tables its own slice of the output, and each worker its scratch
-    let mut tasks = Vec::new();
-    let mut rest: &mut [NextCollision] = &mut out;
-    for group in batch.table_groups(tables) {
-        let (head, tail) = rest.split_at_mut(group.len());
-        tasks.push((group, head));
-        rest = tail;
-    }
-    let scratch = || {
-        let paths_moving = (Vec::new(), Vec::new());
-        let next = NextScratch {
-            masks: TableMasks::new(),
-            kept: Vec::new(),
-            answers: Vec::new(),
-            queue: EntryQueue::new(params.radius),
-        };
-        (paths_moving, next)
+    let tasks = group_slices(batch, tables, &mut out, |g| g.len());
+    // each worker keeps its scratch from task to task
+    let scratch = || NextScratch {
+        masks: TableMasks::new(),
+        kept: Vec::new(),
+        answers: Vec::new(),
+        queue: EntryQueue::new(params.radius),
+        paths: Vec::new(),
+        moving: Vec::new(),
     };
     tasks
         .into_par_iter()
-        .for_each_init(scratch, |s, (group, slice)| {
-            let ((paths, moving), scratch) = s;
+        .for_each_init(scratch, |scratch, (group, slice)| {
             let mut k = group.start;
             while k < group.end {
                 // a run of small tables in chunks, or one large table
@@ -396,6 +402,7 @@ pub fn next_collisions_of(
                     tables_next_masked(batch, k..end, params, scratch, chunk);
                     k = end;
                 } else {
+                    let (paths, moving) = (&mut scratch.paths, &mut scratch.moving);
                     table_paths(batch.balls(k), params, paths);
                     slice[at] = table_next(batch, k, paths, params.radius, moving);
                     k += 1;
