@@ -130,6 +130,9 @@ fn the_first_contact_study_ends_each_sample_at_its_first_contact_as_on_the_cpu()
     .unwrap();
     assert_eq!(progress.last(), Some(&(300, 300)));
     for (k, (g, c)) in got.iter().zip(&cpu).enumerate() {
+        // every number bit for bit (`{:?}` writes each f64 exactly): the device's watch
+        // keeps the cue ball's state and the clock before the contact as the CPU sees them
+        assert_eq!(format!("{g:?}"), format!("{c:?}"), "sample {k}");
         assert_eq!(g.first, c.first, "sample {k}");
         assert_eq!(g.n_events, c.n_events, "sample {k}");
         assert_eq!(g.cut, c.cut, "sample {k}");

@@ -47,9 +47,44 @@ const ITEMS_CIRCULAR: u32 = 0u;
 const ITEMS_LINEAR: u32 = 1u;
 const ITEMS_POCKET: u32 = 2u;
 
-// Reals and u32s of one table's state in storage (see load_table).
-const TABLE_REALS: u32 = 345u;
-const TABLE_UINTS: u32 = 251u;
+// A batch's state in storage is three regions, one after the other in state_r and in
+// state_u, each a block per table: the I/O region (written by the host before the first
+// dispatch, read back at the end), the caches (the device's own: filled at the first
+// dispatch, never read back) and the watch (a study's record of each table's key events,
+// read back at the end where the host asks for it). A region starts at n_tables times the
+// blocks before it (Rust: the host's layout constants, the same names and values; a test
+// compares them).
+// I/O reals: every ball's r, v, w, t (10 each), its transition's time, the clock.
+const IO_REALS: u32 = 177u;
+const IO_R_TRANS: u32 = 160u;
+const IO_R_CLOCK: u32 = 176u;
+// I/O u32s: every ball's motion state, its transition's kind, then n_balls, n_events and
+// the status.
+const IO_UINTS: u32 = 35u;
+const IO_U_TRANS: u32 = 16u;
+const IO_U_N: u32 = 32u;
+// Cache reals: pair times, then row times. Cache u32s: pair steps, row steps, row items.
+const CACHE_REALS: u32 = 168u;
+const CACHE_R_ROWS: u32 = 120u;
+const CACHE_UINTS: u32 = 216u;
+const CACHE_U_ROWS: u32 = 120u;
+const CACHE_U_ITEMS: u32 = 168u;
+// The ball–table rows of a table: 3 categories of GPU_MAX_BALLS.
+const GPU_ROWS: u32 = 48u;
+// Watch reals: the first contact's time, the clock before it, the cue ball's r, v, w, t
+// before it (10), the cue ball's and the other ball's centres after it (3 each), then
+// each pot's time (GPU_MAX_BALLS).
+const WATCH_REALS: u32 = 34u;
+const WATCH_R_BEFORE: u32 = 2u;
+const WATCH_R_CUE: u32 = 12u;
+const WATCH_R_OTHER: u32 = 15u;
+const WATCH_R_POTS: u32 = 18u;
+// Watch u32s: the pots so far, the first contact's event number (0: none yet), kind, ball,
+// other and the cue ball's motion state before it, then each pot's event number, ball and
+// pocket (GPU_MAX_BALLS each).
+const WATCH_UINTS: u32 = 54u;
+const WATCH_U_FIRST: u32 = 1u;
+const WATCH_U_POTS: u32 = 6u;
 // Reals and u32s of one recorded event (t and the two agents' r, v, w, t; kind, ball,
 // other and the two agents' motion states).
 const EVENT_REALS: u32 = 21u;
@@ -65,6 +100,13 @@ struct LoopConfig {
     events_per_dispatch: u32,
     groups_x: u32,
     record_events: u32,
+    // 1 at a batch's first dispatch: the caches start empty and the watch blank
+    first_dispatch: u32,
+    // the cue ball a study watches (NO_AGENT: no watch), and whether a table stops at the
+    // cue ball's first contact
+    watch_cue: u32,
+    watch_stop: u32,
+    pad: u32,
 }
 
 @group(0) @binding(0) var<uniform> cfg: LoopConfig;
@@ -73,10 +115,13 @@ struct LoopConfig {
 // Straight cushions (10 reals each: p1, p2, direction, lx, ly, l0), then jaws (4: centre,
 // radius), then pockets (5: centre, radius, depth).
 @group(0) @binding(2) var<storage, read> geometry: array<real>;
+// The batch's state: the I/O, cache and watch regions (see IO_REALS).
 @group(0) @binding(3) var<storage, read_write> state_r: array<real>;
 @group(0) @binding(4) var<storage, read_write> state_u: array<u32>;
+// The events recorded by this dispatch (only with record_events): EVENT_REALS per event.
 @group(0) @binding(5) var<storage, read_write> events_r: array<real>;
-// Per table: the number of events recorded by this dispatch, then EVENT_UINTS per event.
+// Per table: the number of events recorded by this dispatch, then EVENT_UINTS per event
+// (only with record_events).
 @group(0) @binding(6) var<storage, read_write> events_u: array<u32>;
 // The tables still running after this dispatch (the host zeroes it before each dispatch
 // and reads back only this word until it is 0).
@@ -92,9 +137,9 @@ var<workgroup> pair_t: array<real, GPU_MAX_PAIRS>;
 var<workgroup> pair_step: array<u32, GPU_MAX_PAIRS>;
 // Each ball's row of each ball–table category (index category * GPU_MAX_BALLS + ball):
 // the row's earliest time, its step and its item (Rust: RowBest).
-var<workgroup> row_t: array<real, 48>;
-var<workgroup> row_step: array<u32, 48>;
-var<workgroup> row_item: array<u32, 48>;
+var<workgroup> row_t: array<real, GPU_ROWS>;
+var<workgroup> row_step: array<u32, GPU_ROWS>;
+var<workgroup> row_item: array<u32, GPU_ROWS>;
 // Each ball's path at the current time and its box.
 var<workgroup> paths: array<Path, GPU_MAX_BALLS>;
 var<workgroup> boxes: array<PathBox, GPU_MAX_BALLS>;
@@ -108,6 +153,9 @@ var<workgroup> win_kind: u32;
 var<workgroup> win_t: real;
 var<workgroup> win_ball: u32;
 var<workgroup> win_other: u32;
+// The cue ball's state and the clock before this step's event, for the watch.
+var<workgroup> watch_before: BallState;
+var<workgroup> watch_t0: real;
 
 // One category's earliest candidate (Rust: Candidate); `valid` false for none.
 struct Candidate {
@@ -152,13 +200,34 @@ fn pocket_item(m: u32) -> Pocket {
     return Pocket(real3(geometry[at], geometry[at + 1u], geometry[at + 2u]), geometry[at + 3u], geometry[at + 4u]);
 }
 
-// Storage layout of one table. Reals: balls (10 each: r, v, w, t) at 0, transition times
-// at 160, pair times at 176, row times at 296, the clock at 344. u32s: motion states at
-// 0, transition kinds at 16, pair steps at 32, row steps at 152, row items at 200, then
-// n_balls, n_events, status at 248..250.
+// Where table `table`'s blocks start in each region (see IO_REALS).
+fn io_r(table: u32) -> u32 {
+    return table * IO_REALS;
+}
+fn io_u(table: u32) -> u32 {
+    return table * IO_UINTS;
+}
+fn cache_r(table: u32) -> u32 {
+    return cfg.n_tables * IO_REALS + table * CACHE_REALS;
+}
+fn cache_u(table: u32) -> u32 {
+    return cfg.n_tables * IO_UINTS + table * CACHE_UINTS;
+}
+fn watch_r(table: u32) -> u32 {
+    return cfg.n_tables * (IO_REALS + CACHE_REALS) + table * WATCH_REALS;
+}
+fn watch_u(table: u32) -> u32 {
+    return cfg.n_tables * (IO_UINTS + CACHE_UINTS) + table * WATCH_UINTS;
+}
+
+// A table's state into workgroup memory: its I/O block, and its caches (empty at the
+// batch's first dispatch: every entry missing, as after the host's reset).
 fn load_table(table: u32, lid: u32) {
-    let r0 = table * TABLE_REALS;
-    let u0 = table * TABLE_UINTS;
+    let r0 = io_r(table);
+    let u0 = io_u(table);
+    let c_r = cache_r(table);
+    let c_u = cache_u(table);
+    let fresh = cfg.first_dispatch != 0u;
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let i = lid + round * LOOP_THREADS;
         if i < GPU_MAX_BALLS {
@@ -170,37 +239,56 @@ fn load_table(table: u32, lid: u32) {
                 state_u[u0 + i],
                 state_r[at + 9u],
             );
-            trans_t[i] = state_r[r0 + 160u + i];
-            trans_kind[i] = state_u[u0 + 16u + i];
+            trans_t[i] = state_r[r0 + IO_R_TRANS + i];
+            trans_kind[i] = state_u[u0 + IO_U_TRANS + i];
         }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let k = lid + round * LOOP_THREADS;
         if k < GPU_MAX_PAIRS {
-            pair_t[k] = state_r[r0 + 176u + k];
-            pair_step[k] = state_u[u0 + 32u + k];
+            if fresh {
+                pair_t[k] = NEVER;
+                pair_step[k] = MISSING_STEP;
+            } else {
+                pair_t[k] = state_r[c_r + k];
+                pair_step[k] = state_u[c_u + k];
+            }
         }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let k = lid + round * LOOP_THREADS;
-        if k < 48u {
-            row_t[k] = state_r[r0 + 296u + k];
-            row_step[k] = state_u[u0 + 152u + k];
-            row_item[k] = state_u[u0 + 200u + k];
+        if k < GPU_ROWS {
+            if fresh {
+                row_t[k] = NEVER;
+                row_step[k] = MISSING_STEP;
+                row_item[k] = 0u;
+            } else {
+                row_t[k] = state_r[c_r + CACHE_R_ROWS + k];
+                row_step[k] = state_u[c_u + CACHE_U_ROWS + k];
+                row_item[k] = state_u[c_u + CACHE_U_ITEMS + k];
+            }
         }
     }
     if lid == 0u {
-        clock = state_r[r0 + 344u];
-        n_balls = state_u[u0 + 248u];
-        n_events = state_u[u0 + 249u];
-        status = state_u[u0 + 250u];
+        clock = state_r[r0 + IO_R_CLOCK];
+        n_balls = state_u[u0 + IO_U_N];
+        n_events = state_u[u0 + IO_U_N + 1u];
+        status = state_u[u0 + IO_U_N + 2u];
         n_recorded = 0u;
+        if fresh && cfg.watch_cue != NO_AGENT {
+            let w_u = watch_u(table);
+            state_u[w_u] = 0u;
+            state_u[w_u + WATCH_U_FIRST] = 0u;
+        }
     }
 }
 
+// A table's state back to storage.
 fn store_table(table: u32, lid: u32) {
-    let r0 = table * TABLE_REALS;
-    let u0 = table * TABLE_UINTS;
+    let r0 = io_r(table);
+    let u0 = io_u(table);
+    let c_r = cache_r(table);
+    let c_u = cache_u(table);
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let i = lid + round * LOOP_THREADS;
         if i < GPU_MAX_BALLS {
@@ -217,30 +305,32 @@ fn store_table(table: u32, lid: u32) {
             state_r[at + 8u] = b.w.z;
             state_r[at + 9u] = b.t;
             state_u[u0 + i] = b.s;
-            state_r[r0 + 160u + i] = trans_t[i];
-            state_u[u0 + 16u + i] = trans_kind[i];
+            state_r[r0 + IO_R_TRANS + i] = trans_t[i];
+            state_u[u0 + IO_U_TRANS + i] = trans_kind[i];
         }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let k = lid + round * LOOP_THREADS;
         if k < GPU_MAX_PAIRS {
-            state_r[r0 + 176u + k] = pair_t[k];
-            state_u[u0 + 32u + k] = pair_step[k];
+            state_r[c_r + k] = pair_t[k];
+            state_u[c_u + k] = pair_step[k];
         }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
         let k = lid + round * LOOP_THREADS;
-        if k < 48u {
-            state_r[r0 + 296u + k] = row_t[k];
-            state_u[u0 + 152u + k] = row_step[k];
-            state_u[u0 + 200u + k] = row_item[k];
+        if k < GPU_ROWS {
+            state_r[c_r + CACHE_R_ROWS + k] = row_t[k];
+            state_u[c_u + CACHE_U_ROWS + k] = row_step[k];
+            state_u[c_u + CACHE_U_ITEMS + k] = row_item[k];
         }
     }
     if lid == 0u {
-        state_r[r0 + 344u] = clock;
-        state_u[u0 + 249u] = n_events;
-        state_u[u0 + 250u] = status;
-        events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = n_recorded;
+        state_r[r0 + IO_R_CLOCK] = clock;
+        state_u[u0 + IO_U_N + 1u] = n_events;
+        state_u[u0 + IO_U_N + 2u] = status;
+        if cfg.record_events != 0u {
+            events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = n_recorded;
+        }
         if status == STATUS_RUNNING {
             atomicAdd(&running, 1u);
         }
@@ -497,6 +587,69 @@ fn record(table: u32) {
     n_recorded = k + 1u;
 }
 
+// Whether event (kind, ball, other) is the cue ball's first contact, if none came before
+// (Rust: study::run's first_contact_of(..).is_some()): ball–ball with the cue ball, a
+// cushion or jaw, a pocket, or the cue ball stopping; not the strike, nor the cue ball's
+// own sliding → rolling.
+fn first_contact_of(kind: u32, ball: u32, other: u32, cue: u32) -> bool {
+    let involves = ball == cue || (kind == EVENT_BALL_BALL && other == cue);
+    return involves && kind != EVENT_STICK_BALL && kind != EVENT_SLIDING_ROLLING;
+}
+
+// The watch's record of the event just resolved (Rust: what study::run's SampleWatch
+// takes from it): the cue ball's first contact with its state and the clock before it and
+// both balls' centres after it, and every pot. With watch_stop the table ends at the
+// first contact, as the CPU's study stops its loop there.
+fn watch_event(table: u32) {
+    let cue = cfg.watch_cue;
+    let w_r = watch_r(table);
+    let w_u = watch_u(table);
+    if win_kind == EVENT_POCKET {
+        let k = state_u[w_u];
+        if k < GPU_MAX_BALLS {
+            state_u[w_u + WATCH_U_POTS + k] = n_events;
+            state_u[w_u + WATCH_U_POTS + GPU_MAX_BALLS + k] = win_ball;
+            state_u[w_u + WATCH_U_POTS + 2u * GPU_MAX_BALLS + k] = win_other;
+            state_r[w_r + WATCH_R_POTS + k] = win_t;
+            state_u[w_u] = k + 1u;
+        }
+    }
+    if state_u[w_u + WATCH_U_FIRST] != 0u || !first_contact_of(win_kind, win_ball, win_other, cue) {
+        return;
+    }
+    let b = watch_before;
+    state_u[w_u + WATCH_U_FIRST] = n_events;
+    state_u[w_u + WATCH_U_FIRST + 1u] = win_kind;
+    state_u[w_u + WATCH_U_FIRST + 2u] = win_ball;
+    state_u[w_u + WATCH_U_FIRST + 3u] = win_other;
+    state_u[w_u + WATCH_U_FIRST + 4u] = b.s;
+    state_r[w_r] = win_t;
+    state_r[w_r + 1u] = watch_t0;
+    let at = w_r + WATCH_R_BEFORE;
+    state_r[at] = b.r.x;
+    state_r[at + 1u] = b.r.y;
+    state_r[at + 2u] = b.r.z;
+    state_r[at + 3u] = b.v.x;
+    state_r[at + 4u] = b.v.y;
+    state_r[at + 5u] = b.v.z;
+    state_r[at + 6u] = b.w.x;
+    state_r[at + 7u] = b.w.y;
+    state_r[at + 8u] = b.w.z;
+    state_r[at + 9u] = b.t;
+    let c = balls[cue].r;
+    state_r[w_r + WATCH_R_CUE] = c.x;
+    state_r[w_r + WATCH_R_CUE + 1u] = c.y;
+    state_r[w_r + WATCH_R_CUE + 2u] = c.z;
+    let other = select(win_ball, win_other, win_ball == cue);
+    let o = balls[min(other, n_balls - 1u)].r;
+    state_r[w_r + WATCH_R_OTHER] = o.x;
+    state_r[w_r + WATCH_R_OTHER + 1u] = o.y;
+    state_r[w_r + WATCH_R_OTHER + 2u] = o.z;
+    if cfg.watch_stop != 0u {
+        status = STATUS_DONE;
+    }
+}
+
 // One workgroup per table: up to events_per_dispatch steps of its loop (Rust:
 // EventLoop::step, with candidates, choose, advance and resolve).
 @compute @workgroup_size(64)
@@ -506,6 +659,22 @@ fn simulate_tables(
 ) {
     let table = wid.y * cfg.groups_x + wid.x;
     if table >= cfg.n_tables {
+        return;
+    }
+    // a table done in an earlier dispatch is left as it is
+    if lid == 0u {
+        status = state_u[io_u(table) + IO_U_N + 2u];
+    }
+    if workgroupUniformLoad(&status) != STATUS_RUNNING {
+        if lid == 0u {
+            if cfg.record_events != 0u {
+                events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = 0u;
+            }
+            if cfg.first_dispatch != 0u && cfg.watch_cue != NO_AGENT {
+                state_u[watch_u(table)] = 0u;
+                state_u[watch_u(table) + WATCH_U_FIRST] = 0u;
+            }
+        }
         return;
     }
     let sp = load_params();
@@ -579,6 +748,10 @@ fn simulate_tables(
                     win_t = best.t;
                     win_ball = best.ball;
                     win_other = best.other;
+                    if cfg.watch_cue != NO_AGENT {
+                        watch_before = balls[cfg.watch_cue];
+                        watch_t0 = clock;
+                    }
                 }
             }
         }
@@ -598,6 +771,9 @@ fn simulate_tables(
             resolve(sp);
             n_events += 1u;
             record(table);
+            if cfg.watch_cue != NO_AGENT {
+                watch_event(table);
+            }
         }
         workgroupBarrier();
     }

@@ -38,6 +38,7 @@ mod dispatch;
 mod fault;
 mod pipelines;
 pub mod shader;
+mod sim_layout;
 mod simulate;
 
 pub use device::AdapterSummary;
@@ -45,10 +46,10 @@ pub use dispatch::Kernel;
 #[cfg(feature = "testing")]
 pub use fault::{Fault, adapter as test_adapter};
 pub use shader::shader_source;
-pub use simulate::{
-    EVENTS_PER_DISPATCH, GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator, MAX_TABLES_PER_CHUNK,
-    OnEvent,
-};
+#[doc(hidden)]
+pub use sim_layout::SHADER_LAYOUT;
+pub use sim_layout::{GPU_MAX_BALLS, GpuRun, GpuShot, GpuWatch, WatchedContact};
+pub use simulate::{EVENTS_PER_DISPATCH, GpuSimulator, MAX_TABLES_PER_CHUNK, OnEvent};
 
 /// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the
 /// `testing` feature).
@@ -62,16 +63,22 @@ pub struct ChunkLimits {
     pub pairs: usize,
 }
 
-/// Timings of the last call, for benchmarks: upload, kernel and readback in seconds
-/// (wall clock on the host, summed over chunks).
+/// Timings of the last call, for benchmarks: host packing, upload, kernel, readback and
+/// host unpacking in seconds (wall clock on the host, summed over chunks).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GpuTimings {
-    /// Building the host arrays and writing them to the device.
+    /// Checking the input and laying it out as the shader reads it, on the host (the
+    /// kernels' engine counts this in `upload`).
+    pub pack: f64,
+    /// Writing the host arrays to the device, waited for.
     pub upload: f64,
-    /// The dispatch until the results are ready to map.
+    /// The dispatches until the results are ready to copy.
     pub kernel: f64,
-    /// Mapping and converting the results.
+    /// Copying the results to mappable memory and mapping them.
     pub readback: f64,
+    /// Converting the mapped results into answers, on the host (the kernels' engine
+    /// counts this in `readback`).
+    pub unpack: f64,
 }
 
 /// The GPU engine: device, pipelines and buffers, reused across calls.

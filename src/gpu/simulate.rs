@@ -3,30 +3,36 @@
 //! table.
 //!
 //! The host checks each table as [`EventLoop::reset`] does, resolves the strike (the stick
-//! event, which has no shader twin) with [`cue_strike`] under the CPU's rule (at t = 0, if
-//! every ball is at rest and V0 > 0), lays the tables' states out as the shader reads them,
-//! and dispatches up to `events_per_dispatch` events per table at a time until every table
-//! is done, reading the recorded events back after each dispatch. The states stay on the
-//! device between dispatches.
+//! event, which has no shader twin) with `cue_strike` under the CPU's rule (at t = 0, if
+//! every ball is at rest and V0 > 0), and writes each table's I/O block (balls, transitions,
+//! counts: `sim_layout`) straight into the upload's staging memory, Rayon over tables. The
+//! device starts the caches itself and keeps every table's state between dispatches; it
+//! dispatches up to `events_per_dispatch` events per table at a time, reading back a 4-byte
+//! "tables still running" count after each (and the recorded events only where the caller
+//! asked for them), until every table is done; then only the I/O blocks (and, for a study,
+//! the watch blocks) come back, unpacked Rayon over tables.
 //!
-//! A batch is cut into chunks of whole tables that fit the device's buffers. Limits of
-//! this first version: at most [`GPU_MAX_BALLS`] balls per table, and no fall back to the
-//! CPU here (the caller chooses: `kisstime simulate --backend auto` does).
+//! The buffers and their bind group are made once and reused across chunks and calls while
+//! they are large enough. A batch is cut into chunks of whole tables that fit the device's
+//! largest binding. Limits of this version: at most [`GPU_MAX_BALLS`] balls per table, and
+//! no fall back to the CPU here (the caller chooses: [`crate::engine::ShotEngine`] does).
+
+use rayon::prelude::*;
 
 use super::GpuTimings;
 use super::device::{self, AdapterSummary, Scopes, gpu_error, map_and_wait};
 use super::shader::simulate_source;
+use super::sim_layout::{
+    CACHE_REALS, CACHE_UINTS, EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot,
+    GpuWatch, IO_REALS, IO_UINTS, NEVER_F32, NEVER_F64, WATCH_REALS, WATCH_UINTS,
+    event_record, finish_table, read_watch, start_table,
+};
 use crate::error::{Error, InputError, SimError};
-use crate::model::ball_state::{BallState, ball_energy};
+use crate::model::Precision;
 use crate::model::sim_params::SimParams;
 use crate::model::table::Table;
-use crate::model::vec3::Vec3;
-use crate::model::{MotionState, Precision};
-use crate::motion::evolve::{TransitionKind, next_transition};
-use crate::resolve::stick_ball::{CueStrike, cue_strike};
 use crate::simulate::batch::EventRecord;
 use crate::simulate::check::check_layout;
-use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
 use crate::simulate::{EventLoop, Limits};
 
 /// Events per table and dispatch, by default. Short dispatches keep a device responsive;
@@ -35,57 +41,49 @@ use crate::simulate::{EventLoop, Limits};
 /// 32 or 64 events give the CPU's events.
 pub const EVENTS_PER_DISPATCH: u32 = 32;
 
-/// The most balls of one table on the GPU (the shader's `GPU_MAX_BALLS`).
-pub const GPU_MAX_BALLS: usize = 16;
-/// Reals and u32s of one table's state (the shader's `TABLE_REALS`, `TABLE_UINTS`).
-const TABLE_REALS: usize = 345;
-const TABLE_UINTS: usize = 251;
-/// Per recorded event (`EVENT_REALS`, `EVENT_UINTS`).
-const EVENT_REALS: usize = 21;
-const EVENT_UINTS: usize = 5;
-/// Offsets in a table's state (see the shader's `load_table`).
-const R_TRANS: usize = 160;
-const R_PAIRS: usize = 176;
-const R_ROWS: usize = 296;
-const R_CLOCK: usize = 344;
-const U_TRANS: usize = 16;
-const U_PAIRS: usize = 32;
-const U_ROWS: usize = 152;
-const U_ITEMS: usize = 200;
-const U_N: usize = 248;
-const MISSING_STEP: u32 = u32::MAX;
-/// Pair entries and ball–table rows of one table (`GPU_MAX_PAIRS`, 3 · `GPU_MAX_BALLS`).
-const GPU_MAX_PAIRS: usize = GPU_MAX_BALLS * (GPU_MAX_BALLS - 1) / 2;
-const GPU_ROWS: usize = 3 * GPU_MAX_BALLS;
-/// The shader's "never" as the host writes it in f64 (f32 buffers get `NEVER_F32`).
-const NEVER_F64: f64 = 1.0e300;
-const NEVER_F32: f32 = 3.0e38;
+/// Tables per chunk, at most, by default.
+pub const MAX_TABLES_PER_CHUNK: usize = 1 << 20;
 
 /// What [`GpuSimulator::simulate_with`] hands each event to: `(table, record)`.
 pub type OnEvent<'a> = &'a mut dyn FnMut(usize, &EventRecord);
 
-/// One table's shot: its balls (pooltool's order) and the strike, if any.
-#[derive(Clone, Debug)]
-pub struct GpuShot {
-    /// The balls at t = 0.
-    pub balls: Vec<BallState>,
-    /// The cue ball's index and the strike.
-    pub strike: Option<(usize, CueStrike)>,
+/// No agent (the shader's `NO_AGENT`): the watch is off.
+const NO_WATCH: u32 = u32::MAX;
+
+/// What a call reads back besides the final states.
+enum Mode<'a> {
+    /// Final states only.
+    Finals,
+    /// Every event, handed to the callback after each dispatch.
+    Events(&'a mut dyn FnMut(usize, &EventRecord)),
+    /// The watch of cue ball `cue` (a table stops at its first contact with `stop`).
+    Watch { cue: usize, stop: bool },
 }
 
-/// One table's result: its events (if asked for) with the involved balls' states, the
-/// final states, and how it ended.
-#[derive(Clone, Debug, PartialEq)]
-pub struct GpuRun {
-    /// The events, the strike included (empty unless events were asked for).
-    pub events: Vec<EventRecord>,
-    /// The balls at the end.
-    pub balls: Vec<BallState>,
-    /// Events, end time, and whether a limit cut the run.
-    pub outcome: Outcome,
+/// The event loop's buffers, made for up to `tables` tables and reused while a call fits.
+struct LoopBuffers {
+    tables: usize,
+    per: usize,
+    record: bool,
+    geometry_reals: usize,
+    cfg: wgpu::Buffer,
+    sim: wgpu::Buffer,
+    geometry: wgpu::Buffer,
+    state_r: wgpu::Buffer,
+    state_u: wgpu::Buffer,
+    events_r: wgpu::Buffer,
+    events_u: wgpu::Buffer,
+    running: wgpu::Buffer,
+    bind: wgpu::BindGroup,
+    /// Readback buffers: the running count, the I/O and watch regions, the events.
+    back_running: wgpu::Buffer,
+    back_r: wgpu::Buffer,
+    back_u: wgpu::Buffer,
+    back_events_r: Option<wgpu::Buffer>,
+    back_events_u: Option<wgpu::Buffer>,
 }
 
-/// The GPU event loop: device and pipeline, reused across calls.
+/// The GPU event loop: device, pipeline and buffers, reused across calls.
 pub struct GpuSimulator {
     pub(super) device: wgpu::Device,
     queue: wgpu::Queue,
@@ -96,13 +94,14 @@ pub struct GpuSimulator {
     /// The largest storage binding the device allows, in bytes.
     max_binding: u64,
     watch: device::DeviceWatch,
+    bufs: Option<LoopBuffers>,
+    /// The packed I/O blocks of a chunk on the host, kept across calls.
+    pack_r: Vec<u8>,
+    pack_u: Vec<u8>,
     /// A fault waiting for its dispatch: the fault, and how many dispatches run first.
     #[cfg(feature = "testing")]
     pub(super) pending_fault: Option<(super::Fault, u32)>,
-    /// The last call's timings (summed over chunks): `upload` the host's checks, layout
-    /// and buffers; `kernel` the dispatches until every table is done (with the 4-byte
-    /// "running" count after each, and the events where they are read back); `readback`
-    /// the final states.
+    /// The last call's timings, summed over chunks (see [`GpuTimings`]).
     timings: GpuTimings,
     /// Dispatches of the last call.
     dispatches: u64,
@@ -113,9 +112,6 @@ pub struct GpuSimulator {
     /// [`MAX_TABLES_PER_CHUNK`]), simulated one after the other.
     pub max_tables_per_chunk: usize,
 }
-
-/// Tables per chunk, at most, by default.
-pub const MAX_TABLES_PER_CHUNK: usize = 1 << 20;
 
 impl GpuSimulator {
     /// Opens the GPU and builds the event loop's pipeline for `precision`.
@@ -155,6 +151,9 @@ impl GpuSimulator {
             queue: opened.queue,
             adapter: opened.adapter,
             watch: opened.watch,
+            bufs: None,
+            pack_r: Vec::new(),
+            pack_u: Vec::new(),
             #[cfg(feature = "testing")]
             pending_fault: None,
             precision,
@@ -176,8 +175,9 @@ impl GpuSimulator {
         self.precision
     }
 
-    /// The last call's upload / kernel / readback split (see the field docs of
-    /// [`GpuTimings`]: here "kernel" is every dispatch of the event loop, waited for).
+    /// The last call's split (see the field docs of [`GpuTimings`]: here "kernel" is every
+    /// dispatch of the event loop, waited for, with the 4-byte count after each and the
+    /// events where they are read back).
     pub fn timings(&self) -> GpuTimings {
         self.timings
     }
@@ -193,9 +193,9 @@ impl GpuSimulator {
     ///
     /// Errors: a table with more than [`GPU_MAX_BALLS`] balls ([`Error::Unsupported`]); a
     /// table the CPU refuses too (`check_layout`: non-finite numbers, a ball off the
-    /// table; a bad strike), as [`Error::Input`] naming the table and the reason; bad
-    /// parameters; or a device failure ([`Error::Gpu`]: validation, out of memory, a lost
-    /// device, a failed readback).
+    /// table; a bad strike), as [`Error::Input`] naming the first such table and the
+    /// reason; bad parameters; or a device failure ([`Error::Gpu`]: validation, out of
+    /// memory, a lost device, a failed readback).
     pub fn simulate(
         &mut self,
         table: &Table,
@@ -218,8 +218,7 @@ impl GpuSimulator {
 
     /// [`GpuSimulator::simulate`] that hands each event, in order within each table, to
     /// `on_event(table, record)` as it is read back (after every dispatch) instead of
-    /// keeping it: a study watches a million shots' events without holding them. Without
-    /// `on_event` no event is read back. The runs' `events` stay empty.
+    /// keeping it. Without `on_event` no event is read back. The runs' `events` stay empty.
     pub fn simulate_with(
         &mut self,
         table: &Table,
@@ -228,179 +227,154 @@ impl GpuSimulator {
         shots: &[GpuShot],
         on_event: Option<OnEvent<'_>>,
     ) -> Result<Vec<GpuRun>, Error> {
-        let record_events = on_event.is_some();
-        let mut ignore = |_: usize, _: &EventRecord| {};
-        let on_event: &mut dyn FnMut(usize, &EventRecord) = match on_event {
-            Some(f) => f,
-            None => &mut ignore,
+        let mode = match on_event {
+            Some(f) => Mode::Events(f),
+            None => Mode::Finals,
         };
-        let per = self.events_per_dispatch.max(1) as usize;
-        let real = self.precision.real_size();
-        // the largest per-table buffer decides how many tables fit one binding
-        let per_table = (TABLE_REALS * real)
-            .max(per * EVENT_REALS * real)
-            .max(4 * (1 + per * EVENT_UINTS));
-        let fit = (self.max_binding / per_table as u64).max(1) as usize;
-        let chunk = self.max_tables_per_chunk.max(1).min(fit);
-        self.timings = GpuTimings::default();
-        self.dispatches = 0;
-        let mut runs = Vec::with_capacity(shots.len());
-        for (c, part) in shots.chunks(chunk).enumerate() {
-            runs.extend(self.simulate_chunk(
-                table,
-                params,
-                limits,
-                part,
-                c * chunk,
-                record_events,
-                &mut *on_event,
-            )?);
-        }
-        Ok(runs)
+        Ok(self.run(table, params, limits, shots, mode)?.0)
     }
 
-    /// [`GpuSimulator::simulate_with`] for one chunk of tables that fits the device's
-    /// buffers; `first` is the chunk's first table in the batch (for messages and for
-    /// `on_event`, which is called only with `record_events`).
-    #[allow(clippy::too_many_arguments)]
-    fn simulate_chunk(
+    /// [`GpuSimulator::simulate`] with the device watching cue ball `cue` (a study's view
+    /// of the events: its first contact and every pot, [`GpuWatch`]) instead of reading
+    /// any event back; with `stop_at_first` a table stops at the cue ball's first contact
+    /// (its final states and outcome are then those at that contact). Errors as
+    /// [`GpuSimulator::simulate`].
+    pub fn simulate_watched(
         &mut self,
         table: &Table,
         params: SimParams,
         limits: Limits,
         shots: &[GpuShot],
-        first: usize,
-        record_events: bool,
-        on_event: &mut dyn FnMut(usize, &EventRecord),
-    ) -> Result<Vec<GpuRun>, Error> {
-        let n_tables = shots.len();
-        let clock = std::time::Instant::now();
-        // the parameters and every table checked as the CPU loop checks them
-        let mut check = EventLoop::new(table, params, limits, GPU_MAX_BALLS)
+        cue: usize,
+        stop_at_first: bool,
+    ) -> Result<Vec<(GpuRun, GpuWatch)>, Error> {
+        if shots.iter().any(|s| cue >= s.balls.len()) {
+            return Err(Error::Unsupported(format!(
+                "the watched cue ball {cue} is not on every table"
+            )));
+        }
+        let mode = Mode::Watch {
+            cue,
+            stop: stop_at_first,
+        };
+        let (runs, watches) = self.run(table, params, limits, shots, mode)?;
+        Ok(runs.into_iter().zip(watches).collect())
+    }
+
+    /// The batch in chunks that fit the device's bindings.
+    fn run(
+        &mut self,
+        table: &Table,
+        params: SimParams,
+        limits: Limits,
+        shots: &[GpuShot],
+        mut mode: Mode<'_>,
+    ) -> Result<(Vec<GpuRun>, Vec<GpuWatch>), Error> {
+        self.timings = GpuTimings::default();
+        self.dispatches = 0;
+        // the parameters checked as the CPU loop checks them
+        EventLoop::new(table, params, limits, GPU_MAX_BALLS)
             .map_err(|e| gpu_error(format!("the simulation parameters: {e}")))?;
-        let mut runs = Vec::with_capacity(n_tables);
-        let mut state_r = vec![0.0f64; n_tables * TABLE_REALS];
-        let mut state_u = vec![0u32; n_tables * TABLE_UINTS];
-        for (k, shot) in shots.iter().enumerate() {
-            let at = first + k;
-            let bad = |e: SimError| Error::from(InputError::new(format!("table {at}: {e}")));
-            if shot.balls.len() > GPU_MAX_BALLS {
-                return Err(Error::Unsupported(format!(
-                    "table {at}: {} balls, the GPU event loop takes at most {GPU_MAX_BALLS}",
-                    shot.balls.len()
-                )));
+        let per = self.events_per_dispatch.max(1) as usize;
+        let real = self.precision.real_size();
+        // the largest per-table binding decides how many tables fit one binding
+        let per_table = ((IO_REALS + CACHE_REALS + WATCH_REALS) * real)
+            .max(per * EVENT_REALS * real)
+            .max(4 * (1 + per * EVENT_UINTS));
+        let fit = (self.max_binding / per_table as u64).max(1) as usize;
+        let chunk = self.max_tables_per_chunk.max(1).min(fit);
+        let mut runs = Vec::with_capacity(shots.len());
+        let mut watches = Vec::new();
+        for (c, part) in shots.chunks(chunk).enumerate() {
+            let (r, w) =
+                self.simulate_chunk(table, params, limits, part, c * chunk, chunk, &mut mode)?;
+            runs.extend(r);
+            watches.extend(w);
+        }
+        Ok((runs, watches))
+    }
+
+    /// The buffers for chunks of up to `tables` tables: the ones made before where they are
+    /// large enough, else new ones.
+    fn buffers(
+        &mut self,
+        tables: usize,
+        record: bool,
+        geometry_reals: usize,
+    ) -> Result<&LoopBuffers, Error> {
+        let per = self.events_per_dispatch.max(1) as usize;
+        let fits = self.bufs.as_ref().is_some_and(|b| {
+            b.tables >= tables
+                && b.per == per
+                && b.record == record
+                && b.geometry_reals >= geometry_reals
+        });
+        if !fits {
+            self.bufs = None;
+            // a device lost before fails here, before any buffer is made
+            if let Some(e) = self.watch.fault() {
+                return Err(e);
             }
-            check_layout(table, params.ball.r, &shot.balls).map_err(bad)?;
-            check.reset(&shot.balls, shot.strike).map_err(bad)?;
-            let (run, strike) = start_table(
-                shot,
-                &params,
-                limits,
-                &mut state_r[k * TABLE_REALS..(k + 1) * TABLE_REALS],
-                &mut state_u[k * TABLE_UINTS..(k + 1) * TABLE_UINTS],
-            );
-            if let (true, Some(record)) = (record_events, strike) {
-                on_event(at, &record);
-            }
-            runs.push(run);
+            let scopes = Scopes::push(&self.device);
+            let made = self.make_buffers(tables, per, record, geometry_reals);
+            map_and_wait(
+                &self.device,
+                scopes,
+                &self.watch,
+                &[],
+                &format!("making the event loop's buffers for {tables} tables"),
+            )?;
+            self.bufs = Some(made);
         }
-        if n_tables == 0 {
-            return Ok(runs);
-        }
-        let mut sim = Vec::with_capacity(19);
-        let b = &params.ball;
-        sim.extend([
-            b.m, b.r, b.u_s, b.u_r, b.u_sp, b.u_b, b.e_b, b.e_c, b.f_c, b.g,
-        ]);
-        let r = &params.resolver;
-        sim.extend([
-            r.alciatore_a,
-            r.alciatore_b,
-            r.alciatore_c,
-            r.omega_ratio,
-            r.beta_t,
-            r.beta_n,
-            r.k_n,
-            r.spacer,
-            limits.max_time,
-        ]);
-        let mut geometry = Vec::new();
-        for s in &table.linear {
-            geometry.extend([s.p1.x, s.p1.y, s.p1.z, s.p2.x, s.p2.y, s.p2.z]);
-            geometry.extend([s.direction as f64, s.lx, s.ly, s.l0]);
-        }
-        for c in &table.circular {
-            geometry.extend([c.center.x, c.center.y, c.center.z, c.radius]);
-        }
-        for p in &table.pockets {
-            geometry.extend([p.center.x, p.center.y, p.center.z, p.radius, p.depth]);
-        }
-        geometry.push(0.0);
-        let per = self.events_per_dispatch as usize;
-        let groups_x = (n_tables as u32).min(self.max_groups_per_dim);
-        let groups_y = (n_tables as u32).div_ceil(groups_x);
-        let cfg: [u32; 8] = [
-            n_tables as u32,
-            table.linear.len() as u32,
-            table.circular.len() as u32,
-            table.pockets.len() as u32,
-            u32::try_from(limits.max_events).unwrap_or(u32::MAX),
-            self.events_per_dispatch,
-            groups_x,
-            u32::from(record_events),
-        ];
-        // a device lost before this chunk fails here, before any buffer is made
-        if let Some(e) = self.watch.fault() {
-            return Err(e);
-        }
+        Ok(self.bufs.as_ref().expect("made above"))
+    }
+
+    fn make_buffers(
+        &self,
+        tables: usize,
+        per: usize,
+        record: bool,
+        geometry_reals: usize,
+    ) -> LoopBuffers {
+        let real = self.precision.real_size() as u64;
+        let n = tables as u64;
         let dev = &self.device;
-        // buffers filled through the queue (wgpu's `create_buffer_init` panics on a lost
-        // device; this way its failure is reported at the first dispatch)
-        let filled = |label: &str, bytes: &[u8], usage: wgpu::BufferUsages| {
-            let buffer = dev.create_buffer(&wgpu::BufferDescriptor {
+        let make = |label: &str, size: u64, usage: wgpu::BufferUsages| {
+            dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: (bytes.len() as u64).max(4).next_multiple_of(4),
-                usage: usage | wgpu::BufferUsages::COPY_DST,
+                size: size.max(4).next_multiple_of(8),
+                usage,
                 mapped_at_creation: false,
-            });
-            self.queue.write_buffer(&buffer, 0, bytes);
-            buffer
+            })
         };
-        let reals = |label: &str, v: &[f64], usage: wgpu::BufferUsages| {
-            filled(label, &self.real_bytes(v), usage)
-        };
-        let uints = |label: &str, v: &[u32], usage: wgpu::BufferUsages| {
-            filled(label, bytemuck::cast_slice(v), usage)
-        };
-        let storage = wgpu::BufferUsages::STORAGE;
+        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
         let rw = storage | wgpu::BufferUsages::COPY_SRC;
-        let cfg_buf = uints("config", &cfg, wgpu::BufferUsages::UNIFORM);
-        let sim_buf = reals("sim", &sim, storage);
-        let geo_buf = reals("geometry", &geometry, storage);
-        let sr_buf = reals("state_r", &state_r, rw);
-        let su_buf = uints("state_u", &state_u, rw);
-        // the events buffers are one word where no event is read back
-        let (n_er, n_eu) = if record_events {
-            (
-                n_tables * per * EVENT_REALS,
-                n_tables * (1 + per * EVENT_UINTS),
-            )
+        let back = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
+        let state_reals = n * (IO_REALS + CACHE_REALS + WATCH_REALS) as u64;
+        let state_uints = n * (IO_UINTS + CACHE_UINTS + WATCH_UINTS) as u64;
+        // what comes back at the end: the I/O region, then the watch region, of each kind
+        let back_reals = n * (IO_REALS + WATCH_REALS) as u64;
+        let back_uints = n * (IO_UINTS + WATCH_UINTS) as u64;
+        let (events_reals, events_uints) = if record {
+            (n * (per * EVENT_REALS) as u64, n * (1 + per * EVENT_UINTS) as u64)
         } else {
-            (1, n_tables * (1 + per * EVENT_UINTS))
+            (1, 1)
         };
-        let er_buf = reals("events_r", &vec![0.0; n_er], rw);
-        let eu_buf = uints("events_u", &vec![0; n_eu], rw);
-        let running_buf = uints("running", &[0], rw | wgpu::BufferUsages::COPY_DST);
+        let cfg = make(
+            "config",
+            48,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
+        let sim = make("sim", 19 * real, storage);
+        let geometry = make("geometry", geometry_reals as u64 * real, storage);
+        let state_r = make("state_r", state_reals * real, rw);
+        let state_u = make("state_u", state_uints * 4, rw);
+        let events_r = make("events_r", events_reals * real, rw);
+        let events_u = make("events_u", events_uints * 4, rw);
+        let running = make("running", 4, rw);
         let layout = self.pipeline.get_bind_group_layout(0);
         let entries: Vec<wgpu::BindGroupEntry> = [
-            &cfg_buf,
-            &sim_buf,
-            &geo_buf,
-            &sr_buf,
-            &su_buf,
-            &er_buf,
-            &eu_buf,
-            &running_buf,
+            &cfg, &sim, &geometry, &state_r, &state_u, &events_r, &events_u, &running,
         ]
         .iter()
         .enumerate()
@@ -414,302 +388,485 @@ impl GpuSimulator {
             layout: &layout,
             entries: &entries,
         });
-        // what each dispatch reads back, with its readback buffers, made once
-        let mut read = vec![&running_buf];
-        if record_events {
-            read.extend([&eu_buf, &er_buf]);
+        LoopBuffers {
+            tables,
+            per,
+            record,
+            geometry_reals,
+            back_running: make("readback running", 4, back),
+            back_r: make("readback reals", back_reals * real, back),
+            back_u: make("readback u32s", back_uints * 4, back),
+            back_events_r: record.then(|| make("readback events_r", events_r.size(), back)),
+            back_events_u: record.then(|| make("readback events_u", events_u.size(), back)),
+            cfg,
+            sim,
+            geometry,
+            state_r,
+            state_u,
+            events_r,
+            events_u,
+            running,
+            bind,
         }
-        let per_dispatch = self.readbacks(&read);
+    }
+
+    /// One chunk of tables that fits the buffers (made for `capacity` tables); `first` is
+    /// the chunk's first table in the batch (for messages and callbacks).
+    #[allow(clippy::too_many_arguments)]
+    fn simulate_chunk(
+        &mut self,
+        table: &Table,
+        params: SimParams,
+        limits: Limits,
+        shots: &[GpuShot],
+        first: usize,
+        capacity: usize,
+        mode: &mut Mode<'_>,
+    ) -> Result<(Vec<GpuRun>, Vec<GpuWatch>), Error> {
+        let n_tables = shots.len();
+        if n_tables == 0 {
+            return Ok((Vec::new(), Vec::new()));
+        }
+        let clock = std::time::Instant::now();
+        let precision = self.precision;
+        let real = precision.real_size();
+        let (record, watch_cue, watch_stop) = match mode {
+            Mode::Finals => (false, NO_WATCH, false),
+            Mode::Events(_) => (true, NO_WATCH, false),
+            Mode::Watch { cue, stop } => (false, *cue as u32, *stop),
+        };
+        let mut geometry = Vec::new();
+        for s in &table.linear {
+            geometry.extend([s.p1.x, s.p1.y, s.p1.z, s.p2.x, s.p2.y, s.p2.z]);
+            geometry.extend([s.direction as f64, s.lx, s.ly, s.l0]);
+        }
+        for c in &table.circular {
+            geometry.extend([c.center.x, c.center.y, c.center.z, c.radius]);
+        }
+        for p in &table.pockets {
+            geometry.extend([p.center.x, p.center.y, p.center.z, p.radius, p.depth]);
+        }
+        geometry.push(0.0);
+        let b = &params.ball;
+        let r = &params.resolver;
+        let sim = [
+            b.m,
+            b.r,
+            b.u_s,
+            b.u_r,
+            b.u_sp,
+            b.u_b,
+            b.e_b,
+            b.e_c,
+            b.f_c,
+            b.g,
+            r.alciatore_a,
+            r.alciatore_b,
+            r.alciatore_c,
+            r.omega_ratio,
+            r.beta_t,
+            r.beta_n,
+            r.k_n,
+            r.spacer,
+            limits.max_time,
+        ];
+        let per = self.events_per_dispatch.max(1) as usize;
+        self.buffers(capacity.max(n_tables), record, geometry.len())?;
+        let bufs = self.bufs.as_ref().expect("made by buffers");
+        let queue = &self.queue;
+        queue.write_buffer(&bufs.sim, 0, &real_bytes(precision, &sim));
+        queue.write_buffer(&bufs.geometry, 0, &real_bytes(precision, &geometry));
+        // every table checked as the CPU loop checks it and laid out in the shader's
+        // precision, Rayon over blocks of tables, into host arrays kept across calls
+        let mut pack_r = std::mem::take(&mut self.pack_r);
+        let mut pack_u = std::mem::take(&mut self.pack_u);
+        pack_r.resize(n_tables * IO_REALS * real, 0);
+        pack_u.resize(n_tables * IO_UINTS * 4, 0);
+        let real_block = PACK_BLOCK * IO_REALS * real;
+        let uint_block = PACK_BLOCK * IO_UINTS * 4;
+        let packed: Vec<Result<Vec<(GpuRun, Option<EventRecord>)>, Error>> = shots
+            .par_chunks(PACK_BLOCK)
+            .zip(pack_r.par_chunks_mut(real_block))
+            .zip(pack_u.par_chunks_mut(uint_block))
+            .enumerate()
+            .map_init(
+                || EventLoop::new(table, params, limits, GPU_MAX_BALLS),
+                |check, (b, ((part, dst_r), dst_u))| {
+                    let check = check
+                        .as_mut()
+                        .map_err(|e| gpu_error(format!("the simulation parameters: {e}")))?;
+                    let mut started = Vec::with_capacity(part.len());
+                    for (j, shot) in part.iter().enumerate() {
+                        let at = first + b * PACK_BLOCK + j;
+                        let r = &mut dst_r[j * IO_REALS * real..(j + 1) * IO_REALS * real];
+                        let u = &mut dst_u[j * IO_UINTS * 4..(j + 1) * IO_UINTS * 4];
+                        started.push(pack_table(
+                            table, &params, limits, check, shot, at, precision, r, u,
+                        )?);
+                    }
+                    Ok(started)
+                },
+            )
+            .collect();
+        let queue = &self.queue;
+        queue.write_buffer(&bufs.state_r, 0, &pack_r);
+        queue.write_buffer(&bufs.state_u, 0, &pack_u);
+        self.pack_r = pack_r;
+        self.pack_u = pack_u;
+        let mut runs = Vec::with_capacity(n_tables);
+        let mut strikes = Vec::with_capacity(n_tables);
+        for block in packed {
+            for (run, strike) in block? {
+                runs.push(run);
+                strikes.push(strike);
+            }
+        }
+        self.timings.pack += clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
+        if let Mode::Events(on_event) = mode {
+            for (k, strike) in strikes.iter().enumerate() {
+                if let Some(record) = strike {
+                    on_event(first + k, record);
+                }
+            }
+        }
+        // the writes go to the device with this (empty) submission, waited for
+        let scopes = Scopes::push(&self.device);
+        queue.submit([]);
+        map_and_wait(&self.device, scopes, &self.watch, &[], "the upload")?;
         self.timings.upload += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
+        let groups_x = (n_tables as u32).min(self.max_groups_per_dim);
+        let groups_y = (n_tables as u32).div_ceil(groups_x);
+        let mut first_dispatch = true;
         loop {
             #[cfg_attr(not(feature = "testing"), allow(unused_mut))]
             let mut row = groups_x;
             #[cfg(feature = "testing")]
             self.apply_pending_fault(&mut row);
+            let bufs = self.bufs.as_ref().expect("made by buffers");
+            let cfg: [u32; 12] = [
+                n_tables as u32,
+                table.linear.len() as u32,
+                table.circular.len() as u32,
+                table.pockets.len() as u32,
+                u32::try_from(limits.max_events).unwrap_or(u32::MAX),
+                per as u32,
+                groups_x,
+                u32::from(record),
+                u32::from(first_dispatch),
+                watch_cue,
+                u32::from(watch_stop),
+                0,
+            ];
             self.queue
-                .write_buffer(&running_buf, 0, bytemuck::bytes_of(&0u32));
-            let back = self.dispatch_and_read([row, groups_y], &bind, &per_dispatch)?;
+                .write_buffer(&bufs.cfg, 0, bytemuck::cast_slice(&cfg));
+            self.queue
+                .write_buffer(&bufs.running, 0, bytemuck::bytes_of(&0u32));
+            first_dispatch = false;
+            let mut copies = vec![Copy {
+                src: &bufs.running,
+                offset: 0,
+                dst: &bufs.back_running,
+                len: 4,
+            }];
+            if let (Some(er), Some(eu)) = (&bufs.back_events_r, &bufs.back_events_u) {
+                copies.push(Copy {
+                    src: &bufs.events_u,
+                    offset: 0,
+                    dst: eu,
+                    len: (n_tables * (1 + per * EVENT_UINTS) * 4) as u64,
+                });
+                copies.push(Copy {
+                    src: &bufs.events_r,
+                    offset: 0,
+                    dst: er,
+                    len: (n_tables * per * EVENT_REALS * real) as u64,
+                });
+            }
+            self.submit(Some([row, groups_y]), &bufs.bind, &copies)?;
             self.dispatches += 1;
-            if record_events {
-                let eu: Vec<u32> = bytemuck::pod_collect_to_vec(&back[1]);
-                let er = self.reals_of(&back[2]);
+            let read: Vec<(&wgpu::Buffer, u64)> = copies.iter().map(|c| (c.dst, c.len)).collect();
+            let (running, events) = read_mapped(&read, |views| {
+                let running: u32 = bytemuck::pod_read_unaligned(&views[0][..4]);
+                let events = (views.len() == 3).then(|| {
+                    let eu: Vec<u32> = bytemuck::pod_collect_to_vec(views[1]);
+                    (eu, reals_of(precision, views[2]))
+                });
+                (running, events)
+            })?;
+            if let (Mode::Events(on_event), Some((eu, er))) = (&mut *mode, events) {
                 for k in 0..n_tables {
                     let base = k * (1 + per * EVENT_UINTS);
-                    for e in 0..eu[base] as usize {
+                    for e in 0..(eu[base] as usize).min(per) {
                         let u = &eu[base + 1 + e * EVENT_UINTS..base + 1 + (e + 1) * EVENT_UINTS];
                         let r0 = (k * per + e) * EVENT_REALS;
                         on_event(first + k, &event_record(u, &er[r0..r0 + EVENT_REALS])?);
                     }
                 }
             }
-            let running: u32 = bytemuck::pod_read_unaligned(&back[0][..4]);
             if running == 0 {
-                self.timings.kernel += clock.elapsed().as_secs_f64();
-                let clock = std::time::Instant::now();
-                let last = self.readbacks(&[&sr_buf, &su_buf]);
-                let back = self.dispatch_and_read([0, 0], &bind, &last)?;
-                let sr = self.reals_of(&back[0]);
-                let su: Vec<u32> = bytemuck::pod_collect_to_vec(&back[1]);
-                for (k, run) in runs.iter_mut().enumerate() {
-                    finish_table(
-                        run,
-                        &sr[k * TABLE_REALS..(k + 1) * TABLE_REALS],
-                        &su[k * TABLE_UINTS..(k + 1) * TABLE_UINTS],
-                    )?;
-                }
-                self.timings.readback += clock.elapsed().as_secs_f64();
-                return Ok(runs);
+                break;
             }
         }
+        self.timings.kernel += clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
+        // only the I/O region (and the watch region) comes back
+        let bufs = self.bufs.as_ref().expect("made by buffers");
+        let watching = watch_cue != NO_WATCH;
+        let io_reals = (n_tables * IO_REALS * real) as u64;
+        let io_uints = (n_tables * IO_UINTS * 4) as u64;
+        let watch_reals = (n_tables * WATCH_REALS * real) as u64;
+        let watch_uints = (n_tables * WATCH_UINTS * 4) as u64;
+        let mut copies = vec![
+            Copy {
+                src: &bufs.state_r,
+                offset: 0,
+                dst: &bufs.back_r,
+                len: io_reals,
+            },
+            Copy {
+                src: &bufs.state_u,
+                offset: 0,
+                dst: &bufs.back_u,
+                len: io_uints,
+            },
+        ];
+        if watching {
+            // the watch region follows the I/O and cache regions
+            copies.push(Copy {
+                src: &bufs.state_r,
+                offset: (n_tables * (IO_REALS + CACHE_REALS) * real) as u64,
+                dst: &bufs.back_r,
+                len: watch_reals,
+            });
+            copies.push(Copy {
+                src: &bufs.state_u,
+                offset: (n_tables * (IO_UINTS + CACHE_UINTS) * 4) as u64,
+                dst: &bufs.back_u,
+                len: watch_uints,
+            });
+        }
+        self.submit_copies(&copies)?;
+        self.timings.readback += clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
+        let len_r = io_reals + if watching { watch_reals } else { 0 };
+        let len_u = io_uints + if watching { watch_uints } else { 0 };
+        let watches = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
+            unpack(precision, &mut runs, views[0], views[1], watching)
+        })??;
+        self.timings.unpack += clock.elapsed().as_secs_f64();
+        Ok((runs, watches))
     }
 
-    /// A readback buffer for each of `buffers`: `(source, readback)` pairs for
-    /// [`GpuSimulator::dispatch_and_read`].
-    fn readbacks<'b>(&self, buffers: &[&'b wgpu::Buffer]) -> Vec<(&'b wgpu::Buffer, wgpu::Buffer)> {
-        buffers
-            .iter()
-            .map(|b| {
-                let back = self.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("readback"),
-                    size: b.size(),
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                (*b, back)
-            })
-            .collect()
-    }
-
-    /// One dispatch of `groups` workgroups (none where a count is 0), then each source of
-    /// `read` copied to its readback buffer and returned, in order. Any failure
-    /// (validation, out of memory, a lost device, a failed map) is an error, and no buffer
-    /// is left mapped then.
-    fn dispatch_and_read(
+    /// One submission: a dispatch of `groups` workgroups (none where `None`), then
+    /// `copies`; waits and maps each copy's destination. Any failure (validation, out of
+    /// memory, a lost device, a failed map) is an error, and no buffer is left mapped then;
+    /// on success the caller reads and unmaps them ([`read_mapped`]).
+    fn submit(
         &self,
-        groups: [u32; 2],
+        groups: Option<[u32; 2]>,
         bind: &wgpu::BindGroup,
-        read: &[(&wgpu::Buffer, wgpu::Buffer)],
-    ) -> Result<Vec<Vec<u8>>, Error> {
+        copies: &[Copy<'_>],
+    ) -> Result<(), Error> {
         let dev = &self.device;
         let scopes = Scopes::push(dev);
         let mut encoder = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("kisstime event loop"),
         });
-        if groups[0] > 0 && groups[1] > 0 {
+        if let Some([x, y]) = groups {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("kisstime event loop"),
                 timestamp_writes: None,
             });
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, bind, &[]);
-            pass.dispatch_workgroups(groups[0], groups[1], 1);
+            pass.dispatch_workgroups(x, y, 1);
         }
-        for (src, back) in read {
-            encoder.copy_buffer_to_buffer(src, 0, back, 0, src.size());
+        // copies into the same destination go one after the other in it
+        let mut filled: Vec<(&wgpu::Buffer, u64)> = Vec::new();
+        for c in copies {
+            let at = match filled.iter_mut().find(|(b, _)| std::ptr::eq(*b, c.dst)) {
+                Some((_, used)) => {
+                    let at = *used;
+                    *used += c.len;
+                    at
+                }
+                None => {
+                    filled.push((c.dst, c.len));
+                    0
+                }
+            };
+            encoder.copy_buffer_to_buffer(c.src, c.offset, c.dst, at, c.len);
         }
         self.queue.submit([encoder.finish()]);
-        let views: Vec<(&wgpu::Buffer, u64)> = read.iter().map(|(s, b)| (b, s.size())).collect();
-        map_and_wait(dev, scopes, &self.watch, &views, "the GPU event loop")?;
-        let mut out = Vec::with_capacity(read.len());
-        for (_, back) in read {
-            let bytes = back
-                .slice(..)
-                .get_mapped_range()
-                .map(|v| v.to_vec())
-                .map_err(|e| gpu_error(format!("the results are not readable: {e}")));
-            back.unmap();
-            out.push(bytes?);
-        }
-        Ok(out)
+        map_and_wait(dev, scopes, &self.watch, &filled, "the GPU event loop")
     }
 
-    /// `v` in the shader's precision, as bytes.
-    fn real_bytes(&self, v: &[f64]) -> Vec<u8> {
-        match self.precision {
-            Precision::F64 => bytemuck::cast_slice(v).to_vec(),
-            Precision::F32 => {
-                let narrow: Vec<f32> = v
-                    .iter()
-                    .map(|&x| if x >= NEVER_F64 { NEVER_F32 } else { x as f32 })
-                    .collect();
-                bytemuck::cast_slice(&narrow).to_vec()
+    /// [`GpuSimulator::submit`] of copies alone.
+    fn submit_copies(&self, copies: &[Copy<'_>]) -> Result<(), Error> {
+        let bind = &self.bufs.as_ref().expect("made by buffers").bind;
+        self.submit(None, bind, copies)
+    }
+}
+
+/// Tables packed by one Rayon task.
+const PACK_BLOCK: usize = 256;
+
+/// Checks table `at` as the CPU loop checks it ([`check_layout`], [`EventLoop::reset`]),
+/// lays out its I/O block at its start into `dst_r` and `dst_u` in the shader's
+/// precision; returns its run so far and the strike's event record.
+#[allow(clippy::too_many_arguments)]
+fn pack_table(
+    table: &Table,
+    params: &SimParams,
+    limits: Limits,
+    check: &mut EventLoop<'_>,
+    shot: &GpuShot,
+    at: usize,
+    precision: Precision,
+    dst_r: &mut [u8],
+    dst_u: &mut [u8],
+) -> Result<(GpuRun, Option<EventRecord>), Error> {
+    let bad = |e: SimError| Error::from(InputError::new(format!("table {at}: {e}")));
+    if shot.balls.len() > GPU_MAX_BALLS {
+        return Err(Error::Unsupported(format!(
+            "table {at}: {} balls, the GPU event loop takes at most {GPU_MAX_BALLS}",
+            shot.balls.len()
+        )));
+    }
+    check_layout(table, params.ball.r, &shot.balls).map_err(bad)?;
+    check.reset(&shot.balls, shot.strike).map_err(bad)?;
+    let mut sr = [0.0; IO_REALS];
+    let mut su = [0u32; IO_UINTS];
+    let started = start_table(shot, params, limits, &mut sr, &mut su);
+    put_reals(precision, &sr, dst_r);
+    dst_u.copy_from_slice(bytemuck::cast_slice(&su));
+    Ok(started)
+}
+
+/// One copy of a submission: `len` bytes of `src` from `offset` to the readback buffer
+/// `dst` (after the copies into `dst` before it).
+struct Copy<'b> {
+    src: &'b wgpu::Buffer,
+    offset: u64,
+    dst: &'b wgpu::Buffer,
+    len: u64,
+}
+
+/// `f` of the first `len` bytes of each mapped buffer of `buffers`, which are all
+/// unmapped then, whatever happened.
+fn read_mapped<T>(
+    buffers: &[(&wgpu::Buffer, u64)],
+    f: impl FnOnce(&[&[u8]]) -> T,
+) -> Result<T, Error> {
+    let views: Result<Vec<wgpu::BufferView>, _> = buffers
+        .iter()
+        .map(|(b, len)| b.slice(..*len).get_mapped_range())
+        .collect();
+    let out = match views {
+        Ok(views) => {
+            let slices: Vec<&[u8]> = views.iter().map(|v| &v[..]).collect();
+            Ok(f(&slices))
+        }
+        Err(e) => Err(gpu_error(format!("the results are not readable: {e}"))),
+    };
+    for (b, _) in buffers {
+        b.unmap();
+    }
+    out
+}
+
+/// The runs' final states and outcomes from the I/O blocks, and the watches from the
+/// watch blocks where `watching` (they follow the I/O blocks), Rayon over tables.
+fn unpack(
+    precision: Precision,
+    runs: &mut [GpuRun],
+    back_r: &[u8],
+    back_u: &[u8],
+    watching: bool,
+) -> Result<Vec<GpuWatch>, Error> {
+    let n = runs.len();
+    let real = precision.real_size();
+    let (io_r, watch_r) = back_r.split_at(n * IO_REALS * real);
+    let (io_u, watch_u) = back_u.split_at(n * IO_UINTS * 4);
+    runs.par_iter_mut()
+        .zip(io_r.par_chunks(IO_REALS * real))
+        .zip(io_u.par_chunks(IO_UINTS * 4))
+        .try_for_each(|((run, r), u)| {
+            let mut sr = [0.0; IO_REALS];
+            reals_into(precision, r, &mut sr);
+            let mut su = [0u32; IO_UINTS];
+            uints_into(u, &mut su);
+            finish_table(run, &sr, &su)
+        })?;
+    if !watching {
+        return Ok(Vec::new());
+    }
+    runs.par_iter()
+        .zip(watch_r.par_chunks(WATCH_REALS * real))
+        .zip(watch_u.par_chunks(WATCH_UINTS * 4))
+        .map(|((run, r), u)| {
+            let mut sr = [0.0; WATCH_REALS];
+            reals_into(precision, r, &mut sr);
+            let mut su = [0u32; WATCH_UINTS];
+            uints_into(u, &mut su);
+            read_watch(&sr, &su, run.balls.len())
+        })
+        .collect()
+}
+
+/// `v` in the shader's precision, as bytes.
+fn real_bytes(precision: Precision, v: &[f64]) -> Vec<u8> {
+    let mut out = vec![0; v.len() * precision.real_size()];
+    put_reals(precision, v, &mut out);
+    out
+}
+
+/// Writes `v` into `dst` in the shader's precision (f32: the host's never as the
+/// shader's).
+fn put_reals(precision: Precision, v: &[f64], dst: &mut [u8]) {
+    match precision {
+        Precision::F64 => {
+            for (x, d) in v.iter().zip(dst.chunks_exact_mut(8)) {
+                d.copy_from_slice(&x.to_le_bytes());
+            }
+        }
+        Precision::F32 => {
+            for (&x, d) in v.iter().zip(dst.chunks_exact_mut(4)) {
+                let narrow = if x >= NEVER_F64 { NEVER_F32 } else { x as f32 };
+                d.copy_from_slice(&narrow.to_le_bytes());
             }
         }
     }
+}
 
-    /// Reals read back in the shader's precision, as f64.
-    fn reals_of(&self, bytes: &[u8]) -> Vec<f64> {
-        match self.precision {
-            Precision::F64 => bytemuck::pod_collect_to_vec(bytes),
-            Precision::F32 => bytemuck::pod_collect_to_vec::<u8, f32>(bytes)
-                .into_iter()
-                .map(f64::from)
-                .collect(),
+/// Reals read back in the shader's precision into `out`, as f64.
+fn reals_into(precision: Precision, bytes: &[u8], out: &mut [f64]) {
+    match precision {
+        Precision::F64 => {
+            for (o, b) in out.iter_mut().zip(bytes.chunks_exact(8)) {
+                *o = f64::from_le_bytes(b.try_into().expect("8 bytes"));
+            }
+        }
+        Precision::F32 => {
+            for (o, b) in out.iter_mut().zip(bytes.chunks_exact(4)) {
+                *o = f64::from(f32::from_le_bytes(b.try_into().expect("4 bytes")));
+            }
         }
     }
 }
 
-/// The shader's "never" as the CPU's ∞.
-fn from_never(t: f64) -> f64 {
-    if t >= f64::from(NEVER_F32) {
-        f64::INFINITY
-    } else {
-        t
+/// u32s read back into `out`.
+fn uints_into(bytes: &[u8], out: &mut [u32]) {
+    for (o, b) in out.iter_mut().zip(bytes.chunks_exact(4)) {
+        *o = u32::from_le_bytes(b.try_into().expect("4 bytes"));
     }
 }
 
-/// Lays out one table's state at its start (after the strike, which is resolved here)
-/// and returns its run so far, with the strike's event record if there was one.
-fn start_table(
-    shot: &GpuShot,
-    params: &SimParams,
-    limits: Limits,
-    sr: &mut [f64],
-    su: &mut [u32],
-) -> (GpuRun, Option<EventRecord>) {
-    let mut balls: Vec<BallState> = shot
-        .balls
-        .iter()
-        .map(|b| BallState { t: 0.0, ..*b })
-        .collect();
-    let mut strike = None;
-    let mut n_events = 0u32;
-    // the stick candidate of the CPU loop: at t = 0, every ball at rest, V0 > 0
-    if let Some((cue, s)) = shot.strike {
-        let at_rest = balls.iter().all(|b| ball_energy(b, &params.ball) == 0.0);
-        if at_rest && s.v0 > 0.0 && limits.max_events > 0 {
-            let struck = cue_strike(&balls[cue], &s, &params.ball, &params.cue);
-            balls[cue] = BallState { t: 0.0, ..struck };
-            n_events = 1;
-            let event = Event {
-                kind: EventKind::StickBall,
-                t: 0.0,
-                ball: cue as u32,
-                other: NO_AGENT,
-            };
-            strike = Some(EventRecord::new(event, &balls));
-        }
-    }
-    for (i, b) in balls.iter().enumerate() {
-        let at = 10 * i;
-        sr[at..at + 10].copy_from_slice(&[
-            b.r.x, b.r.y, b.r.z, b.v.x, b.v.y, b.v.z, b.w.x, b.w.y, b.w.z, b.t,
-        ]);
-        su[i] = b.s as u32;
-        let (t, kind) = next_transition(b, &params.ball).map_or((f64::INFINITY, 0), |(tau, k)| {
-            (b.t + tau, transition_code(k))
-        });
-        sr[R_TRANS + i] = if t.is_finite() { t } else { NEVER_F64 };
-        su[U_TRANS + i] = kind;
-    }
-    for k in 0..GPU_MAX_PAIRS {
-        sr[R_PAIRS + k] = NEVER_F64;
-        su[U_PAIRS + k] = MISSING_STEP;
-    }
-    for k in 0..GPU_ROWS {
-        sr[R_ROWS + k] = NEVER_F64;
-        su[U_ROWS + k] = MISSING_STEP;
-        su[U_ITEMS + k] = 0;
-    }
-    sr[R_CLOCK] = 0.0;
-    su[U_N] = balls.len() as u32;
-    su[U_N + 1] = n_events;
-    // a table without balls, or one cut before its first event, is done already
-    su[U_N + 2] = if limits.max_events == 0 {
-        2
-    } else if balls.is_empty() {
-        1
-    } else {
-        0
-    };
-    let run = GpuRun {
-        events: Vec::new(),
-        balls,
-        outcome: Outcome {
-            n_events: n_events as usize,
-            t_end: 0.0,
-            cut: None,
-        },
-    };
-    (run, strike)
-}
-
-/// The shader's code of a transition kind (`TRANSITION_*` of `motion/evolve.wgsl`).
-fn transition_code(k: TransitionKind) -> u32 {
-    match k {
-        TransitionKind::SlidingRolling => 0,
-        TransitionKind::RollingSpinning => 1,
-        TransitionKind::RollingStationary => 2,
-        TransitionKind::SpinningStationary => 3,
-    }
-}
-
-fn event_kind(code: u32) -> Result<EventKind, Error> {
-    Ok(match code {
-        0 => EventKind::StickBall,
-        1 => EventKind::BallBall,
-        2 => EventKind::BallLinearCushion,
-        3 => EventKind::BallCircularCushion,
-        4 => EventKind::BallPocket,
-        5 => EventKind::SlidingRolling,
-        6 => EventKind::RollingSpinning,
-        7 => EventKind::RollingStationary,
-        8 => EventKind::SpinningStationary,
-        _ => return Err(gpu_error(format!("the GPU reported event kind {code}"))),
-    })
-}
-
-fn motion_state(code: u32) -> Result<MotionState, Error> {
-    Ok(match code {
-        0 => MotionState::Stationary,
-        1 => MotionState::Spinning,
-        2 => MotionState::Sliding,
-        3 => MotionState::Rolling,
-        4 => MotionState::Pocketed,
-        _ => return Err(gpu_error(format!("the GPU reported motion state {code}"))),
-    })
-}
-
-/// A ball state from its 10 reals (r, v, w, t) and its motion state.
-fn ball_state(r: &[f64], s: u32) -> Result<BallState, Error> {
-    Ok(BallState {
-        r: Vec3::new(r[0], r[1], r[2]),
-        v: Vec3::new(r[3], r[4], r[5]),
-        w: Vec3::new(r[6], r[7], r[8]),
-        s: motion_state(s)?,
-        t: r[9],
-    })
-}
-
-/// One recorded event from its u32s (kind, ball, other, two states) and reals.
-fn event_record(u: &[u32], r: &[f64]) -> Result<EventRecord, Error> {
-    let event = Event {
-        kind: event_kind(u[0])?,
-        t: r[0],
-        ball: u[1],
-        other: u[2],
-    };
-    Ok(EventRecord {
-        event,
-        states: [ball_state(&r[1..11], u[3])?, ball_state(&r[11..21], u[4])?],
-    })
-}
-
-/// Reads a finished table's final states and outcome into its run.
-fn finish_table(run: &mut GpuRun, sr: &[f64], su: &[u32]) -> Result<(), Error> {
-    let n = su[U_N] as usize;
-    for i in 0..n {
-        run.balls[i] = ball_state(&sr[10 * i..10 * i + 10], su[i])?;
-    }
-    run.outcome = Outcome {
-        n_events: su[U_N + 1] as usize,
-        t_end: from_never(sr[R_CLOCK]),
-        cut: match su[U_N + 2] {
-            2 => Some(Cut::MaxEvents),
-            3 => Some(Cut::MaxTime),
-            _ => None,
-        },
-    };
-    Ok(())
+/// Reals read back in the shader's precision, as f64.
+fn reals_of(precision: Precision, bytes: &[u8]) -> Vec<f64> {
+    let mut out = vec![0.0; bytes.len() / precision.real_size()];
+    reals_into(precision, bytes, &mut out);
+    out
 }

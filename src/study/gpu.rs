@@ -1,28 +1,33 @@
 //! The study's driver on the GPU event loop ([`GpuSimulator`], the WGSL twin of the CPU's
 //! [`crate::simulate::EventLoop`]): the same samples as [`super::run`], one table per
-//! sample, [`CHUNK`](super::CHUNK) samples per batch.
+//! sample, [`GPU_CHUNK`] samples per batch.
 //!
-//! Each sample's events stream back from the device after every dispatch and go through
-//! the same [`SampleWatch`] as on the CPU; only the cue ball's latest state is kept per
-//! sample (for its velocity at the first contact), never the events. With
-//! [`Until::FirstContact`](super::Until::FirstContact) the device still runs each sample to
-//! rest (the event loop has no per-table stop); the watch ends the sample at its first
-//! contact, so the samples are those of the CPU.
+//! No event crosses the bus: the device watches each sample's cue ball
+//! ([`GpuSimulator::simulate_watched`]) and keeps what the study needs of the events (the
+//! first contact, with the cue ball's state and the clock before it and both balls'
+//! centres after it; every pot), read back once with the final states. On the host these
+//! go through the same [`SampleWatch`] as the CPU's events, in event order, so the samples
+//! are those of the CPU. With [`Until::FirstContact`] a table stops at its first contact,
+//! as the CPU's loop does. Packing and judging run Rayon over samples.
 //!
 //! A strike the simulator refuses is the error of its sample, as on the CPU, found before
 //! anything is dispatched; a device failure is an [`Error::Gpu`], which the `auto` backend
 //! ([`crate::engine::ShotEngine`]) redoes on the CPU.
 
+use rayon::prelude::*;
+
 use super::config::{Noise, StudyConfig};
 use super::noise::noisy_strike;
-use super::run::{RunOptions, Sample, SampleWatch, run_chunks, sample_error};
+use super::run::{RunOptions, Sample, SampleWatch, Until, run_chunks_of, sample_error};
 use crate::error::Error;
-use crate::gpu::{GPU_MAX_BALLS, GpuShot, GpuSimulator};
-use crate::model::ball_state::BallState;
+use crate::gpu::{GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator, GpuWatch};
 use crate::model::vec3::Vec3;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::EventLoop;
-use crate::simulate::batch::EventRecord;
+
+/// Samples per GPU batch: enough tables to fill a large device (each batch is one
+/// [`GpuSimulator::simulate_watched`] call, its buffers reused).
+pub const GPU_CHUNK: usize = 1 << 18;
 
 /// [`super::run_study`] on the GPU: `samples` noisy strikes drawn from `seed`.
 ///
@@ -67,18 +72,11 @@ pub fn run_strikes_gpu(
     )
 }
 
-/// One sample in flight: its watch and the cue ball's latest state with its time.
-struct InFlight {
-    watch: SampleWatch,
-    cue: BallState,
-    cue_t: f64,
-}
-
 fn run_with_gpu(
     gpu: &mut GpuSimulator,
     config: &StudyConfig,
     samples: usize,
-    strike: &dyn Fn(usize) -> CueStrike,
+    strike: &(dyn Fn(usize) -> CueStrike + Sync),
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
@@ -90,54 +88,88 @@ fn run_with_gpu(
         )));
     }
     let cue = config.cue;
-    let mut check = EventLoop::new(&config.table, config.params, options.limits, initial.len())?;
-    run_chunks(config, samples, options, progress, |part| {
-        let mut shots = Vec::with_capacity(part.len());
-        let mut flight = Vec::with_capacity(part.len());
-        for i in part {
-            let s = strike(i);
-            // the CPU's checks of the strike, so that a bad one is the sample's error
-            check
-                .reset(&initial, Some((cue, s)))
-                .map_err(|e| sample_error(i, e))?;
-            shots.push(GpuShot {
-                balls: initial.clone(),
-                strike: Some((cue, s)),
-            });
-            flight.push(InFlight {
-                watch: SampleWatch::new(config, &initial, s, options.until),
-                cue: initial[cue],
-                cue_t: 0.0,
-            });
-        }
-        let mut on_event = |k: usize, rec: &EventRecord| {
-            let f = &mut flight[k];
-            let position = |i: usize| {
-                rec.balls()
-                    .find(|(j, _)| *j == i)
-                    .map_or(Vec3::new(f64::NAN, f64::NAN, f64::NAN), |(_, b)| b.r)
-            };
-            f.watch
-                .observe(config, &rec.event, &f.cue, f.cue_t, position);
-            if let Some((_, b)) = rec.balls().find(|(j, _)| *j == cue) {
-                f.cue = *b;
-                f.cue_t = rec.event.t;
-            }
-        };
-        let runs = gpu.simulate_with(
+    let stop = options.until == Until::FirstContact;
+    run_chunks_of(config, samples, GPU_CHUNK, options, progress, |part| {
+        // the CPU's checks of each strike, so that a bad one is its sample's error
+        let shots: Vec<GpuShot> = part
+            .clone()
+            .into_par_iter()
+            .map_init(
+                || {
+                    EventLoop::new(&config.table, config.params, options.limits, initial.len())
+                        .expect("checked by run_chunks_of")
+                },
+                |check, i| {
+                    let s = strike(i);
+                    check
+                        .reset(&initial, Some((cue, s)))
+                        .map_err(|e| sample_error(i, e))?;
+                    Ok(GpuShot {
+                        balls: initial.clone(),
+                        strike: Some((cue, s)),
+                    })
+                },
+            )
+            .collect::<Result<_, Error>>()?;
+        let runs = gpu.simulate_watched(
             &config.table,
             config.params,
             options.limits,
             &shots,
-            Some(&mut on_event),
+            cue,
+            stop,
         )?;
-        Ok(flight
-            .into_iter()
+        Ok(shots
+            .par_iter()
             .zip(runs)
-            .map(|(f, run)| {
-                let end = run.balls[cue].r;
-                f.watch.finish((end.x, end.y), run.outcome)
-            })
+            .map(|(shot, (run, watch))| judge(config, options, shot, &run, &watch))
             .collect())
     })
+}
+
+/// What one sample came to, from the device's watch of it: its first contact and pots go
+/// through the CPU's [`SampleWatch`] in event order.
+fn judge(
+    config: &StudyConfig,
+    options: &RunOptions,
+    shot: &GpuShot,
+    run: &GpuRun,
+    watch: &GpuWatch,
+) -> Sample {
+    let (cue, strike) = shot.strike.expect("every sample has its strike");
+    let mut sample = SampleWatch::new(config, &shot.balls, strike, options.until);
+    let mut first = watch.first.as_ref();
+    let mut pots = watch.pots.iter().peekable();
+    loop {
+        // the next of the first contact and the pots, in event order (a pot that is the
+        // first contact is shown once, as the contact)
+        let take_first = match (first, pots.peek()) {
+            (Some(f), Some((n, _))) => f.number <= *n,
+            (Some(_), None) => true,
+            (None, Some(_)) => false,
+            (None, None) => break,
+        };
+        if take_first {
+            let f = first.take().expect("chosen above");
+            if pots.peek().is_some_and(|(n, _)| *n == f.number) {
+                pots.next();
+            }
+            let position = |i: usize| {
+                if i == cue {
+                    f.cue_after
+                } else if i == f.event.ball as usize || i == f.event.other as usize {
+                    f.other_after
+                } else {
+                    Vec3::new(f64::NAN, f64::NAN, f64::NAN)
+                }
+            };
+            sample.observe_numbered(config, f.number, &f.event, &f.cue_before, f.t0, position);
+        } else {
+            let (n, ev) = pots.next().expect("peeked above");
+            let nan = |_: usize| Vec3::new(f64::NAN, f64::NAN, f64::NAN);
+            sample.observe_numbered(config, *n, ev, &shot.balls[cue], 0.0, nan);
+        }
+    }
+    let end = run.balls[cue].r;
+    sample.finish((end.x, end.y), run.outcome)
 }

@@ -191,12 +191,25 @@ pub(super) fn sample_error(i: usize, e: SimError) -> Error {
 }
 
 /// The samples `0..samples` in chunks of [`CHUNK`], each computed by `chunk(range)`, with
-/// `progress` after each: the study's size checked against the memory first, and the
-/// parameters and ball count against the event loop (so that the workers' loops cannot
-/// fail).
+/// `progress` after each (see [`run_chunks_of`]).
 pub(super) fn run_chunks(
     config: &StudyConfig,
     samples: usize,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(usize, usize),
+    chunk: impl FnMut(std::ops::Range<usize>) -> Result<Vec<Sample>, Error>,
+) -> Result<Vec<Sample>, Error> {
+    run_chunks_of(config, samples, CHUNK, options, progress, chunk)
+}
+
+/// The samples `0..samples` in chunks of `size`, each computed by `chunk(range)`, with
+/// `progress` after each: the study's size checked against the memory first, and the
+/// parameters and ball count against the event loop (so that the workers' loops cannot
+/// fail).
+pub(super) fn run_chunks_of(
+    config: &StudyConfig,
+    samples: usize,
+    size: usize,
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
     mut chunk: impl FnMut(std::ops::Range<usize>) -> Result<Vec<Sample>, Error>,
@@ -214,7 +227,7 @@ pub(super) fn run_chunks(
     let mut out = Vec::with_capacity(samples);
     let mut first = 0;
     while first < samples {
-        let end = samples.min(first + CHUNK);
+        let end = samples.min(first + size.max(1));
         out.extend(chunk(first..end)?);
         first = end;
         progress(first, samples);
@@ -353,6 +366,24 @@ impl SampleWatch {
         if self.until == Until::FirstContact {
             self.stop = Some((self.seen, (at.x, at.y)));
         }
+    }
+
+    /// [`SampleWatch::observe`] of the `number`th event (the strike is 1) where the events
+    /// before it were not shown: the GPU's watch shows only those that count (the first
+    /// contact, the pots).
+    pub fn observe_numbered(
+        &mut self,
+        config: &StudyConfig,
+        number: usize,
+        ev: &Event,
+        cue_before: &crate::model::ball_state::BallState,
+        t0: f64,
+        position: impl Fn(usize) -> crate::model::vec3::Vec3,
+    ) {
+        if self.stop.is_none() {
+            self.seen = number.saturating_sub(1);
+        }
+        self.observe(config, ev, cue_before, t0, position);
     }
 
     /// The sample, given the cue ball's centre at the end and how the loop ended (both
