@@ -1,29 +1,38 @@
 #!/usr/bin/env bash
-# The GPU benchmarks for a lent device machine (issues 16 and 17), as one prepared run:
-# - the kernels: `kisstime bench` on the GPU in f32 and f64, `midshot` and `worst`, 1e5 and
-#   1e6 tables of 16 balls, each reporting per-pair and next-collision pairs/s, the upload /
-#   kernel / readback split (kernel-only vs end to end) and the agreement with the CPU f64
-#   reference, plus one CPU run for scale;
-# - whole shots: `kisstime bench --sim` on the GPU event loop in f32 and f64, ordinary shots
-#   and breaks, 1e5 and 1e6 tables: shots/s and events/s end to end and kernel-only, and
-#   (for 1e5 ordinary shots, where the CPU runs beside it) the tables whose events differ
-#   from the CPU's.
-# PARTS="kernels sim" (the default) chooses the parts. Prints one table per part at the
-# end; the raw JSON goes to $OUT/bench.jsonl and $OUT/sim.jsonl. Each run has its own
-# timeout (150 s), so the whole stays within one 10-minute device call.
+# The GPU benchmarks for a lent device machine (issues 16, 17 and 26), as one prepared run:
+# - kernels: `kisstime bench` on the GPU, `midshot` and `worst`, each reporting per-pair
+#   and next-collision pairs/s end to end, the phase split (host packing and upload,
+#   kernel, readback and unpacking) and the agreement with the CPU f64 reference, plus
+#   one CPU run for scale;
+# - sim: `kisstime bench --sim` on the GPU event loop, ordinary shots and breaks: shots/s
+#   and events/s end to end and kernel-only, the phases (pack, upload, kernel, readback,
+#   unpack), and (for the first size of ordinary shots, where the CPU runs beside it) the
+#   tables whose events differ from the CPU's;
+# - study: `kisstime shots` (the built-in study) on the GPU and on the CPU: samples/s end
+#   to end and the GPU's phases (`--verbose`).
+# PARTS (default "kernels sim study") chooses the parts; SIZES, KERNEL_SCENARIOS, KERNEL_PRECISIONS,
+# SIM_SIZES, BREAK_SIZES, SIM_PRECISIONS and STUDY_SAMPLES their sizes. Prints one table per part at
+# the end; the raw JSON goes to $OUT/bench.jsonl, $OUT/sim.jsonl and $OUT/study.jsonl.
+# Each run has its own timeout (150 s), so the whole stays within one 10-minute call.
 #
 # Here (x86-64, this checkout): build the binary and fetch the Vulkan loader, once:
 #   cargo build --release && mkdir -p .dev && cp target/release/kisstime .dev/
 #   echo /.dev/ >> .git/info/exclude; echo /.gl/ >> .git/info/exclude
 #   (the `device` tool's README gives the apt-get download line for .gl/)
 # Then, with the `device` tool: run `bash benches/device.sh .dev/kisstime`, carry [".dev", ".gl"].
-# Locally (lavapipe), smaller: SIZES="2000" bash benches/device.sh target/release/kisstime
+# Locally (lavapipe), smaller:
+#   SIZES=2000 SIM_SIZES=2000 STUDY_SAMPLES=2000 bash benches/device.sh target/release/kisstime
 set -uo pipefail
 BIN="${1:-.dev/kisstime}"
 OUT="${OUT:-$(mktemp -d)}"
 SIZES="${SIZES:-100000 1000000}"
+KERNEL_PRECISIONS="${KERNEL_PRECISIONS:-f32 f64}"
+KERNEL_SCENARIOS="${KERNEL_SCENARIOS:-midshot worst}"
 SIM_SIZES="${SIM_SIZES:-100000 1000000}"
-PARTS="${PARTS:-kernels sim}"
+SIM_PRECISIONS="${SIM_PRECISIONS:-f64}"
+BREAK_SIZES="${BREAK_SIZES:-${SIM_SIZES%% *}}"
+STUDY_SAMPLES="${STUDY_SAMPLES:-1000000}"
+PARTS="${PARTS:-kernels sim study}"
 mkdir -p "$OUT"
 if compgen -G ".gl/*.deb" > /dev/null; then
   for f in .gl/*.deb; do dpkg -x "$f" /; done
@@ -36,6 +45,7 @@ command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,
 echo "binary: $BIN; cores: $(nproc); sizes: $SIZES"
 : > "$OUT/bench.jsonl"
 : > "$OUT/sim.jsonl"
+: > "$OUT/study.jsonl"
 run() { # output file, label, then kisstime bench arguments
   local file="$1" label="$2"; shift 2
   local start=$SECONDS
@@ -47,8 +57,8 @@ run() { # output file, label, then kisstime bench arguments
 }
 if [[ " $PARTS " == *" kernels "* ]]; then
   for n in $SIZES; do
-    for scenario in midshot worst; do
-      for precision in f32 f64; do
+    for scenario in $KERNEL_SCENARIOS; do
+      for precision in $KERNEL_PRECISIONS; do
         run "$OUT/bench.jsonl" "gpu $precision $scenario $n" --scenario "$scenario" --tables "$n" --backend gpu --precision "$precision" --reps 3
       done
     done
@@ -56,9 +66,11 @@ if [[ " $PARTS " == *" kernels "* ]]; then
   run "$OUT/bench.jsonl" "cpu f64 midshot 100000" --scenario midshot --tables 100000 --backend cpu --reps 3
 fi
 if [[ " $PARTS " == *" sim "* ]]; then
-  for n in $SIM_SIZES; do
-    for workload in ordinary breaks; do
-      for precision in f32 f64; do
+  for workload in ordinary breaks; do
+    sizes="$SIM_SIZES"
+    if [ "$workload" = breaks ]; then sizes="$BREAK_SIZES"; fi
+    for n in $sizes; do
+      for precision in $SIM_PRECISIONS; do
         # the CPU beside the GPU only where it is quick: ordinary shots, the smaller size
         backend=gpu
         if [ "$workload" = ordinary ] && [ "$n" = "${SIM_SIZES%% *}" ]; then backend=all; fi
@@ -67,8 +79,22 @@ if [[ " $PARTS " == *" sim "* ]]; then
     done
   done
 fi
+if [[ " $PARTS " == *" study "* ]]; then
+  for n in $STUDY_SAMPLES; do
+    for backend in gpu cpu; do
+      start=$SECONDS
+      if timeout 150 "$BIN" shots --samples "$n" --backend "$backend" --precision f64 --json --verbose \
+          >> "$OUT/study.jsonl" 2>> "$OUT/study_stderr.txt"; then
+        echo "ok   study $backend f64 $n ($((SECONDS - start)) s)"
+      else
+        echo "FAIL study $backend f64 $n (exit $?, $((SECONDS - start)) s; see study_stderr.txt)"
+      fi
+    done
+  done
+  grep -h "GPU phases\|samples of" "$OUT/study_stderr.txt"
+fi
 # one table of everything that ran (the JSON objects follow one another in the file)
-python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" <<'PY' || cat "$OUT/bench.jsonl" "$OUT/sim.jsonl"
+python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" <<'PY' || cat "$OUT"/*.jsonl
 import json, sys
 def objects(path):
     text, dec, at, out = open(path).read(), json.JSONDecoder(), 0, []
@@ -79,7 +105,7 @@ def objects(path):
             return out
         obj, at = dec.raw_decode(text, at)
         out.append(obj)
-rows, sims = objects(sys.argv[1]), objects(sys.argv[2])
+rows, sims, studies = objects(sys.argv[1]), objects(sys.argv[2]), objects(sys.argv[3])
 g = lambda v: "-" if v is None else f"{v / 1e6:,.0f} M"
 k = lambda s: "-" if not s else f"{s['kernel_s'] * 1e3:.2f}/{(s['upload_s'] + s['kernel_s'] + s['readback_s']) * 1e3:.2f} ms"
 print(f"{'scenario':<8} {'tables':>8} {'backend':<8} {'pairs/s':>10} {'next/s':>10} "
@@ -102,4 +128,16 @@ if sims:
                   f"{b['shots_per_s']:>12,.0f} {b['events_per_s']:>12,.0f} "
                   f"{b.get('kernel_shots_per_s') or 0:>15,.0f} {b['events_per_shot']:>8.1f} "
                   f"{b['cut']:>4} {'-' if d is None else f'{d[0]}/{d[1]}':>10} {b['device']}")
+            sp = b.get("gpu_split")
+            if sp:
+                print("          phases: " + ", ".join(
+                    f"{name} {sp.get(name + '_s', 0) * 1e3:.1f} ms"
+                    for name in ("pack", "upload", "kernel", "readback", "unpack")))
+if studies:
+    print()
+    print(f"{'samples':>8} {'seconds':>8} {'samples/s':>12}  backend")
+    for r in studies:
+        n = r.get("samples") or r.get("n") or 0
+        secs = r.get("seconds") or 0
+        print(f"{n:>8} {secs:>8.2f} {(n / secs if secs else 0):>12,.0f}  {r.get('backend')}")
 PY

@@ -322,6 +322,7 @@ const TWINS: &[Twin] = &[
                 "every ball's path is computed once per step, one thread per ball",
             ),
             ("check_balls", "the host checks the tables"),
+            ("check_input", "the host checks the tables"),
             (
                 "choose",
                 "the entry point's choice, with comes_before as the comparison",

@@ -92,23 +92,31 @@ pub struct BenchConfig {
     pub reps: usize,
 }
 
-/// The upload / kernel / readback split of a GPU call, in seconds.
+/// The phases of a GPU call, in seconds (see [`GpuTimings`]): host packing, upload,
+/// kernel, readback and host unpacking. The kernels' engine counts its packing in
+/// `upload_s` and its unpacking in `readback_s` (its `pack_s` and `unpack_s` are 0).
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct GpuSplit {
-    /// Host layout and upload.
+    /// Checking and laying out the input on the host.
+    pub pack_s: f64,
+    /// Writing it to the device.
     pub upload_s: f64,
-    /// Dispatch until the results are ready.
+    /// Dispatches until the results are ready.
     pub kernel_s: f64,
-    /// Mapping and conversion of the results.
+    /// Copying the results to mappable memory and mapping them.
     pub readback_s: f64,
+    /// Converting the results into answers on the host.
+    pub unpack_s: f64,
 }
 
 impl From<GpuTimings> for GpuSplit {
     fn from(t: GpuTimings) -> GpuSplit {
         GpuSplit {
+            pack_s: t.pack,
             upload_s: t.upload,
             kernel_s: t.kernel,
             readback_s: t.readback,
+            unpack_s: t.unpack,
         }
     }
 }
@@ -494,12 +502,14 @@ impl SimBenchReport {
             );
             if let (Some(s), Some(k)) = (&f.gpu_split, f.kernel_shots_per_s) {
                 out += &format!(
-                    "  device: {}\n  upload {:.1} ms, kernel {:.1} ms ({} dispatches; {k:.0} shots/s), readback {:.1} ms\n",
+                    "  device: {}\n  pack {:.1} ms, upload {:.1} ms, kernel {:.1} ms ({} dispatches; {k:.0} shots/s), readback {:.1} ms, unpack {:.1} ms\n",
                     f.device,
+                    1e3 * s.pack_s,
                     1e3 * s.upload_s,
                     1e3 * s.kernel_s,
                     f.dispatches.unwrap_or(0),
-                    1e3 * s.readback_s
+                    1e3 * s.readback_s,
+                    1e3 * s.unpack_s
                 );
             }
             if let Some((events, moved)) = f.tables_differ {

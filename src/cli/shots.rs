@@ -125,6 +125,11 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
     for note in engine.take_notes() {
         eprintln!("kisstime: {note}");
     }
+    if args.verbose
+        && let Some(gpu) = engine.gpu()
+    {
+        eprintln!("kisstime: GPU phases: {}", gpu.total_timings().describe());
+    }
     let seconds = started.elapsed().as_secs_f64();
     let samples = samples?;
     let summary = Summary::of(&scenario, &samples, options.until);

@@ -81,6 +81,25 @@ pub struct GpuTimings {
     pub unpack: f64,
 }
 
+impl GpuTimings {
+    /// Adds `other`'s phases to these.
+    pub fn add(&mut self, other: &GpuTimings) {
+        self.pack += other.pack;
+        self.upload += other.upload;
+        self.kernel += other.kernel;
+        self.readback += other.readback;
+        self.unpack += other.unpack;
+    }
+
+    /// One line: each phase in seconds.
+    pub fn describe(&self) -> String {
+        format!(
+            "pack {:.3} s, upload {:.3} s, kernel {:.3} s, readback {:.3} s, unpack {:.3} s",
+            self.pack, self.upload, self.kernel, self.readback, self.unpack
+        )
+    }
+}
+
 /// The GPU engine: device, pipelines and buffers, reused across calls.
 pub struct GpuEngine {
     device: wgpu::Device,

@@ -173,21 +173,21 @@ pub(super) fn from_never(t: f64) -> f64 {
 /// Lays out one table's I/O block at its start (after the strike, which is resolved here)
 /// and returns its run so far, with the strike's event record if there was one.
 pub(super) fn start_table(
-    shot: &GpuShot,
+    shot_balls: &[BallState],
+    shot_strike: Option<(usize, CueStrike)>,
     params: &SimParams,
     limits: Limits,
     sr: &mut [f64; IO_REALS],
     su: &mut [u32; IO_UINTS],
 ) -> (GpuRun, Option<EventRecord>) {
-    let mut balls: Vec<BallState> = shot
-        .balls
+    let mut balls: Vec<BallState> = shot_balls
         .iter()
         .map(|b| BallState { t: 0.0, ..*b })
         .collect();
     let mut strike = None;
     let mut n_events = 0u32;
     // the stick candidate of the CPU loop: at t = 0, every ball at rest, V0 > 0
-    if let Some((cue, s)) = shot.strike {
+    if let Some((cue, s)) = shot_strike {
         let at_rest = balls.iter().all(|b| ball_energy(b, &params.ball) == 0.0);
         if at_rest && s.v0 > 0.0 && limits.max_events > 0 {
             let struck = cue_strike(&balls[cue], &s, &params.ball, &params.cue);

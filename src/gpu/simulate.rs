@@ -29,7 +29,9 @@ use super::sim_layout::{
 };
 use crate::error::{Error, InputError, SimError};
 use crate::model::Precision;
+use crate::model::ball_state::BallState;
 use crate::model::sim_params::SimParams;
+use crate::resolve::stick_ball::CueStrike;
 use crate::model::table::Table;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::check::check_layout;
@@ -49,6 +51,55 @@ pub type OnEvent<'a> = &'a mut dyn FnMut(usize, &EventRecord);
 
 /// No agent (the shader's `NO_AGENT`): the watch is off.
 const NO_WATCH: u32 = u32::MAX;
+
+/// The tables of a call: shots of their own, or one position struck many ways (its
+/// layout checked once).
+#[derive(Clone, Copy)]
+enum Input<'a> {
+    Shots(&'a [GpuShot]),
+    Strikes {
+        balls: &'a [BallState],
+        cue: usize,
+        strikes: &'a [CueStrike],
+    },
+}
+
+impl<'a> Input<'a> {
+    fn len(&self) -> usize {
+        match self {
+            Input::Shots(s) => s.len(),
+            Input::Strikes { strikes, .. } => strikes.len(),
+        }
+    }
+
+    /// Tables `range` of these.
+    fn part(&self, range: std::ops::Range<usize>) -> Input<'a> {
+        match *self {
+            Input::Shots(s) => Input::Shots(&s[range]),
+            Input::Strikes {
+                balls,
+                cue,
+                strikes,
+            } => Input::Strikes {
+                balls,
+                cue,
+                strikes: &strikes[range],
+            },
+        }
+    }
+
+    /// Table `k`'s balls and strike.
+    fn shot(&self, k: usize) -> (&'a [BallState], Option<(usize, CueStrike)>) {
+        match *self {
+            Input::Shots(s) => (&s[k].balls, s[k].strike),
+            Input::Strikes {
+                balls,
+                cue,
+                strikes,
+            } => (balls, Some((cue, strikes[k]))),
+        }
+    }
+}
 
 /// What a call reads back besides the final states.
 enum Mode<'a> {
@@ -75,6 +126,9 @@ struct LoopBuffers {
     events_u: wgpu::Buffer,
     running: wgpu::Buffer,
     bind: wgpu::BindGroup,
+    /// Upload buffers for the I/O region (mapped for writing while a chunk is packed).
+    up_r: wgpu::Buffer,
+    up_u: wgpu::Buffer,
     /// Readback buffers: the running count, the I/O and watch regions, the events.
     back_running: wgpu::Buffer,
     back_r: wgpu::Buffer,
@@ -95,14 +149,13 @@ pub struct GpuSimulator {
     max_binding: u64,
     watch: device::DeviceWatch,
     bufs: Option<LoopBuffers>,
-    /// The packed I/O blocks of a chunk on the host, kept across calls.
-    pack_r: Vec<u8>,
-    pack_u: Vec<u8>,
     /// A fault waiting for its dispatch: the fault, and how many dispatches run first.
     #[cfg(feature = "testing")]
     pub(super) pending_fault: Option<(super::Fault, u32)>,
     /// The last call's timings, summed over chunks (see [`GpuTimings`]).
     timings: GpuTimings,
+    /// Every call's timings since the simulator was opened.
+    total: GpuTimings,
     /// Dispatches of the last call.
     dispatches: u64,
     /// Events per table and dispatch.
@@ -152,13 +205,12 @@ impl GpuSimulator {
             adapter: opened.adapter,
             watch: opened.watch,
             bufs: None,
-            pack_r: Vec::new(),
-            pack_u: Vec::new(),
             #[cfg(feature = "testing")]
             pending_fault: None,
             precision,
             pipeline,
             timings: GpuTimings::default(),
+            total: GpuTimings::default(),
             dispatches: 0,
             events_per_dispatch: EVENTS_PER_DISPATCH,
             max_tables_per_chunk: MAX_TABLES_PER_CHUNK,
@@ -180,6 +232,12 @@ impl GpuSimulator {
     /// events where they are read back).
     pub fn timings(&self) -> GpuTimings {
         self.timings
+    }
+
+    /// The timings of every call since the simulator was opened (a study's batches
+    /// together).
+    pub fn total_timings(&self) -> GpuTimings {
+        self.total
     }
 
     /// The dispatches of the last call (over all chunks).
@@ -231,33 +289,44 @@ impl GpuSimulator {
             Some(f) => Mode::Events(f),
             None => Mode::Finals,
         };
-        Ok(self.run(table, params, limits, shots, mode)?.0)
+        Ok(self.run(table, params, limits, Input::Shots(shots), mode)?.0)
     }
 
-    /// [`GpuSimulator::simulate`] with the device watching cue ball `cue` (a study's view
-    /// of the events: its first contact and every pot, [`GpuWatch`]) instead of reading
-    /// any event back; with `stop_at_first` a table stops at the cue ball's first contact
-    /// (its final states and outcome are then those at that contact). Errors as
-    /// [`GpuSimulator::simulate`].
-    pub fn simulate_watched(
+    /// One position, `balls`, struck each of the ways `strikes` on ball `cue` (one table
+    /// per strike; the layout is checked once), with the device watching the cue ball (a
+    /// study's view of the events: its first contact and every pot, [`GpuWatch`]) instead
+    /// of reading any event back; with `stop_at_first` a table stops at the cue ball's
+    /// first contact (its final states and outcome are then those at that contact).
+    /// Errors as [`GpuSimulator::simulate`], a bad strike naming its table.
+    #[allow(clippy::too_many_arguments)]
+    pub fn simulate_strikes_watched(
         &mut self,
         table: &Table,
         params: SimParams,
         limits: Limits,
-        shots: &[GpuShot],
+        balls: &[BallState],
         cue: usize,
+        strikes: &[CueStrike],
         stop_at_first: bool,
     ) -> Result<Vec<(GpuRun, GpuWatch)>, Error> {
-        if shots.iter().any(|s| cue >= s.balls.len()) {
-            return Err(Error::Unsupported(format!(
-                "the watched cue ball {cue} is not on every table"
-            )));
+        if cue >= balls.len() {
+            return Err(Error::from(InputError::new(format!(
+                "cue ball index {cue} out of range ({} balls)",
+                balls.len()
+            ))));
         }
+        check_layout(table, params.ball.r, balls)
+            .map_err(|e| Error::from(InputError::new(format!("the position: {e}"))))?;
+        let input = Input::Strikes {
+            balls,
+            cue,
+            strikes,
+        };
         let mode = Mode::Watch {
             cue,
             stop: stop_at_first,
         };
-        let (runs, watches) = self.run(table, params, limits, shots, mode)?;
+        let (runs, watches) = self.run(table, params, limits, input, mode)?;
         Ok(runs.into_iter().zip(watches).collect())
     }
 
@@ -267,7 +336,7 @@ impl GpuSimulator {
         table: &Table,
         params: SimParams,
         limits: Limits,
-        shots: &[GpuShot],
+        input: Input<'_>,
         mut mode: Mode<'_>,
     ) -> Result<(Vec<GpuRun>, Vec<GpuWatch>), Error> {
         self.timings = GpuTimings::default();
@@ -283,14 +352,17 @@ impl GpuSimulator {
             .max(4 * (1 + per * EVENT_UINTS));
         let fit = (self.max_binding / per_table as u64).max(1) as usize;
         let chunk = self.max_tables_per_chunk.max(1).min(fit);
-        let mut runs = Vec::with_capacity(shots.len());
+        let n = input.len();
+        let mut runs = Vec::with_capacity(n);
         let mut watches = Vec::new();
-        for (c, part) in shots.chunks(chunk).enumerate() {
-            let (r, w) =
-                self.simulate_chunk(table, params, limits, part, c * chunk, chunk, &mut mode)?;
+        for start in (0..n).step_by(chunk) {
+            let part = input.part(start..n.min(start + chunk));
+            let done = self.simulate_chunk(table, params, limits, part, start, chunk, &mut mode);
+            let (r, w) = done.inspect_err(|_| self.total.add(&self.timings))?;
             runs.extend(r);
             watches.extend(w);
         }
+        self.total.add(&self.timings);
         Ok((runs, watches))
     }
 
@@ -350,6 +422,7 @@ impl GpuSimulator {
         let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
         let rw = storage | wgpu::BufferUsages::COPY_SRC;
         let back = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
+        let up = wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC;
         let state_reals = n * (IO_REALS + CACHE_REALS + WATCH_REALS) as u64;
         let state_uints = n * (IO_UINTS + CACHE_UINTS + WATCH_UINTS) as u64;
         // what comes back at the end: the I/O region, then the watch region, of each kind
@@ -393,6 +466,8 @@ impl GpuSimulator {
             per,
             record,
             geometry_reals,
+            up_r: make("upload reals", n * (IO_REALS as u64) * real, up),
+            up_u: make("upload u32s", n * (IO_UINTS as u64) * 4, up),
             back_running: make("readback running", 4, back),
             back_r: make("readback reals", back_reals * real, back),
             back_u: make("readback u32s", back_uints * 4, back),
@@ -418,12 +493,12 @@ impl GpuSimulator {
         table: &Table,
         params: SimParams,
         limits: Limits,
-        shots: &[GpuShot],
+        input: Input<'_>,
         first: usize,
         capacity: usize,
         mode: &mut Mode<'_>,
     ) -> Result<(Vec<GpuRun>, Vec<GpuWatch>), Error> {
-        let n_tables = shots.len();
+        let n_tables = input.len();
         if n_tables == 0 {
             return Ok((Vec::new(), Vec::new()));
         }
@@ -477,42 +552,58 @@ impl GpuSimulator {
         queue.write_buffer(&bufs.sim, 0, &real_bytes(precision, &sim));
         queue.write_buffer(&bufs.geometry, 0, &real_bytes(precision, &geometry));
         // every table checked as the CPU loop checks it and laid out in the shader's
-        // precision, Rayon over blocks of tables, into host arrays kept across calls
-        let mut pack_r = std::mem::take(&mut self.pack_r);
-        let mut pack_u = std::mem::take(&mut self.pack_u);
-        pack_r.resize(n_tables * IO_REALS * real, 0);
-        pack_u.resize(n_tables * IO_UINTS * 4, 0);
-        let real_block = PACK_BLOCK * IO_REALS * real;
-        let uint_block = PACK_BLOCK * IO_UINTS * 4;
-        let packed: Vec<Result<Vec<(GpuRun, Option<EventRecord>)>, Error>> = shots
-            .par_chunks(PACK_BLOCK)
-            .zip(pack_r.par_chunks_mut(real_block))
-            .zip(pack_u.par_chunks_mut(uint_block))
-            .enumerate()
-            .map_init(
-                || EventLoop::new(table, params, limits, GPU_MAX_BALLS),
-                |check, (b, ((part, dst_r), dst_u))| {
-                    let check = check
-                        .as_mut()
-                        .map_err(|e| gpu_error(format!("the simulation parameters: {e}")))?;
-                    let mut started = Vec::with_capacity(part.len());
-                    for (j, shot) in part.iter().enumerate() {
-                        let at = first + b * PACK_BLOCK + j;
-                        let r = &mut dst_r[j * IO_REALS * real..(j + 1) * IO_REALS * real];
-                        let u = &mut dst_u[j * IO_UINTS * 4..(j + 1) * IO_UINTS * 4];
-                        started.push(pack_table(
-                            table, &params, limits, check, shot, at, precision, r, u,
-                        )?);
+        // precision straight into the mapped upload buffers, Rayon over blocks of tables
+        let len_r = (n_tables * IO_REALS * real) as u64;
+        let len_u = (n_tables * IO_UINTS * 4) as u64;
+        map_for_writing(&self.device, &[(&bufs.up_r, len_r), (&bufs.up_u, len_u)])?;
+        let views = (
+            bufs.up_r.slice(..len_r).get_mapped_range_mut(),
+            bufs.up_u.slice(..len_u).get_mapped_range_mut(),
+        );
+        let packed = if let (Ok(mut view_r), Ok(mut view_u)) = views {
+            let blocks_r = split_blocks(view_r.slice(..), PACK_BLOCK * IO_REALS * real);
+            let blocks_u = split_blocks(view_u.slice(..), PACK_BLOCK * IO_UINTS * 4);
+            let layout_checked = matches!(input, Input::Strikes { .. });
+            let packed: Vec<Result<Vec<(GpuRun, Option<EventRecord>)>, Error>> = blocks_r
+                .into_par_iter()
+                .zip(blocks_u)
+                .enumerate()
+                .map(|(b, (mut dst_r, mut dst_u))| {
+                    let start = b * PACK_BLOCK;
+                    let end = n_tables.min(start + PACK_BLOCK);
+                    let mut started = Vec::with_capacity(end - start);
+                    let mut bytes = [0u8; IO_REALS * 8];
+                    let bytes = &mut bytes[..IO_REALS * real];
+                    for (j, k) in (start..end).enumerate() {
+                        let (balls, strike) = input.shot(k);
+                        let mut sr = [0.0; IO_REALS];
+                        let mut su = [0u32; IO_UINTS];
+                        let shot = ShotRef {
+                            at: first + k,
+                            balls,
+                            strike,
+                            layout_checked,
+                        };
+                        started.push(pack_table(table, &params, limits, shot, &mut sr, &mut su)?);
+                        put_reals(precision, &sr, bytes);
+                        let at_r = j * IO_REALS * real;
+                        dst_r.0.slice(at_r..at_r + bytes.len()).copy_from_slice(bytes);
+                        let at_u = j * IO_UINTS * 4;
+                        dst_u
+                            .0
+                            .slice(at_u..at_u + IO_UINTS * 4)
+                            .copy_from_slice(bytemuck::cast_slice(&su));
                     }
                     Ok(started)
-                },
-            )
-            .collect();
-        let queue = &self.queue;
-        queue.write_buffer(&bufs.state_r, 0, &pack_r);
-        queue.write_buffer(&bufs.state_u, 0, &pack_u);
-        self.pack_r = pack_r;
-        self.pack_u = pack_u;
+                })
+                .collect();
+            Ok(packed)
+        } else {
+            Err(gpu_error("the GPU's upload buffers are not writable"))
+        };
+        bufs.up_r.unmap();
+        bufs.up_u.unmap();
+        let packed = packed?;
         let mut runs = Vec::with_capacity(n_tables);
         let mut strikes = Vec::with_capacity(n_tables);
         for block in packed {
@@ -530,9 +621,16 @@ impl GpuSimulator {
                 }
             }
         }
-        // the writes go to the device with this (empty) submission, waited for
+        // the upload buffers copied to the state's I/O region, waited for
         let scopes = Scopes::push(&self.device);
-        queue.submit([]);
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("kisstime event loop upload"),
+            });
+        encoder.copy_buffer_to_buffer(&bufs.up_r, 0, &bufs.state_r, 0, len_r);
+        encoder.copy_buffer_to_buffer(&bufs.up_u, 0, &bufs.state_u, 0, len_u);
+        self.queue.submit([encoder.finish()]);
         map_and_wait(&self.device, scopes, &self.watch, &[], "the upload")?;
         self.timings.upload += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
@@ -713,21 +811,27 @@ impl GpuSimulator {
 /// Tables packed by one Rayon task.
 const PACK_BLOCK: usize = 256;
 
-/// Checks table `at` as the CPU loop checks it ([`check_layout`], [`EventLoop::reset`]),
-/// lays out its I/O block at its start into `dst_r` and `dst_u` in the shader's
-/// precision; returns its run so far and the strike's event record.
-#[allow(clippy::too_many_arguments)]
+/// One table to pack: its position in the batch, balls and strike, and whether its
+/// layout was checked already (one position struck many ways).
+struct ShotRef<'a> {
+    at: usize,
+    balls: &'a [BallState],
+    strike: Option<(usize, CueStrike)>,
+    layout_checked: bool,
+}
+
+/// Checks a table as the CPU loop checks it ([`check_layout`] unless done, and
+/// [`EventLoop::check_input`]) and lays out its I/O block at its start in `sr` and `su`;
+/// returns its run so far and the strike's event record.
 fn pack_table(
     table: &Table,
     params: &SimParams,
     limits: Limits,
-    check: &mut EventLoop<'_>,
-    shot: &GpuShot,
-    at: usize,
-    precision: Precision,
-    dst_r: &mut [u8],
-    dst_u: &mut [u8],
+    shot: ShotRef<'_>,
+    sr: &mut [f64; IO_REALS],
+    su: &mut [u32; IO_UINTS],
 ) -> Result<(GpuRun, Option<EventRecord>), Error> {
+    let at = shot.at;
     let bad = |e: SimError| Error::from(InputError::new(format!("table {at}: {e}")));
     if shot.balls.len() > GPU_MAX_BALLS {
         return Err(Error::Unsupported(format!(
@@ -735,14 +839,57 @@ fn pack_table(
             shot.balls.len()
         )));
     }
-    check_layout(table, params.ball.r, &shot.balls).map_err(bad)?;
-    check.reset(&shot.balls, shot.strike).map_err(bad)?;
-    let mut sr = [0.0; IO_REALS];
-    let mut su = [0u32; IO_UINTS];
-    let started = start_table(shot, params, limits, &mut sr, &mut su);
-    put_reals(precision, &sr, dst_r);
-    dst_u.copy_from_slice(bytemuck::cast_slice(&su));
-    Ok(started)
+    if !shot.layout_checked {
+        check_layout(table, params.ball.r, shot.balls).map_err(bad)?;
+    }
+    EventLoop::check_input(shot.balls, shot.strike).map_err(bad)?;
+    Ok(start_table(shot.balls, shot.strike, params, limits, sr, su))
+}
+
+/// A piece of a mapped upload buffer, written by one Rayon task.
+struct Block<'a>(wgpu::WriteOnly<'a, [u8]>);
+
+// SAFETY: a `WriteOnly<[u8]>` is an exclusive, write-only view of bytes, as `&mut [u8]`
+// is (wgpu marks `WriteOnly<T>` Send for sized `T` only); each block is a disjoint piece
+// of the mapping, written by one task while the mapping lives.
+unsafe impl Send for Block<'_> {}
+
+/// `view` cut into blocks of `size` bytes (the last one shorter).
+fn split_blocks(mut view: wgpu::WriteOnly<'_, [u8]>, size: usize) -> Vec<Block<'_>> {
+    let mut out = Vec::with_capacity(view.len().div_ceil(size));
+    while view.len() > size {
+        let (head, tail) = view.split_at(size);
+        out.push(Block(head));
+        view = tail;
+    }
+    out.push(Block(view));
+    out
+}
+
+/// Maps the first `len` bytes of each buffer for writing and waits.
+fn map_for_writing(device: &wgpu::Device, buffers: &[(&wgpu::Buffer, u64)]) -> Result<(), Error> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    for (buf, len) in buffers {
+        let tx = tx.clone();
+        buf.slice(..*len)
+            .map_async(wgpu::MapMode::Write, move |r| drop(tx.send(r)));
+    }
+    drop(tx);
+    let polled = device.poll(wgpu::PollType::wait_indefinitely());
+    let results: Vec<_> = rx.try_iter().collect();
+    let failed = results.iter().find_map(|r| r.as_ref().err().map(|e| e.to_string()));
+    if polled.is_err() || failed.is_some() || results.len() != buffers.len() {
+        for ((buf, _), r) in buffers.iter().zip(&results) {
+            if r.is_ok() {
+                buf.unmap();
+            }
+        }
+        return Err(gpu_error(format!(
+            "the GPU's upload buffers cannot be written: {}",
+            failed.unwrap_or_else(|| "the device did not answer".into())
+        )));
+    }
+    Ok(())
 }
 
 /// One copy of a submission: `len` bytes of `src` from `offset` to the readback buffer

@@ -138,13 +138,10 @@ impl<'a> EventLoop<'a> {
         })
     }
 
-    /// Starts a shot: the balls (in pooltool's ball order, reference time 0) and the cue
-    /// strike on ball `strike.0`, if any. The strike happens at t = 0 only if every ball
-    /// is at rest (zero energy) and V0 > 0, as in pooltool. Errors on a bad ball or strike
-    /// or too many balls; nothing is allocated beyond the capacity given to `new` unless
-    /// more balls come.
-    pub fn reset(
-        &mut self,
+    /// The checks [`EventLoop::reset`] makes of a shot's input, alone: at most
+    /// [`MAX_BALLS`] balls, every number finite, and a valid strike on a ball that exists.
+    /// (A host that lays tables out for the GPU runs them without a loop.)
+    pub fn check_input(
         balls: &[BallState],
         strike: Option<(usize, CueStrike)>,
     ) -> Result<(), SimError> {
@@ -157,6 +154,20 @@ impl<'a> EventLoop<'a> {
                 )));
             }
         }
+        Ok(())
+    }
+
+    /// Starts a shot: the balls (in pooltool's ball order, reference time 0) and the cue
+    /// strike on ball `strike.0`, if any. The strike happens at t = 0 only if every ball
+    /// is at rest (zero energy) and V0 > 0, as in pooltool. Errors on a bad ball or strike
+    /// or too many balls; nothing is allocated beyond the capacity given to `new` unless
+    /// more balls come.
+    pub fn reset(
+        &mut self,
+        balls: &[BallState],
+        strike: Option<(usize, CueStrike)>,
+    ) -> Result<(), SimError> {
+        Self::check_input(balls, strike)?;
         let n = balls.len();
         self.balls.clear();
         self.balls

@@ -20,7 +20,8 @@ use super::config::{Noise, StudyConfig};
 use super::noise::noisy_strike;
 use super::run::{RunOptions, Sample, SampleWatch, Until, run_chunks_of, sample_error};
 use crate::error::Error;
-use crate::gpu::{GPU_MAX_BALLS, GpuRun, GpuShot, GpuSimulator, GpuWatch};
+use crate::gpu::{GPU_MAX_BALLS, GpuRun, GpuSimulator, GpuWatch};
+use crate::model::ball_state::BallState;
 use crate::model::vec3::Vec3;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::EventLoop;
@@ -90,39 +91,30 @@ fn run_with_gpu(
     let cue = config.cue;
     let stop = options.until == Until::FirstContact;
     run_chunks_of(config, samples, GPU_CHUNK, options, progress, |part| {
-        // the CPU's checks of each strike, so that a bad one is its sample's error
-        let shots: Vec<GpuShot> = part
+        // each strike checked as the CPU checks it, so that a bad one is its sample's error
+        let strikes: Vec<CueStrike> = part
             .clone()
             .into_par_iter()
-            .map_init(
-                || {
-                    EventLoop::new(&config.table, config.params, options.limits, initial.len())
-                        .expect("checked by run_chunks_of")
-                },
-                |check, i| {
-                    let s = strike(i);
-                    check
-                        .reset(&initial, Some((cue, s)))
-                        .map_err(|e| sample_error(i, e))?;
-                    Ok(GpuShot {
-                        balls: initial.clone(),
-                        strike: Some((cue, s)),
-                    })
-                },
-            )
+            .map(|i| {
+                let s = strike(i);
+                EventLoop::check_input(&initial, Some((cue, s)))
+                    .map(|()| s)
+                    .map_err(|e| sample_error(i, e))
+            })
             .collect::<Result<_, Error>>()?;
-        let runs = gpu.simulate_watched(
+        let runs = gpu.simulate_strikes_watched(
             &config.table,
             config.params,
             options.limits,
-            &shots,
+            &initial,
             cue,
+            &strikes,
             stop,
         )?;
-        Ok(shots
+        Ok(strikes
             .par_iter()
             .zip(runs)
-            .map(|(shot, (run, watch))| judge(config, options, shot, &run, &watch))
+            .map(|(s, (run, watch))| judge(config, options, &initial, *s, &run, &watch))
             .collect())
     })
 }
@@ -132,12 +124,13 @@ fn run_with_gpu(
 fn judge(
     config: &StudyConfig,
     options: &RunOptions,
-    shot: &GpuShot,
+    initial: &[BallState],
+    strike: CueStrike,
     run: &GpuRun,
     watch: &GpuWatch,
 ) -> Sample {
-    let (cue, strike) = shot.strike.expect("every sample has its strike");
-    let mut sample = SampleWatch::new(config, &shot.balls, strike, options.until);
+    let cue = config.cue;
+    let mut sample = SampleWatch::new(config, initial, strike, options.until);
     let mut first = watch.first.as_ref();
     let mut pots = watch.pots.iter().peekable();
     loop {
@@ -167,7 +160,7 @@ fn judge(
         } else {
             let (n, ev) = pots.next().expect("peeked above");
             let nan = |_: usize| Vec3::new(f64::NAN, f64::NAN, f64::NAN);
-            sample.observe_numbered(config, *n, ev, &shot.balls[cue], 0.0, nan);
+            sample.observe_numbered(config, *n, ev, &initial[cue], 0.0, nan);
         }
     }
     let end = run.balls[cue].r;
