@@ -216,4 +216,28 @@ fn chunks_and_dispatch_lengths_do_not_change_the_runs() {
         .unwrap();
     assert_eq!(whole.len(), 200);
     assert_eq!(chunked, whole);
+    // without events each dispatch runs only the tables still running (compacted): the
+    // same final states and outcomes, in chunks or not, and with a table cut by a limit
+    for (tables, per) in [(7, 17), (1 << 20, 4)] {
+        gpu.max_tables_per_chunk = tables;
+        gpu.events_per_dispatch = per;
+        let finals = gpu
+            .simulate(&table, params, Limits::default(), &inputs, false)
+            .unwrap();
+        assert!(gpu.dispatches() > 3, "{} dispatches", gpu.dispatches());
+        for (k, (f, w)) in finals.iter().zip(&whole).enumerate() {
+            assert!(f.events.is_empty());
+            assert_eq!((&f.balls, f.outcome), (&w.balls, w.outcome), "table {k}");
+        }
+    }
+    let limits = Limits {
+        max_events: 9,
+        ..Limits::default()
+    };
+    let cut = gpu.simulate(&table, params, limits, &inputs, true).unwrap();
+    let cut_finals = gpu.simulate(&table, params, limits, &inputs, false).unwrap();
+    assert!(cut.iter().any(|r| r.outcome.cut.is_some()));
+    for (k, (f, w)) in cut_finals.iter().zip(&cut).enumerate() {
+        assert_eq!((&f.balls, f.outcome), (&w.balls, w.outcome), "cut table {k}");
+    }
 }

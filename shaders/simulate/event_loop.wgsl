@@ -106,6 +106,14 @@ struct LoopConfig {
     // cue ball's first contact
     watch_cue: u32,
     watch_stop: u32,
+    // the workgroups of this dispatch: the tables still running (see `live`)
+    n_active: u32,
+    // 1: the workgroups take their tables from the active list (else workgroup k runs
+    // table k), and the tables still running are listed for the next dispatch
+    compact: u32,
+    // where this dispatch's list starts in `live` (0 or n_tables); the next one's is
+    // the other half
+    live_in: u32,
     pad: u32,
 }
 
@@ -126,6 +134,11 @@ struct LoopConfig {
 // The tables still running after this dispatch (the host zeroes it before each dispatch
 // and reads back only this word until it is 0).
 @group(0) @binding(7) var<storage, read_write> running: atomic<u32>;
+// With cfg.compact, two lists of tables (n_tables each): this dispatch's workgroups run the
+// tables of the half at cfg.live_in, and list the tables still running after it in the
+// other half, in any order, for the next dispatch (whose n_active is `running`). A table
+// done is never dispatched again.
+@group(0) @binding(8) var<storage, read_write> live: array<u32>;
 
 // The table's state while the dispatch lasts.
 var<workgroup> balls: array<BallState, GPU_MAX_BALLS>;
@@ -332,7 +345,10 @@ fn store_table(table: u32, lid: u32) {
             events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = n_recorded;
         }
         if status == STATUS_RUNNING {
-            atomicAdd(&running, 1u);
+            let k = atomicAdd(&running, 1u);
+            if cfg.compact != 0u {
+                live[cfg.n_tables - cfg.live_in + k] = table;
+            }
         }
     }
 }
@@ -657,9 +673,13 @@ fn simulate_tables(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let table = wid.y * cfg.groups_x + wid.x;
-    if table >= cfg.n_tables {
+    let slot = wid.y * cfg.groups_x + wid.x;
+    if slot >= cfg.n_active {
         return;
+    }
+    var table = slot;
+    if cfg.compact != 0u && cfg.first_dispatch == 0u {
+        table = live[cfg.live_in + slot];
     }
     // a table done in an earlier dispatch is left as it is
     if lid == 0u {

@@ -125,6 +125,10 @@ struct LoopBuffers {
     events_r: wgpu::Buffer,
     events_u: wgpu::Buffer,
     running: wgpu::Buffer,
+    /// Two lists of tables still running, one half a dispatch (the shader's `live`);
+    /// the device alone reads it, through the bind group.
+    #[allow(dead_code)]
+    live: wgpu::Buffer,
     bind: wgpu::BindGroup,
     /// Upload buffers for the I/O region (mapped for writing while a chunk is packed).
     up_r: wgpu::Buffer,
@@ -435,7 +439,7 @@ impl GpuSimulator {
         };
         let cfg = make(
             "config",
-            48,
+            64,
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
         let sim = make("sim", 19 * real, storage);
@@ -445,9 +449,10 @@ impl GpuSimulator {
         let events_r = make("events_r", events_reals * real, rw);
         let events_u = make("events_u", events_uints * 4, rw);
         let running = make("running", 4, rw);
+        let live = make("live", 2 * n * 4, rw);
         let layout = self.pipeline.get_bind_group_layout(0);
         let entries: Vec<wgpu::BindGroupEntry> = [
-            &cfg, &sim, &geometry, &state_r, &state_u, &events_r, &events_u, &running,
+            &cfg, &sim, &geometry, &state_r, &state_u, &events_r, &events_u, &running, &live,
         ]
         .iter()
         .enumerate()
@@ -481,6 +486,7 @@ impl GpuSimulator {
             events_r,
             events_u,
             running,
+            live,
             bind,
         }
     }
@@ -634,16 +640,20 @@ impl GpuSimulator {
         map_and_wait(&self.device, scopes, &self.watch, &[], "the upload")?;
         self.timings.upload += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
-        let groups_x = (n_tables as u32).min(self.max_groups_per_dim);
-        let groups_y = (n_tables as u32).div_ceil(groups_x);
-        let mut first_dispatch = true;
+        // without events, each dispatch after the first runs only the tables still running
+        // (the shader lists them, in the halves of `live` by turns)
+        let compact = !record;
+        let mut n_active = n_tables as u32;
+        let mut dispatch = 0u32;
         loop {
+            let groups_x = n_active.min(self.max_groups_per_dim);
+            let groups_y = n_active.div_ceil(groups_x);
             #[cfg_attr(not(feature = "testing"), allow(unused_mut))]
             let mut row = groups_x;
             #[cfg(feature = "testing")]
             self.apply_pending_fault(&mut row);
             let bufs = self.bufs.as_ref().expect("made by buffers");
-            let cfg: [u32; 12] = [
+            let cfg: [u32; 16] = [
                 n_tables as u32,
                 table.linear.len() as u32,
                 table.circular.len() as u32,
@@ -652,16 +662,20 @@ impl GpuSimulator {
                 per as u32,
                 groups_x,
                 u32::from(record),
-                u32::from(first_dispatch),
+                u32::from(dispatch == 0),
                 watch_cue,
                 u32::from(watch_stop),
+                n_active,
+                u32::from(compact),
+                if dispatch % 2 == 1 { n_tables as u32 } else { 0 },
+                0,
                 0,
             ];
             self.queue
                 .write_buffer(&bufs.cfg, 0, bytemuck::cast_slice(&cfg));
             self.queue
                 .write_buffer(&bufs.running, 0, bytemuck::bytes_of(&0u32));
-            first_dispatch = false;
+            dispatch += 1;
             let mut copies = vec![Copy {
                 src: &bufs.running,
                 offset: 0,
@@ -705,6 +719,9 @@ impl GpuSimulator {
             }
             if running == 0 {
                 break;
+            }
+            if compact {
+                n_active = running;
             }
         }
         self.timings.kernel += clock.elapsed().as_secs_f64();
