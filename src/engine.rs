@@ -2,10 +2,21 @@
 //! simulates whole shots and shot studies, on the CPU, on the GPU, or on the GPU with the
 //! CPU as fallback (`auto`).
 //!
-//! `auto` opens a GPU adapter when one works and otherwise uses the CPU, leaving a note
-//! that says why; a GPU failure during a batch (device lost, failed dispatch) redoes that
-//! batch on the CPU, again with a note. `gpu` reports such failures as errors. The CPU
-//! backend computes in f64 only; a fallback from GPU f32 therefore computes in f64.
+//! `auto` chooses the backend expected to be faster, by a rule from the measurements
+//! (BENCHMARKS.md, an H200 beside 16 CPU cores):
+//! - never a software (CPU-type) adapter such as Mesa's lavapipe: the CPU path is faster;
+//! - whole shots and studies on a hardware GPU, for batches of at least
+//!   [`AUTO_GPU_MIN_TABLES`] tables (samples); smaller ones on the CPU;
+//! - the pair kernels (`pairs`, `next`) on the CPU: end to end (upload and readback
+//!   included) the GPU's kernels are slower than the CPU's.
+//!
+//! Setting `KISSTIME_AUTO_GPU=always` makes `auto` use any adapter that opens, for every
+//! size and for the kernels (how the tests exercise the GPU paths and the fallback on
+//! lavapipe). Where `auto` chooses the CPU it leaves a note that says why, and
+//! `describe` names what ran. A GPU failure during a batch (device lost, failed dispatch)
+//! redoes that batch on the CPU, again with a note. `gpu` reports such failures as errors
+//! and runs wherever it is asked. The CPU backend computes in f64 only; a fallback from
+//! GPU f32 therefore computes in f64.
 
 use crate::batch::{Batch, NextCollision};
 use crate::cpu;
@@ -20,6 +31,34 @@ use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::check::check_layout;
 use crate::simulate::{BatchError, BatchOptions, EventLoop, Limits, MAX_BALLS, simulate_batch};
 use crate::study::{self, Noise, RunOptions, Sample, StudyConfig};
+
+/// Whole-shot batches and studies of fewer tables (samples) than this run on the CPU
+/// under `auto`: below it the GPU's fixed costs (a dispatch and a readback every few
+/// events) outweigh its speed (measured on an H200 beside 16 cores, BENCHMARKS.md).
+pub const AUTO_GPU_MIN_TABLES: usize = 4096;
+
+/// How `auto` chooses (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum AutoRule {
+    /// The measured rule: a hardware GPU only, whole shots and studies from
+    /// [`AUTO_GPU_MIN_TABLES`] tables, the kernels on the CPU.
+    #[default]
+    Measured,
+    /// Any adapter that opens, for every size and for the kernels (to exercise the GPU
+    /// paths and the fallback, e.g. on lavapipe).
+    AnyGpu,
+}
+
+impl AutoRule {
+    /// [`AutoRule::AnyGpu`] where `KISSTIME_AUTO_GPU=always`, else the measured rule.
+    pub fn from_env() -> AutoRule {
+        if std::env::var("KISSTIME_AUTO_GPU").is_ok_and(|v| v == "always") {
+            AutoRule::AnyGpu
+        } else {
+            AutoRule::Measured
+        }
+    }
+}
 
 /// The backend used when none is asked for: the CPU, the reference.
 pub const DEFAULT_BACKEND: Backend = Backend::Cpu;
@@ -58,12 +97,17 @@ impl Backend {
 /// is in use, and the notes about fallbacks.
 struct Chosen<G> {
     backend: Backend,
+    rule: AutoRule,
     gpu: Option<G>,
     notes: Vec<String>,
 }
 
 /// The GPU side of a backend ([`GpuEngine`] for the kernels, [`GpuSimulator`] for shots).
 trait GpuSide: Sized {
+    /// Whether `auto` uses it at all (where it can beat the CPU end to end).
+    const AUTO_PAYS: bool;
+    /// Why `auto` does not, for the note.
+    const AUTO_WHY_NOT: &'static str = "";
     /// Opens it in `precision`.
     fn open(precision: Precision) -> Result<Self, Error>;
     /// Its precision.
@@ -73,6 +117,9 @@ trait GpuSide: Sized {
 }
 
 impl GpuSide for GpuEngine {
+    const AUTO_PAYS: bool = false;
+    const AUTO_WHY_NOT: &'static str = "end to end (upload and readback included) the GPU's \
+         pair kernels are slower than the CPU's (BENCHMARKS.md)";
     fn open(precision: Precision) -> Result<Self, Error> {
         GpuEngine::new(precision)
     }
@@ -85,6 +132,7 @@ impl GpuSide for GpuEngine {
 }
 
 impl GpuSide for GpuSimulator {
+    const AUTO_PAYS: bool = true;
     fn open(precision: Precision) -> Result<Self, Error> {
         GpuSimulator::new(precision)
     }
@@ -99,8 +147,14 @@ impl GpuSide for GpuSimulator {
 impl<G: GpuSide> Chosen<G> {
     /// Opens `backend` (see [`Engine::new`]); `doing` names the work in the notes
     /// ("computing", "simulating").
-    fn open(backend: Backend, precision: Precision, doing: &str) -> Result<Chosen<G>, Error> {
+    fn open(
+        backend: Backend,
+        precision: Precision,
+        rule: AutoRule,
+        doing: &str,
+    ) -> Result<Chosen<G>, Error> {
         let mut notes = Vec::new();
+        let any = rule == AutoRule::AnyGpu;
         let gpu = match backend {
             Backend::Cpu => {
                 if precision == Precision::F32 {
@@ -113,7 +167,22 @@ impl<G: GpuSide> Chosen<G> {
                 None
             }
             Backend::Gpu => Some(G::open(precision)?),
+            Backend::Auto if !G::AUTO_PAYS && !any => {
+                notes.push(format!(
+                    "auto: {}; {doing} on the CPU in f64 (--backend gpu runs it on the GPU)",
+                    G::AUTO_WHY_NOT
+                ));
+                None
+            }
             Backend::Auto => match G::open(precision) {
+                Ok(g) if g.adapter().is_software() && !any => {
+                    notes.push(format!(
+                        "auto: the GPU adapter {} is a software (CPU-type) one, slower than \
+                         the CPU path; {doing} on the CPU in f64 (--backend gpu runs it there)",
+                        g.adapter().name
+                    ));
+                    None
+                }
                 Ok(g) => Some(g),
                 Err(e) => {
                     notes.push(format!("no usable GPU, {doing} on the CPU in f64: {e}"));
@@ -123,6 +192,7 @@ impl<G: GpuSide> Chosen<G> {
         };
         Ok(Chosen {
             backend,
+            rule,
             gpu,
             notes,
         })
@@ -173,8 +243,17 @@ impl Engine {
     /// without f64 support when f64 is asked for ([`Error::GpuUnavailable`]) or a device
     /// that fails to start ([`Error::Gpu`]). `auto` never fails for want of a GPU.
     pub fn new(backend: Backend, precision: Precision) -> Result<Engine, Error> {
+        Engine::with_rule(backend, precision, AutoRule::from_env())
+    }
+
+    /// [`Engine::new`] with `auto` choosing by `rule`.
+    pub fn with_rule(
+        backend: Backend,
+        precision: Precision,
+        rule: AutoRule,
+    ) -> Result<Engine, Error> {
         Ok(Engine {
-            chosen: Chosen::open(backend, precision, "computing")?,
+            chosen: Chosen::open(backend, precision, rule, "computing")?,
         })
     }
 
@@ -267,13 +346,26 @@ fn redone(batch: &Batch, tables: &std::ops::Range<usize>) -> &'static str {
 /// on. `gpu` reports each of these as an error. Bad input is an error on every backend.
 pub struct ShotEngine {
     chosen: Chosen<GpuSimulator>,
+    /// Whether the last call ran on the CPU although a GPU is open (`auto`, a small batch).
+    last_on_cpu: bool,
 }
 
 impl ShotEngine {
-    /// Opens the backend. Errors as [`Engine::new`].
+    /// Opens the backend, `auto` choosing by [`AutoRule::from_env`]. Errors as
+    /// [`Engine::new`].
     pub fn new(backend: Backend, precision: Precision) -> Result<ShotEngine, Error> {
+        ShotEngine::with_rule(backend, precision, AutoRule::from_env())
+    }
+
+    /// [`ShotEngine::new`] with `auto` choosing by `rule`.
+    pub fn with_rule(
+        backend: Backend,
+        precision: Precision,
+        rule: AutoRule,
+    ) -> Result<ShotEngine, Error> {
         Ok(ShotEngine {
-            chosen: Chosen::open(backend, precision, "simulating")?,
+            chosen: Chosen::open(backend, precision, rule, "simulating")?,
+            last_on_cpu: false,
         })
     }
 
@@ -287,10 +379,14 @@ impl ShotEngine {
         self.chosen.gpu.as_mut()
     }
 
-    /// What simulates now, e.g. `"gpu f64: llvmpipe (Vulkan, …)"` or `"cpu f64 (2
-    /// threads)"`.
+    /// What simulated the last call (before any call: what will), e.g. `"gpu f64: NVIDIA
+    /// H200 (Vulkan, …)"` or `"cpu f64 (2 threads)"`.
     pub fn describe(&self) -> String {
-        self.chosen.describe()
+        if self.last_on_cpu {
+            format!("cpu f64 ({} threads)", rayon::current_num_threads())
+        } else {
+            self.chosen.describe()
+        }
     }
 
     /// Messages for the user about fallbacks since the last call (one line each).
@@ -300,13 +396,25 @@ impl ShotEngine {
 
     /// [`Chosen::run`] for work of at most `n_balls` balls a table: more than
     /// [`GPU_MAX_BALLS`] is an error with `gpu` and the CPU's work with `auto`.
+    #[allow(clippy::too_many_arguments)]
     fn run<T>(
         &mut self,
         what: &str,
         n_balls: usize,
+        n_tables: usize,
         on_gpu: impl FnOnce(&mut GpuSimulator) -> Result<T, Error>,
         on_cpu: impl FnOnce() -> Result<T, Error>,
     ) -> Result<T, Error> {
+        self.last_on_cpu = false;
+        if self.chosen.gpu.is_some()
+            && self.chosen.backend == Backend::Auto
+            && n_tables < AUTO_GPU_MIN_TABLES
+            && self.chosen.rule == AutoRule::Measured
+        {
+            // the CPU is faster for a batch this small
+            self.last_on_cpu = true;
+            return on_cpu();
+        }
         if self.chosen.gpu.is_some() && n_balls > GPU_MAX_BALLS {
             let why = format!(
                 "{what} has tables of {n_balls} balls; the GPU event loop takes at most \
@@ -316,6 +424,7 @@ impl ShotEngine {
                 self.chosen
                     .notes
                     .push(format!("{why}: simulated on the CPU in f64"));
+                self.last_on_cpu = true;
                 return on_cpu();
             }
             return Err(Error::Unsupported(why));
@@ -348,6 +457,7 @@ impl ShotEngine {
         self.run(
             "the batch",
             n_balls,
+            shots.len(),
             |g| g.simulate(table, params, limits, shots, record_events),
             || simulate_on_cpu(table, params, limits, shots, record_events),
         )
@@ -368,6 +478,7 @@ impl ShotEngine {
         self.run(
             "the study",
             config.balls.len(),
+            samples,
             |g| {
                 study::run_study_gpu(g, config, sigma, samples, seed, options, &mut |d, n| {
                     (progress.borrow_mut())(d, n)
@@ -393,6 +504,7 @@ impl ShotEngine {
         self.run(
             "the study",
             config.balls.len(),
+            strikes.len(),
             |g| {
                 study::run_strikes_gpu(g, config, strikes, options, &mut |d, n| {
                     (progress.borrow_mut())(d, n)

@@ -73,7 +73,7 @@ pub mod workload;
 
 pub use batch::{Batch, NextCollision, next_from_pairs};
 pub use cpu::{next_collisions, next_collisions_of, pair_times, pair_times_of};
-pub use engine::{Backend, Engine};
+pub use engine::{AutoRule, Backend, Engine};
 pub use error::{Error, InputError};
 pub use gpu::GpuEngine;
 pub use model::{Ball, MotionState, Params, Precision, Vec2};

@@ -20,7 +20,11 @@ fn stderr(o: &Output) -> String {
 fn auto_falls_back_to_the_cpu_with_a_reason_when_no_adapter_matches() {
     let cpu = kisstime(&["pairs", EXAMPLE], &[]);
     assert!(cpu.status.success(), "{}", stderr(&cpu));
-    let env = [("WGPU_ADAPTER_NAME", "no-such-adapter-anywhere")];
+    // (auto tries a GPU for the pair kernels only where told to: they are slower there)
+    let env = [
+        ("WGPU_ADAPTER_NAME", "no-such-adapter-anywhere"),
+        ("KISSTIME_AUTO_GPU", "always"),
+    ];
     let auto = kisstime(&["pairs", EXAMPLE, "--backend", "auto"], &env);
     assert!(auto.status.success(), "{}", stderr(&auto));
     let err = stderr(&auto);
@@ -82,12 +86,23 @@ fn gpu_and_auto_answer_like_the_cpu() {
         "{}",
         stderr(&gpu32)
     );
+    // auto computes the pair kernels on the CPU (slower on the GPU end to end), saying so;
+    // with KISSTIME_AUTO_GPU=always on the GPU
     let auto = kisstime(&["pairs", EXAMPLE, "--backend", "auto"], &[]);
     assert!(auto.status.success(), "{}", stderr(&auto));
     assert!(
-        !stderr(&auto).contains("no usable GPU"),
+        stderr(&auto).contains("pair kernels are slower"),
         "{}",
         stderr(&auto)
+    );
+    assert_eq!(auto.stdout, cpu.stdout);
+    let any = [("KISSTIME_AUTO_GPU", "always")];
+    let auto_gpu = kisstime(&["pairs", EXAMPLE, "--backend", "auto", "--verbose"], &any);
+    assert!(auto_gpu.status.success(), "{}", stderr(&auto_gpu));
+    assert!(
+        stderr(&auto_gpu).contains("computing on gpu f32"),
+        "{}",
+        stderr(&auto_gpu)
     );
     // same rows, same statuses; f32 times within the f32 tier of the f64 ones
     let rows = |o: &Output| -> Vec<Vec<String>> {
@@ -193,7 +208,7 @@ fn simulate_on_the_gpu_gives_the_cpus_events_and_final_states() {
         );
         assert!(out.status.success(), "{backend}: {}", stderr(&out));
         if backend == "gpu" {
-            assert!(stderr(&out).contains("on the GPU"), "{}", stderr(&out));
+            assert!(stderr(&out).contains("on gpu f64: "), "{}", stderr(&out));
         }
         outputs.push((rows(&ev), rows(&fin), rows(&oc)));
     }
@@ -337,4 +352,62 @@ fn shots_on_the_gpu_give_the_cpus_study_and_auto_falls_back_with_a_reason() {
         "{}",
         stderr(&f32_cpu)
     );
+}
+
+/// `auto` never takes a software (CPU-type) adapter for whole shots and studies: on
+/// lavapipe it says so and runs on the CPU, and every summary names what ran; with
+/// KISSTIME_AUTO_GPU=always it runs on the adapter.
+#[test]
+fn auto_never_picks_a_software_adapter_and_summaries_name_what_ran() {
+    let Some(gpu) = common::gpu_or_skip(kisstime::Precision::F64, "cli_gpu auto") else {
+        return;
+    };
+    let adapter = gpu.adapter().clone();
+    drop(gpu);
+    let software = adapter.is_software();
+    let run = |args: &[&str], always: bool| {
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"));
+        cmd.args(args).env_remove("KISSTIME_AUTO_GPU");
+        if always {
+            cmd.env("KISSTIME_AUTO_GPU", "always");
+        }
+        cmd.output().unwrap()
+    };
+    let study = ["shots", "--samples", "50", "--json", "--backend", "auto"];
+    let measured = run(&study, false);
+    assert!(measured.status.success(), "{}", stderr(&measured));
+    let v: serde_json::Value = serde_json::from_slice(&measured.stdout).unwrap();
+    let backend = v["backend"].as_str().unwrap().to_owned();
+    if software {
+        assert!(
+            stderr(&measured).contains("software (CPU-type)"),
+            "{}",
+            stderr(&measured)
+        );
+        assert!(backend.starts_with("cpu f64"), "{backend}");
+    }
+    let always = run(&study, true);
+    assert!(always.status.success(), "{}", stderr(&always));
+    let v: serde_json::Value = serde_json::from_slice(&always.stdout).unwrap();
+    let backend = v["backend"].as_str().unwrap();
+    assert!(
+        backend.starts_with("gpu f64: ") && backend.contains(&adapter.name),
+        "{backend}"
+    );
+    // simulate's summary line names the backend and the device
+    let dir = tempfile::tempdir().unwrap();
+    let balls = dir.path().join("balls.csv");
+    std::fs::write(&balls, SIM_BALLS).unwrap();
+    let sim = ["simulate", balls.to_str().unwrap(), "--backend", "auto"];
+    let measured = run(&sim, false);
+    assert!(measured.status.success(), "{}", stderr(&measured));
+    let summary = stderr(&measured);
+    let summary = summary.lines().find(|l| l.contains(" tables/s, ")).unwrap();
+    if software {
+        assert!(summary.contains("on cpu f64"), "{summary}");
+    }
+    let always = run(&sim, true);
+    let summary = stderr(&always);
+    let summary = summary.lines().find(|l| l.contains(" tables/s, ")).unwrap();
+    assert!(summary.contains("on gpu f64: "), "{summary}");
 }

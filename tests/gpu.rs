@@ -67,7 +67,8 @@ use kisstime::compare::{compare_pairs, next_disagreements, time_agrees};
 use kisstime::gpu::Fault;
 use kisstime::workload::{Workload, generate};
 use kisstime::{
-    Backend, Batch, Engine, Error, GpuEngine, Params, RelPath, Status, ball_path, next_from_pairs,
+    AutoRule, Backend, Batch, Engine, Error, GpuEngine, Params, RelPath, Status, ball_path,
+    next_from_pairs,
 };
 
 /// The large random batches: ~120k pairs of realistic and hard tables.
@@ -230,7 +231,7 @@ fn a_failed_dispatch_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
     let again = gpu.pair_times(&batch, &params).unwrap();
     assert_eq!(again.len(), cpu.len());
 
-    let mut auto = Engine::new(Backend::Auto, Precision::F32).unwrap();
+    let mut auto = Engine::with_rule(Backend::Auto, Precision::F32, AutoRule::AnyGpu).unwrap();
     auto.gpu()
         .expect("a GPU is there")
         .inject_fault(Fault::FailedDispatch);
@@ -256,7 +257,7 @@ fn a_lost_device_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
         gpu.next_collisions(&batch, &params),
         Err(Error::Gpu(_))
     ));
-    let mut auto = Engine::new(Backend::Auto, Precision::F32).unwrap();
+    let mut auto = Engine::with_rule(Backend::Auto, Precision::F32, AutoRule::AnyGpu).unwrap();
     auto.gpu()
         .expect("a GPU is there")
         .inject_fault(Fault::DeviceLost);
@@ -287,7 +288,7 @@ fn a_fault_mid_batch_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() {
         let err = gpu.next_collisions(&batch, &params).unwrap_err();
         assert!(matches!(err, Error::Gpu(_)), "{fault:?}: {err}");
 
-        let mut auto = Engine::new(Backend::Auto, Precision::F32).unwrap();
+        let mut auto = Engine::with_rule(Backend::Auto, Precision::F32, AutoRule::AnyGpu).unwrap();
         let g = auto.gpu().expect("a GPU is there");
         g.set_chunk_limits(small);
         g.inject_fault(fault);

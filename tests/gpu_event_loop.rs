@@ -235,9 +235,15 @@ fn chunks_and_dispatch_lengths_do_not_change_the_runs() {
         ..Limits::default()
     };
     let cut = gpu.simulate(&table, params, limits, &inputs, true).unwrap();
-    let cut_finals = gpu.simulate(&table, params, limits, &inputs, false).unwrap();
+    let cut_finals = gpu
+        .simulate(&table, params, limits, &inputs, false)
+        .unwrap();
     assert!(cut.iter().any(|r| r.outcome.cut.is_some()));
     for (k, (f, w)) in cut_finals.iter().zip(&cut).enumerate() {
-        assert_eq!((&f.balls, f.outcome), (&w.balls, w.outcome), "cut table {k}");
+        assert_eq!(
+            (&f.balls, f.outcome),
+            (&w.balls, w.outcome),
+            "cut table {k}"
+        );
     }
 }

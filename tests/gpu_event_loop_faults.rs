@@ -8,7 +8,7 @@
 
 mod common;
 
-use kisstime::engine::{Backend, ShotEngine};
+use kisstime::engine::{AutoRule, Backend, ShotEngine};
 use kisstime::gpu::{Fault, GpuShot};
 use kisstime::io::shot_set::{read_shots, read_table};
 use kisstime::io::strikes::read_sample_strikes;
@@ -34,7 +34,11 @@ fn shots() -> (kisstime::simulate::Table, Vec<GpuShot>) {
 
 fn engine(backend: Backend, test: &str) -> Option<ShotEngine> {
     common::gpu_or_skip(Precision::F64, test)?;
-    Some(ShotEngine::new(backend, Precision::F64).expect("the event loop builds"))
+    // `auto` on any adapter (lavapipe too), so that its fallback is exercised
+    Some(
+        ShotEngine::with_rule(backend, Precision::F64, AutoRule::AnyGpu)
+            .expect("the event loop builds"),
+    )
 }
 
 const FAULTS: [Fault; 4] = [

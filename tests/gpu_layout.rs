@@ -52,7 +52,12 @@ fn the_event_loop_indexes_storage_through_named_constants() {
         // small step within a named block (at + 3u), never a bare position such as 160u
         for word in code.split(|c: char| !c.is_ascii_alphanumeric()) {
             if let Some(n) = word.strip_suffix('u').and_then(|w| w.parse::<u32>().ok()) {
-                assert!(n <= 9, "line {}: bare offset {word} in {}", k + 1, line.trim());
+                assert!(
+                    n <= 9,
+                    "line {}: bare offset {word} in {}",
+                    k + 1,
+                    line.trim()
+                );
             }
         }
     }

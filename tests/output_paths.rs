@@ -209,6 +209,7 @@ fn no_runtime_directory_noise_on_stderr() {
     assert!(made.status.success());
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
         .args(["next", input.to_str().unwrap(), "--backend", "auto"])
+        .env("KISSTIME_AUTO_GPU", "always")
         .env_remove("XDG_RUNTIME_DIR")
         .output()
         .unwrap();

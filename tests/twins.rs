@@ -375,10 +375,22 @@ const TWINS: &[Twin] = &[
             ("pocket_item", "reads a pocket from storage"),
             ("io_r", "where a table's block starts in a storage region"),
             ("io_u", "where a table's block starts in a storage region"),
-            ("cache_r", "where a table's block starts in a storage region"),
-            ("cache_u", "where a table's block starts in a storage region"),
-            ("watch_r", "where a table's block starts in a storage region"),
-            ("watch_u", "where a table's block starts in a storage region"),
+            (
+                "cache_r",
+                "where a table's block starts in a storage region",
+            ),
+            (
+                "cache_u",
+                "where a table's block starts in a storage region",
+            ),
+            (
+                "watch_r",
+                "where a table's block starts in a storage region",
+            ),
+            (
+                "watch_u",
+                "where a table's block starts in a storage region",
+            ),
             ("load_table", "a table's state into workgroup memory"),
             ("store_table", "a table's state back to storage"),
             ("after_clock", "t + τ with NEVER kept (WGSL has no ∞)"),

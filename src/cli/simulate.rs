@@ -146,7 +146,7 @@ fn gpu_simulate(
     params: SimParams,
     limits: Limits,
     record_events: bool,
-) -> Result<Option<(Vec<GpuRun>, f64)>, Error> {
+) -> Result<Option<(Vec<GpuRun>, f64, String)>, Error> {
     let backend = args.backend.backend();
     if backend == Backend::Cpu {
         return Ok(None);
@@ -161,9 +161,6 @@ fn gpu_simulate(
     say(&mut engine);
     if engine.gpu().is_none() {
         return Ok(None);
-    }
-    if args.verbose {
-        eprintln!("kisstime: simulating on the GPU: {}", engine.describe());
     }
     let n = batch.num_tables();
     let input = batch.sim_input(strikes, params.ball.r);
@@ -184,7 +181,11 @@ fn gpu_simulate(
             BatchError::Sink(e) => e,
         });
     say(&mut engine);
-    Ok(Some((runs?, started.elapsed().as_secs_f64())))
+    Ok(Some((
+        runs?,
+        started.elapsed().as_secs_f64(),
+        engine.describe(),
+    )))
 }
 
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
@@ -247,6 +248,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         record_events: args.output.is_some(),
         ..BatchOptions::default()
     };
+    let mut ran_on = format!("cpu f64 ({} threads)", rayon::current_num_threads());
     let mut gpu_runs = gpu_simulate(
         args,
         &batch,
@@ -308,7 +310,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                     Ok(())
                 };
                 let result = match gpu_runs.take() {
-                    Some((runs, secs)) => {
+                    Some((runs, secs, on)) => {
+                        ran_on = on;
                         for (k, r) in runs.iter().enumerate() {
                             write_run(&TableRun {
                                 table: k,
@@ -379,7 +382,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     if let Some(s) = stats {
         let secs = s.sim_seconds.max(1e-9);
         eprintln!(
-            "{} tables, {} events in {:.3} s: {:.0} tables/s, {:.0} events/s",
+            "{} tables, {} events in {:.3} s: {:.0} tables/s, {:.0} events/s on {ran_on}",
             s.tables,
             s.events,
             s.sim_seconds,

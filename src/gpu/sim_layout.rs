@@ -21,9 +21,9 @@ use crate::model::sim_params::SimParams;
 use crate::model::vec3::Vec3;
 use crate::motion::evolve::{TransitionKind, next_transition};
 use crate::resolve::stick_ball::{CueStrike, cue_strike};
+use crate::simulate::Limits;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
-use crate::simulate::Limits;
 
 use super::device::gpu_error;
 

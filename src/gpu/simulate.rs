@@ -23,16 +23,16 @@ use super::GpuTimings;
 use super::device::{self, AdapterSummary, Scopes, gpu_error, map_and_wait};
 use super::shader::simulate_source;
 use super::sim_layout::{
-    CACHE_REALS, CACHE_UINTS, EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot,
-    GpuWatch, IO_REALS, IO_UINTS, NEVER_F32, NEVER_F64, WATCH_REALS, WATCH_UINTS,
-    event_record, finish_table, read_watch, start_table,
+    CACHE_REALS, CACHE_UINTS, EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, GpuWatch,
+    IO_REALS, IO_UINTS, NEVER_F32, NEVER_F64, WATCH_REALS, WATCH_UINTS, event_record, finish_table,
+    read_watch, start_table,
 };
 use crate::error::{Error, InputError, SimError};
 use crate::model::Precision;
 use crate::model::ball_state::BallState;
 use crate::model::sim_params::SimParams;
-use crate::resolve::stick_ball::CueStrike;
 use crate::model::table::Table;
+use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::check::check_layout;
 use crate::simulate::{EventLoop, Limits};
@@ -293,7 +293,9 @@ impl GpuSimulator {
             Some(f) => Mode::Events(f),
             None => Mode::Finals,
         };
-        Ok(self.run(table, params, limits, Input::Shots(shots), mode)?.0)
+        Ok(self
+            .run(table, params, limits, Input::Shots(shots), mode)?
+            .0)
     }
 
     /// One position, `balls`, struck each of the ways `strikes` on ball `cue` (one table
@@ -433,7 +435,10 @@ impl GpuSimulator {
         let back_reals = n * (IO_REALS + WATCH_REALS) as u64;
         let back_uints = n * (IO_UINTS + WATCH_UINTS) as u64;
         let (events_reals, events_uints) = if record {
-            (n * (per * EVENT_REALS) as u64, n * (1 + per * EVENT_UINTS) as u64)
+            (
+                n * (per * EVENT_REALS) as u64,
+                n * (1 + per * EVENT_UINTS) as u64,
+            )
         } else {
             (1, 1)
         };
@@ -593,7 +598,10 @@ impl GpuSimulator {
                         started.push(pack_table(table, &params, limits, shot, &mut sr, &mut su)?);
                         put_reals(precision, &sr, bytes);
                         let at_r = j * IO_REALS * real;
-                        dst_r.0.slice(at_r..at_r + bytes.len()).copy_from_slice(bytes);
+                        dst_r
+                            .0
+                            .slice(at_r..at_r + bytes.len())
+                            .copy_from_slice(bytes);
                         let at_u = j * IO_UINTS * 4;
                         dst_u
                             .0
@@ -667,7 +675,11 @@ impl GpuSimulator {
                 u32::from(watch_stop),
                 n_active,
                 u32::from(compact),
-                if dispatch % 2 == 1 { n_tables as u32 } else { 0 },
+                if dispatch % 2 == 1 {
+                    n_tables as u32
+                } else {
+                    0
+                },
                 0,
                 0,
             ];
@@ -894,7 +906,9 @@ fn map_for_writing(device: &wgpu::Device, buffers: &[(&wgpu::Buffer, u64)]) -> R
     drop(tx);
     let polled = device.poll(wgpu::PollType::wait_indefinitely());
     let results: Vec<_> = rx.try_iter().collect();
-    let failed = results.iter().find_map(|r| r.as_ref().err().map(|e| e.to_string()));
+    let failed = results
+        .iter()
+        .find_map(|r| r.as_ref().err().map(|e| e.to_string()));
     if polled.is_err() || failed.is_some() || results.len() != buffers.len() {
         for ((buf, _), r) in buffers.iter().zip(&results) {
             if r.is_ok() {
