@@ -37,6 +37,12 @@ use crate::study::{self, Noise, RunOptions, Sample, StudyConfig};
 /// events) outweigh its speed (measured on an H200 beside 16 cores, BENCHMARKS.md).
 pub const AUTO_GPU_MIN_TABLES: usize = 4096;
 
+/// Why whole shots and studies refuse f32 (the pair kernels keep it).
+pub const F32_WHOLE_SHOTS: &str = "whole shots and studies are simulated in f64 only \
+     (--precision f64): in f32 the GPU decides contacts to a micrometre, chattering balls \
+     multiply their events, and about half of the held-out reference shots end elsewhere \
+     than pooltool's (BENCHMARKS.md); f32 is for the pair kernels (pairs, next)";
+
 /// How `auto` chooses (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum AutoRule {
@@ -358,11 +364,17 @@ impl ShotEngine {
     }
 
     /// [`ShotEngine::new`] with `auto` choosing by `rule`.
+    ///
+    /// Whole shots are simulated in f64 only: f32 is refused on every backend
+    /// ([`F32_WHOLE_SHOTS`] says why).
     pub fn with_rule(
         backend: Backend,
         precision: Precision,
         rule: AutoRule,
     ) -> Result<ShotEngine, Error> {
+        if precision == Precision::F32 && backend != Backend::Cpu {
+            return Err(Error::Unsupported(F32_WHOLE_SHOTS.into()));
+        }
         Ok(ShotEngine {
             chosen: Chosen::open(backend, precision, rule, "simulating")?,
             last_on_cpu: false,

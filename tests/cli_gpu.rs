@@ -266,6 +266,24 @@ fn simulate_on_the_cpu_in_f32_is_refused() {
     );
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(stderr(&out).contains("f64 only"), "{}", stderr(&out));
+    // whole shots refuse f32 on every backend, before any device is opened
+    for backend in ["gpu", "auto"] {
+        for args in [
+            vec!["simulate", balls.to_str().unwrap()],
+            vec!["shots", "--samples", "10"],
+        ] {
+            let mut args = args.clone();
+            args.extend(["--backend", backend, "--precision", "f32"]);
+            let out = kisstime(&args, &[]);
+            assert_ne!(out.status.code(), Some(0), "{args:?}");
+            let err = stderr(&out);
+            assert!(
+                err.contains("f64 only") && err.contains("pooltool"),
+                "{err}"
+            );
+            assert!(out.stdout.is_empty(), "{args:?}");
+        }
+    }
 }
 
 /// `kisstime shots --backend gpu` (f64) gives the CPU's study: the same counts, and the

@@ -296,7 +296,9 @@ def simulate(
     event loop, one workgroup per table, at most 16 balls a table; ``RuntimeError`` when no
     GPU is usable) or ``"auto"`` (the GPU when one works, else the CPU, with a
     ``RuntimeWarning`` saying why; a GPU failure mid-batch is redone on the CPU).
-    ``precision`` is the GPU's, ``"f64"`` (the default; needs ``SHADER_F64``) or ``"f32"``.
+    ``precision`` is ``"f64"`` (the default and the only one for whole shots; the GPU needs
+    ``SHADER_F64``); ``"f32"`` is refused with a ``ValueError`` (in f32 the GPU decides
+    contacts to a micrometre and about half of the reference shots end elsewhere).
 
     ``strikes`` (at most one per table, applied at t = 0) is a structured array of
     :data:`STRIKE_DTYPE` or a dict of its columns. ``table`` is ``"9ft"`` (pooltool's 9-ft

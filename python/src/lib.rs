@@ -622,7 +622,8 @@ fn study_chunk<'py>(
     // checked now; the device is opened only for a chunk that has samples (the Python
     // side checks its arguments with an empty chunk first)
     let (backend_kind, precision_kind) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
-    if backend_kind == Backend::Cpu && precision_kind == Precision::F32 {
+    if precision_kind == Precision::F32 {
+        // refused on every backend (whole shots are f64 only)
         shot_engine_of(backend, precision)?;
     }
     let until = until_of(until)?;

@@ -126,9 +126,9 @@ pub struct SimulateArgs {
     /// or `auto` (the GPU when one works, else the CPU, saying why on stderr).
     #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
     pub backend: BackendArg,
-    /// The GPU's precision: `f64` (the default; needs SHADER_F64) or `f32` (faster, but it
-    /// decides contacts to a micrometre, so events part from the CPU's). The CPU computes
-    /// in f64.
+    /// The precision: `f64`, the only one for whole shots (the GPU needs SHADER_F64); `f32`
+    /// is refused: it decides contacts to a micrometre, and about half of the reference
+    /// shots end elsewhere than pooltool's.
     #[arg(long, value_enum, default_value_t = PrecisionArg::F64)]
     pub precision: PrecisionArg,
     /// Print the table, the batch size, the backend and the cut tables on stderr.
@@ -247,9 +247,9 @@ pub struct ShotsArgs {
     /// `auto` (the GPU when one works, else the CPU, saying why on stderr).
     #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
     pub backend: BackendArg,
-    /// The GPU's precision: `f64` (the default; needs SHADER_F64) or `f32` (faster; its
-    /// outcome fractions agree with f64's within their confidence intervals, its single
-    /// samples may not). The CPU computes in f64.
+    /// The precision: `f64`, the only one for whole shots (the GPU needs SHADER_F64); `f32`
+    /// is refused: it decides contacts to a micrometre, and about half of the reference
+    /// shots end elsewhere than pooltool's.
     #[arg(long, value_enum, default_value_t = PrecisionArg::F64)]
     pub precision: PrecisionArg,
     /// Print the table, the run's size and the backend on stderr.
