@@ -396,6 +396,22 @@ const TWINS: &[Twin] = &[
             ("after_clock", "t + τ with NEVER kept (WGSL has no ∞)"),
             ("comes_before", "choose's comparison"),
             ("fill_row", "one ball's row of fill_items"),
+            (
+                "earlier_pair",
+                "the candidates' comparison, for the threads' reduction",
+            ),
+            (
+                "earlier_row",
+                "the candidates' comparison, for the threads' reduction",
+            ),
+            (
+                "earlier_trans",
+                "the candidates' comparison, for the threads' reduction",
+            ),
+            (
+                "reduce_entries",
+                "the candidates' scans, by the threads together in a tree",
+            ),
             ("record", "writes an event record for the host"),
             (
                 "first_contact_of",

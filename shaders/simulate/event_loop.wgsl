@@ -166,6 +166,12 @@ var<workgroup> win_kind: u32;
 var<workgroup> win_t: real;
 var<workgroup> win_ball: u32;
 var<workgroup> win_other: u32;
+// The earliest entries, reduced by the threads together (see reduce_entries): per thread
+// then per tree level, the earliest pair; the earliest row of each category (in the first
+// ball's place of the category); the earliest transition (in ball 0's place).
+var<workgroup> red_pair: array<u32, LOOP_THREADS>;
+var<workgroup> red_row: array<u32, GPU_ROWS>;
+var<workgroup> red_trans: array<u32, GPU_MAX_BALLS>;
 // The cue ball's state and the clock before this step's event, for the watch.
 var<workgroup> watch_before: BallState;
 var<workgroup> watch_t0: real;
@@ -369,12 +375,8 @@ fn comes_before(c: Candidate, b: Candidate) -> bool {
 
 // The earliest transition (ties: ball order).
 fn transition_candidate(p: BallParams) -> Candidate {
-    var best = 0u;
-    for (var i = 1u; i < n_balls; i++) {
-        if trans_t[i] < trans_t[best] {
-            best = i;
-        }
-    }
+    // the earliest of balls 0..n (of equal times the first), reduced by reduce_entries
+    let best = red_trans[0];
     let kind = EVENT_SLIDING_ROLLING + trans_kind[best];
     return Candidate(true, trans_t[best], 2u, ball_energy(balls[best], p), kind, best, NO_AGENT);
 }
@@ -407,12 +409,8 @@ fn ball_ball_candidate() -> Candidate {
     if n_pairs == 0u {
         return no_candidate();
     }
-    var best = 0u;
-    for (var k = 1u; k < n_pairs; k++) {
-        if entry_before(pair_t[k], pair_step[k], k, pair_t[best], pair_step[best], best) {
-            best = k;
-        }
-    }
+    // the earliest entry (entry_before over the pairs), reduced by reduce_entries
+    let best = red_pair[0];
     let ij = pair_at(best, n);
     let dv = balls[ij.x].v - balls[ij.y].v;
     return Candidate(true, pair_t[best], 3u, dot(dv, dv), EVENT_BALL_BALL, ij.x, ij.y);
@@ -492,16 +490,83 @@ fn item_candidate(which: u32, kind: u32, tier: u32, p: BallParams) -> Candidate 
         return no_candidate();
     }
     let base = which * GPU_MAX_BALLS;
-    var best = 0u;
-    for (var i = 1u; i < n_balls; i++) {
-        let a = base + i;
-        let b = base + best;
-        if entry_before(row_t[a], row_step[a], i, row_t[b], row_step[b], best) {
-            best = i;
+    // the earliest row (entry_before over the balls), reduced by reduce_entries
+    let at = red_row[base];
+    let best = at - base;
+    return Candidate(true, row_t[at], tier, ball_energy(balls[best], p), kind, best, row_item[at]);
+}
+
+// Of two pair entries (NO_AGENT: none), the one entry_before puts first.
+fn earlier_pair(a: u32, b: u32) -> u32 {
+    if a == NO_AGENT {
+        return b;
+    }
+    if b == NO_AGENT {
+        return a;
+    }
+    return select(a, b, entry_before(pair_t[b], pair_step[b], b, pair_t[a], pair_step[a], a));
+}
+
+// Of two rows of one category (their places in the row arrays; NO_AGENT: none), the one
+// entry_before puts first (the ball's index breaks ties).
+fn earlier_row(a: u32, b: u32) -> u32 {
+    if a == NO_AGENT {
+        return b;
+    }
+    if b == NO_AGENT {
+        return a;
+    }
+    let ia = a % GPU_MAX_BALLS;
+    let ib = b % GPU_MAX_BALLS;
+    return select(a, b, entry_before(row_t[b], row_step[b], ib, row_t[a], row_step[a], ia));
+}
+
+// Of two balls' transitions (NO_AGENT: none), the earlier (of equal times the first ball).
+fn earlier_trans(a: u32, b: u32) -> u32 {
+    if a == NO_AGENT {
+        return b;
+    }
+    if b == NO_AGENT {
+        return a;
+    }
+    return select(a, b, trans_t[b] < trans_t[a] || (trans_t[b] == trans_t[a] && b < a));
+}
+
+// The threads reduce each category to its earliest entry together, in a tree of
+// LOOP_THREADS: the candidates' scans of the Rust twin, whose comparisons are total
+// orders (time, then stamp, then index), so any order of reduction gives their answer.
+// Called by every thread after the entries are filled; ends with a barrier.
+fn reduce_entries(lid: u32, n: u32) {
+    let n_pairs = n * (n - 1u) / 2u;
+    var mine = NO_AGENT;
+    for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let k = lid + round * LOOP_THREADS;
+        if k < n_pairs {
+            mine = earlier_pair(mine, k);
         }
     }
-    let at = base + best;
-    return Candidate(true, row_t[at], tier, ball_energy(balls[best], p), kind, best, row_item[at]);
+    red_pair[lid] = mine;
+    if lid < GPU_ROWS {
+        red_row[lid] = select(NO_AGENT, lid, lid % GPU_MAX_BALLS < n);
+    }
+    if lid < GPU_MAX_BALLS {
+        red_trans[lid] = select(NO_AGENT, lid, lid < n);
+    }
+    workgroupBarrier();
+    for (var stride = LOOP_THREADS / 2u; stride > 0u; stride = stride / 2u) {
+        if lid < stride {
+            red_pair[lid] = earlier_pair(red_pair[lid], red_pair[lid + stride]);
+        }
+        if stride < GPU_MAX_BALLS {
+            if lid < GPU_ROWS && lid % GPU_MAX_BALLS < stride {
+                red_row[lid] = earlier_row(red_row[lid], red_row[lid + stride]);
+            }
+            if lid < stride {
+                red_trans[lid] = earlier_trans(red_trans[lid], red_trans[lid + stride]);
+            }
+        }
+        workgroupBarrier();
+    }
 }
 
 // Whether a translating path provably stays farther than rho from center within its
@@ -736,6 +801,8 @@ fn simulate_tables(
             }
         }
         workgroupBarrier();
+        // each category's earliest entry, by the threads together
+        reduce_entries(lid, n);
         if lid == 0u {
             if n_events >= cfg.max_events {
                 status = STATUS_CUT_EVENTS;
