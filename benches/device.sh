@@ -6,8 +6,8 @@
 #   one CPU run for scale;
 # - sim: `kisstime bench --sim` on the GPU event loop, ordinary shots and breaks: shots/s
 #   and events/s end to end and kernel-only, the phases (pack, upload, kernel, readback,
-#   unpack), and (for the first size of ordinary shots, where the CPU runs beside it) the
-#   tables whose events differ from the CPU's;
+#   unpack), and (for ordinary shots up to SIM_CPU_MAX tables, where the CPU runs beside
+#   it) the tables whose events differ from the CPU's;
 # - study: `kisstime shots` (the built-in study) on the GPU and on the CPU: samples/s end
 #   to end and the GPU's phases (`--verbose`).
 # PARTS (default "kernels sim study") chooses the parts; SIZES, KERNEL_SCENARIOS, KERNEL_PRECISIONS,
@@ -31,6 +31,7 @@ KERNEL_SCENARIOS="${KERNEL_SCENARIOS:-midshot worst}"
 SIM_SIZES="${SIM_SIZES:-100000 1000000}"
 SIM_PRECISIONS="${SIM_PRECISIONS:-f64}"
 BREAK_SIZES="${BREAK_SIZES:-${SIM_SIZES%% *}}"
+SIM_CPU_MAX="${SIM_CPU_MAX:-100000}"
 STUDY_SAMPLES="${STUDY_SAMPLES:-1000000}"
 PARTS="${PARTS:-kernels sim study}"
 mkdir -p "$OUT"
@@ -71,9 +72,9 @@ if [[ " $PARTS " == *" sim "* ]]; then
     if [ "$workload" = breaks ]; then sizes="$BREAK_SIZES"; fi
     for n in $sizes; do
       for precision in $SIM_PRECISIONS; do
-        # the CPU beside the GPU only where it is quick: ordinary shots, the smaller size
+        # the CPU beside the GPU only where it is quick: ordinary shots up to SIM_CPU_MAX
         backend=gpu
-        if [ "$workload" = ordinary ] && [ "$n" = "${SIM_SIZES%% *}" ]; then backend=all; fi
+        if [ "$workload" = ordinary ] && [ "$n" -le "$SIM_CPU_MAX" ]; then backend=all; fi
         run "$OUT/sim.jsonl" "sim $backend $precision $workload $n" --sim "$workload" --tables "$n" --backend "$backend" --precision "$precision" --reps 1
       done
     done

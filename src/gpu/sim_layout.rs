@@ -152,6 +152,17 @@ pub struct WatchedContact {
     pub other_after: Vec3,
 }
 
+/// One table of a watched batch: its cue ball at the end, how it ended, and the watch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WatchedRun {
+    /// The watched cue ball's final state.
+    pub cue: BallState,
+    /// Events, end time, and whether a limit cut the run.
+    pub outcome: Outcome,
+    /// What the watch saw.
+    pub watch: GpuWatch,
+}
+
 /// What the device's watch of a table saw: what a study takes from its events.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct GpuWatch {
@@ -170,20 +181,24 @@ pub(super) fn from_never(t: f64) -> f64 {
     }
 }
 
-/// Lays out one table's I/O block at its start (after the strike, which is resolved here)
-/// and returns its run so far, with the strike's event record if there was one.
+/// Lays out one table's I/O block at its start (after the strike, which is resolved
+/// here, under the CPU loop's rule) in `sr` and `su`; returns the strike's event record if
+/// there was a strike and `record` asks for it. Allocates nothing.
 pub(super) fn start_table(
     shot_balls: &[BallState],
     shot_strike: Option<(usize, CueStrike)>,
     params: &SimParams,
     limits: Limits,
+    record: bool,
     sr: &mut [f64; IO_REALS],
     su: &mut [u32; IO_UINTS],
-) -> (GpuRun, Option<EventRecord>) {
-    let mut balls: Vec<BallState> = shot_balls
-        .iter()
-        .map(|b| BallState { t: 0.0, ..*b })
-        .collect();
+) -> Option<EventRecord> {
+    let n = shot_balls.len().min(GPU_MAX_BALLS);
+    let mut balls = [BallState::at_rest(0.0, 0.0, params.ball.r); GPU_MAX_BALLS];
+    for (b, s) in balls.iter_mut().zip(shot_balls) {
+        *b = BallState { t: 0.0, ..*s };
+    }
+    let balls = &mut balls[..n];
     let mut strike = None;
     let mut n_events = 0u32;
     // the stick candidate of the CPU loop: at t = 0, every ball at rest, V0 > 0
@@ -199,7 +214,7 @@ pub(super) fn start_table(
                 ball: cue as u32,
                 other: NO_AGENT,
             };
-            strike = Some(EventRecord::new(event, &balls));
+            strike = record.then(|| EventRecord::new(event, balls));
         }
     }
     sr.fill(0.0);
@@ -217,26 +232,17 @@ pub(super) fn start_table(
         su[IO_U_TRANS + i] = kind;
     }
     sr[IO_R_CLOCK] = 0.0;
-    su[IO_U_N] = balls.len() as u32;
+    su[IO_U_N] = n as u32;
     su[IO_U_N + 1] = n_events;
     // a table without balls, or one cut before its first event, is done already
     su[IO_U_N + 2] = if limits.max_events == 0 {
         STATUS_CUT_EVENTS
-    } else if balls.is_empty() {
+    } else if n == 0 {
         STATUS_DONE
     } else {
         STATUS_RUNNING
     };
-    let run = GpuRun {
-        events: Vec::new(),
-        balls,
-        outcome: Outcome {
-            n_events: n_events as usize,
-            t_end: 0.0,
-            cut: None,
-        },
-    };
-    (run, strike)
+    strike
 }
 
 /// The shader's code of a transition kind (`TRANSITION_*` of `motion/evolve.wgsl`).
@@ -300,13 +306,9 @@ pub(super) fn event_record(u: &[u32], r: &[f64]) -> Result<EventRecord, Error> {
     })
 }
 
-/// Reads a finished table's final states and outcome (its I/O block) into its run.
-pub(super) fn finish_table(run: &mut GpuRun, sr: &[f64], su: &[u32]) -> Result<(), Error> {
-    let n = (su[IO_U_N] as usize).min(run.balls.len());
-    for i in 0..n {
-        run.balls[i] = ball_state(&sr[10 * i..10 * i + 10], su[i])?;
-    }
-    run.outcome = Outcome {
+/// A finished table's outcome, from its I/O block.
+pub(super) fn table_outcome(sr: &[f64], su: &[u32]) -> Outcome {
+    Outcome {
         n_events: su[IO_U_N + 1] as usize,
         t_end: from_never(sr[IO_R_CLOCK]),
         cut: match su[IO_U_N + 2] {
@@ -314,8 +316,24 @@ pub(super) fn finish_table(run: &mut GpuRun, sr: &[f64], su: &[u32]) -> Result<(
             STATUS_CUT_TIME => Some(Cut::MaxTime),
             _ => None,
         },
-    };
-    Ok(())
+    }
+}
+
+/// Ball `i`'s final state, from a table's I/O block.
+pub(super) fn final_ball(sr: &[f64], su: &[u32], i: usize) -> Result<BallState, Error> {
+    ball_state(&sr[10 * i..10 * i + 10], su[i])
+}
+
+/// A finished table's run (final states and outcome), from its I/O block.
+pub(super) fn finish_table(sr: &[f64], su: &[u32]) -> Result<GpuRun, Error> {
+    let n = (su[IO_U_N] as usize).min(GPU_MAX_BALLS);
+    Ok(GpuRun {
+        events: Vec::new(),
+        balls: (0..n)
+            .map(|i| final_ball(sr, su, i))
+            .collect::<Result<_, _>>()?,
+        outcome: table_outcome(sr, su),
+    })
 }
 
 /// Reads a table's watch block.

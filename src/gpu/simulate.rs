@@ -23,9 +23,9 @@ use super::GpuTimings;
 use super::device::{self, AdapterSummary, Scopes, gpu_error, map_and_wait};
 use super::shader::simulate_source;
 use super::sim_layout::{
-    CACHE_REALS, CACHE_UINTS, EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, GpuWatch,
-    IO_REALS, IO_UINTS, NEVER_F32, NEVER_F64, WATCH_REALS, WATCH_UINTS, event_record, finish_table,
-    read_watch, start_table,
+    CACHE_REALS, CACHE_UINTS, EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, IO_REALS,
+    IO_U_N, IO_UINTS, NEVER_F32, NEVER_F64, WATCH_REALS, WATCH_UINTS, WatchedRun, event_record,
+    final_ball, finish_table, read_watch, start_table, table_outcome,
 };
 use crate::error::{Error, InputError, SimError};
 use crate::model::Precision;
@@ -153,6 +153,9 @@ pub struct GpuSimulator {
     max_binding: u64,
     watch: device::DeviceWatch,
     bufs: Option<LoopBuffers>,
+    /// A chunk's I/O blocks packed on the host, kept across calls.
+    pack_r: Vec<u8>,
+    pack_u: Vec<u8>,
     /// A fault waiting for its dispatch: the fault, and how many dispatches run first.
     #[cfg(feature = "testing")]
     pub(super) pending_fault: Option<(super::Fault, u32)>,
@@ -209,6 +212,8 @@ impl GpuSimulator {
             adapter: opened.adapter,
             watch: opened.watch,
             bufs: None,
+            pack_r: Vec::new(),
+            pack_u: Vec::new(),
             #[cfg(feature = "testing")]
             pending_fault: None,
             precision,
@@ -314,7 +319,7 @@ impl GpuSimulator {
         cue: usize,
         strikes: &[CueStrike],
         stop_at_first: bool,
-    ) -> Result<Vec<(GpuRun, GpuWatch)>, Error> {
+    ) -> Result<Vec<WatchedRun>, Error> {
         if cue >= balls.len() {
             return Err(Error::from(InputError::new(format!(
                 "cue ball index {cue} out of range ({} balls)",
@@ -332,8 +337,7 @@ impl GpuSimulator {
             cue,
             stop: stop_at_first,
         };
-        let (runs, watches) = self.run(table, params, limits, input, mode)?;
-        Ok(runs.into_iter().zip(watches).collect())
+        Ok(self.run(table, params, limits, input, mode)?.1)
     }
 
     /// The batch in chunks that fit the device's bindings.
@@ -344,7 +348,7 @@ impl GpuSimulator {
         limits: Limits,
         input: Input<'_>,
         mut mode: Mode<'_>,
-    ) -> Result<(Vec<GpuRun>, Vec<GpuWatch>), Error> {
+    ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
         self.timings = GpuTimings::default();
         self.dispatches = 0;
         // the parameters checked as the CPU loop checks them
@@ -508,7 +512,7 @@ impl GpuSimulator {
         first: usize,
         capacity: usize,
         mode: &mut Mode<'_>,
-    ) -> Result<(Vec<GpuRun>, Vec<GpuWatch>), Error> {
+    ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
         let n_tables = input.len();
         if n_tables == 0 {
             return Ok((Vec::new(), Vec::new()));
@@ -563,76 +567,79 @@ impl GpuSimulator {
         queue.write_buffer(&bufs.sim, 0, &real_bytes(precision, &sim));
         queue.write_buffer(&bufs.geometry, 0, &real_bytes(precision, &geometry));
         // every table checked as the CPU loop checks it and laid out in the shader's
-        // precision straight into the mapped upload buffers, Rayon over blocks of tables
+        // precision in host arrays kept across calls, Rayon over blocks of tables; then
+        // copied to the mapped upload buffers in large blocks (mapped memory may be
+        // write-combining: large sequential copies suit it)
         let len_r = (n_tables * IO_REALS * real) as u64;
         let len_u = (n_tables * IO_UINTS * 4) as u64;
-        map_for_writing(&self.device, &[(&bufs.up_r, len_r), (&bufs.up_u, len_u)])?;
-        let views = (
-            bufs.up_r.slice(..len_r).get_mapped_range_mut(),
-            bufs.up_u.slice(..len_u).get_mapped_range_mut(),
-        );
-        let packed = if let (Ok(mut view_r), Ok(mut view_u)) = views {
-            let blocks_r = split_blocks(view_r.slice(..), PACK_BLOCK * IO_REALS * real);
-            let blocks_u = split_blocks(view_u.slice(..), PACK_BLOCK * IO_UINTS * 4);
-            let layout_checked = matches!(input, Input::Strikes { .. });
-            let packed: Vec<Result<Vec<(GpuRun, Option<EventRecord>)>, Error>> = blocks_r
-                .into_par_iter()
-                .zip(blocks_u)
-                .enumerate()
-                .map(|(b, (mut dst_r, mut dst_u))| {
-                    let start = b * PACK_BLOCK;
-                    let end = n_tables.min(start + PACK_BLOCK);
-                    let mut started = Vec::with_capacity(end - start);
-                    let mut bytes = [0u8; IO_REALS * 8];
-                    let bytes = &mut bytes[..IO_REALS * real];
-                    for (j, k) in (start..end).enumerate() {
-                        let (balls, strike) = input.shot(k);
-                        let mut sr = [0.0; IO_REALS];
-                        let mut su = [0u32; IO_UINTS];
-                        let shot = ShotRef {
-                            at: first + k,
-                            balls,
-                            strike,
-                            layout_checked,
-                        };
-                        started.push(pack_table(table, &params, limits, shot, &mut sr, &mut su)?);
-                        put_reals(precision, &sr, bytes);
-                        let at_r = j * IO_REALS * real;
-                        dst_r
-                            .0
-                            .slice(at_r..at_r + bytes.len())
-                            .copy_from_slice(bytes);
-                        let at_u = j * IO_UINTS * 4;
-                        dst_u
-                            .0
-                            .slice(at_u..at_u + IO_UINTS * 4)
-                            .copy_from_slice(bytemuck::cast_slice(&su));
+        let mut host_r = std::mem::take(&mut self.pack_r);
+        let mut host_u = std::mem::take(&mut self.pack_u);
+        host_r.resize(len_r as usize, 0);
+        host_u.resize(len_u as usize, 0);
+        let layout_checked = matches!(input, Input::Strikes { .. });
+        let packed: Vec<Result<Vec<Option<EventRecord>>, Error>> = host_r
+            .par_chunks_mut(PACK_BLOCK * IO_REALS * real)
+            .zip(host_u.par_chunks_mut(PACK_BLOCK * IO_UINTS * 4))
+            .enumerate()
+            .map(|(b, (dst_r, dst_u))| {
+                let start = b * PACK_BLOCK;
+                let end = n_tables.min(start + PACK_BLOCK);
+                let mut strikes = Vec::new();
+                for (j, k) in (start..end).enumerate() {
+                    let (balls, strike) = input.shot(k);
+                    let mut sr = [0.0; IO_REALS];
+                    let mut su = [0u32; IO_UINTS];
+                    let shot = ShotRef {
+                        at: first + k,
+                        balls,
+                        strike,
+                        layout_checked,
+                    };
+                    let record =
+                        pack_table(table, &params, limits, shot, record, &mut sr, &mut su)?;
+                    if record.is_some() || !strikes.is_empty() {
+                        strikes.resize(j, None);
+                        strikes.push(record);
                     }
-                    Ok(started)
-                })
-                .collect();
-            Ok(packed)
-        } else {
-            Err(gpu_error("the GPU's upload buffers are not writable"))
-        };
-        bufs.up_r.unmap();
-        bufs.up_u.unmap();
-        let packed = packed?;
-        let mut runs = Vec::with_capacity(n_tables);
-        let mut strikes = Vec::with_capacity(n_tables);
-        for block in packed {
-            for (run, strike) in block? {
-                runs.push(run);
-                strikes.push(strike);
+                    let at_r = j * IO_REALS * real;
+                    put_reals(precision, &sr, &mut dst_r[at_r..at_r + IO_REALS * real]);
+                    let at_u = j * IO_UINTS * 4;
+                    dst_u[at_u..at_u + IO_UINTS * 4].copy_from_slice(bytemuck::cast_slice(&su));
+                }
+                Ok(strikes)
+            })
+            .collect();
+        let mut strikes: Vec<(usize, EventRecord)> = Vec::new();
+        let mut failed = None;
+        for (b, block) in packed.into_iter().enumerate() {
+            match block {
+                Ok(block) => strikes.extend(
+                    block
+                        .into_iter()
+                        .enumerate()
+                        .filter_map(|(j, r)| r.map(|r| (b * PACK_BLOCK + j, r))),
+                ),
+                Err(e) => {
+                    failed = Some(e);
+                    break;
+                }
             }
         }
+        let copied = match failed {
+            Some(e) => Err(e),
+            None => copy_to_mapped(
+                &self.device,
+                &[(&bufs.up_r, &host_r), (&bufs.up_u, &host_u)],
+            ),
+        };
+        self.pack_r = host_r;
+        self.pack_u = host_u;
+        copied?;
         self.timings.pack += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
         if let Mode::Events(on_event) = mode {
-            for (k, strike) in strikes.iter().enumerate() {
-                if let Some(record) = strike {
-                    on_event(first + k, record);
-                }
+            for (k, record) in &strikes {
+                on_event(first + k, record);
             }
         }
         // the upload buffers copied to the state's I/O region, waited for
@@ -779,11 +786,12 @@ impl GpuSimulator {
         let clock = std::time::Instant::now();
         let len_r = io_reals + if watching { watch_reals } else { 0 };
         let len_u = io_uints + if watching { watch_uints } else { 0 };
-        let watches = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
-            unpack(precision, &mut runs, views[0], views[1], watching)
+        let watched_cue = watching.then_some(watch_cue as usize);
+        let out = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
+            unpack(precision, n_tables, views[0], views[1], watched_cue)
         })??;
         self.timings.unpack += clock.elapsed().as_secs_f64();
-        Ok((runs, watches))
+        Ok(out)
     }
 
     /// One submission: a dispatch of `groups` workgroups (none where `None`), then
@@ -857,9 +865,10 @@ fn pack_table(
     params: &SimParams,
     limits: Limits,
     shot: ShotRef<'_>,
+    record: bool,
     sr: &mut [f64; IO_REALS],
     su: &mut [u32; IO_UINTS],
-) -> Result<(GpuRun, Option<EventRecord>), Error> {
+) -> Result<Option<EventRecord>, Error> {
     let at = shot.at;
     let bad = |e: SimError| Error::from(InputError::new(format!("table {at}: {e}")));
     if shot.balls.len() > GPU_MAX_BALLS {
@@ -872,7 +881,15 @@ fn pack_table(
         check_layout(table, params.ball.r, shot.balls).map_err(bad)?;
     }
     EventLoop::check_input(shot.balls, shot.strike).map_err(bad)?;
-    Ok(start_table(shot.balls, shot.strike, params, limits, sr, su))
+    Ok(start_table(
+        shot.balls,
+        shot.strike,
+        params,
+        limits,
+        record,
+        sr,
+        su,
+    ))
 }
 
 /// A piece of a mapped upload buffer, written by one Rayon task.
@@ -894,6 +911,38 @@ fn split_blocks(mut view: wgpu::WriteOnly<'_, [u8]>, size: usize) -> Vec<Block<'
     out.push(Block(view));
     out
 }
+
+/// Copies each host array to the start of its upload buffer: maps them for writing, copies
+/// in large blocks Rayon over blocks, unmaps them.
+fn copy_to_mapped(device: &wgpu::Device, pairs: &[(&wgpu::Buffer, &[u8])]) -> Result<(), Error> {
+    let sizes: Vec<(&wgpu::Buffer, u64)> =
+        pairs.iter().map(|(b, h)| (*b, h.len() as u64)).collect();
+    map_for_writing(device, &sizes)?;
+    let mut result = Ok(());
+    for (buf, host) in pairs {
+        match buf.slice(..host.len() as u64).get_mapped_range_mut() {
+            Ok(mut view) => {
+                let blocks = split_blocks(view.slice(..), COPY_BLOCK);
+                blocks
+                    .into_par_iter()
+                    .zip(host.par_chunks(COPY_BLOCK))
+                    .for_each(|(mut dst, src)| dst.0.copy_from_slice(src));
+            }
+            Err(e) => {
+                result = Err(gpu_error(format!(
+                    "the GPU's upload buffers are not writable: {e}"
+                )));
+            }
+        }
+    }
+    for (buf, _) in pairs {
+        buf.unmap();
+    }
+    result
+}
+
+/// Bytes one Rayon task copies into mapped memory.
+const COPY_BLOCK: usize = 1 << 22;
 
 /// Maps the first `len` bytes of each buffer for writing and waits.
 fn map_for_writing(device: &wgpu::Device, buffers: &[(&wgpu::Buffer, u64)]) -> Result<(), Error> {
@@ -955,43 +1004,55 @@ fn read_mapped<T>(
     out
 }
 
-/// The runs' final states and outcomes from the I/O blocks, and the watches from the
-/// watch blocks where `watching` (they follow the I/O blocks), Rayon over tables.
+/// The runs (final states and outcomes) from the I/O blocks, or with `watch = Some(cue)`
+/// the watched runs from the I/O and watch blocks (the watch blocks follow the I/O
+/// blocks), Rayon over tables.
 fn unpack(
     precision: Precision,
-    runs: &mut [GpuRun],
+    n: usize,
     back_r: &[u8],
     back_u: &[u8],
-    watching: bool,
-) -> Result<Vec<GpuWatch>, Error> {
-    let n = runs.len();
+    watch: Option<usize>,
+) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
     let real = precision.real_size();
     let (io_r, watch_r) = back_r.split_at(n * IO_REALS * real);
     let (io_u, watch_u) = back_u.split_at(n * IO_UINTS * 4);
-    runs.par_iter_mut()
-        .zip(io_r.par_chunks(IO_REALS * real))
-        .zip(io_u.par_chunks(IO_UINTS * 4))
-        .try_for_each(|((run, r), u)| {
+    let io = io_r
+        .par_chunks(IO_REALS * real)
+        .zip(io_u.par_chunks(IO_UINTS * 4));
+    let Some(cue) = watch else {
+        let runs = io
+            .map(|(r, u)| {
+                let mut sr = [0.0; IO_REALS];
+                reals_into(precision, r, &mut sr);
+                let mut su = [0u32; IO_UINTS];
+                uints_into(u, &mut su);
+                finish_table(&sr, &su)
+            })
+            .collect::<Result<_, _>>()?;
+        return Ok((runs, Vec::new()));
+    };
+    let watched = io
+        .zip(watch_r.par_chunks(WATCH_REALS * real))
+        .zip(watch_u.par_chunks(WATCH_UINTS * 4))
+        .map(|(((r, u), wr), wu)| {
             let mut sr = [0.0; IO_REALS];
             reals_into(precision, r, &mut sr);
             let mut su = [0u32; IO_UINTS];
             uints_into(u, &mut su);
-            finish_table(run, &sr, &su)
-        })?;
-    if !watching {
-        return Ok(Vec::new());
-    }
-    runs.par_iter()
-        .zip(watch_r.par_chunks(WATCH_REALS * real))
-        .zip(watch_u.par_chunks(WATCH_UINTS * 4))
-        .map(|((run, r), u)| {
-            let mut sr = [0.0; WATCH_REALS];
-            reals_into(precision, r, &mut sr);
-            let mut su = [0u32; WATCH_UINTS];
-            uints_into(u, &mut su);
-            read_watch(&sr, &su, run.balls.len())
+            let mut wsr = [0.0; WATCH_REALS];
+            reals_into(precision, wr, &mut wsr);
+            let mut wsu = [0u32; WATCH_UINTS];
+            uints_into(wu, &mut wsu);
+            let n_balls = su[IO_U_N] as usize;
+            Ok(WatchedRun {
+                cue: final_ball(&sr, &su, cue)?,
+                outcome: table_outcome(&sr, &su),
+                watch: read_watch(&wsr, &wsu, n_balls)?,
+            })
         })
-        .collect()
+        .collect::<Result<_, Error>>()?;
+    Ok((Vec::new(), watched))
 }
 
 /// `v` in the shader's precision, as bytes.

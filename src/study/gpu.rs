@@ -20,7 +20,7 @@ use super::config::{Noise, StudyConfig};
 use super::noise::noisy_strike;
 use super::run::{RunOptions, Sample, SampleWatch, Until, run_chunks_of, sample_error};
 use crate::error::Error;
-use crate::gpu::{GPU_MAX_BALLS, GpuRun, GpuSimulator, GpuWatch};
+use crate::gpu::{GPU_MAX_BALLS, GpuSimulator, WatchedRun};
 use crate::model::ball_state::BallState;
 use crate::model::vec3::Vec3;
 use crate::resolve::stick_ball::CueStrike;
@@ -114,7 +114,7 @@ fn run_with_gpu(
         Ok(strikes
             .par_iter()
             .zip(runs)
-            .map(|(s, (run, watch))| judge(config, options, &initial, *s, &run, &watch))
+            .map(|(s, run)| judge(config, options, &initial, *s, &run))
             .collect())
     })
 }
@@ -126,9 +126,9 @@ fn judge(
     options: &RunOptions,
     initial: &[BallState],
     strike: CueStrike,
-    run: &GpuRun,
-    watch: &GpuWatch,
+    run: &WatchedRun,
 ) -> Sample {
+    let watch = &run.watch;
     let cue = config.cue;
     let mut sample = SampleWatch::new(config, initial, strike, options.until);
     let mut first = watch.first.as_ref();
@@ -163,6 +163,6 @@ fn judge(
             sample.observe_numbered(config, *n, ev, &initial[cue], 0.0, nan);
         }
     }
-    let end = run.balls[cue].r;
+    let end = run.cue.r;
     sample.finish((end.x, end.y), run.outcome)
 }
