@@ -6,7 +6,7 @@
 //! (BENCHMARKS.md, an H200 beside 16 CPU cores):
 //! - never a software (CPU-type) adapter such as Mesa's lavapipe: the CPU path is faster;
 //! - whole shots and studies on a hardware GPU, for batches of at least
-//!   [`AUTO_GPU_MIN_TABLES`] tables (samples); smaller ones on the CPU;
+//!   [`auto_gpu_min_tables`] tables (samples); smaller ones on the CPU;
 //! - the pair kernels (`pairs`, `next`) on the CPU: end to end (upload and readback
 //!   included) the GPU's kernels are slower than the CPU's.
 //!
@@ -32,10 +32,19 @@ use crate::simulate::check::check_layout;
 use crate::simulate::{BatchError, BatchOptions, EventLoop, Limits, MAX_BALLS, simulate_batch};
 use crate::study::{self, Noise, RunOptions, Sample, StudyConfig};
 
-/// Whole-shot batches and studies of fewer tables (samples) than this run on the CPU
-/// under `auto`: below it the GPU's fixed costs (a dispatch and a readback every few
-/// events) outweigh its speed (measured on an H200 beside 16 cores, BENCHMARKS.md).
-pub const AUTO_GPU_MIN_TABLES: usize = 4096;
+/// Whole-shot batches and studies of fewer tables (samples) than this many per CPU
+/// thread run on the CPU under `auto` ([`auto_gpu_min_tables`]): below it the GPU's fixed
+/// costs (a dispatch and a readback every 32 events, ~25 for ordinary shots) outweigh its
+/// speed. Measured on an H200 beside 16 threads (BENCHMARKS.md): 2,000 ordinary shots
+/// ran at 74k shots/s on the GPU and 197k on the CPU, 10,000 at 361k and 206k; the
+/// crossing, ~7,200 tables, is ~450 a thread.
+pub const AUTO_GPU_MIN_TABLES_PER_THREAD: usize = 512;
+
+/// The smallest batch `auto` sends to the GPU here: [`AUTO_GPU_MIN_TABLES_PER_THREAD`]
+/// times the CPU threads (8,192 with 16).
+pub fn auto_gpu_min_tables() -> usize {
+    AUTO_GPU_MIN_TABLES_PER_THREAD * rayon::current_num_threads()
+}
 
 /// Why whole shots and studies refuse f32 (the pair kernels keep it).
 pub const F32_WHOLE_SHOTS: &str = "whole shots and studies are simulated in f64 only \
@@ -47,7 +56,7 @@ pub const F32_WHOLE_SHOTS: &str = "whole shots and studies are simulated in f64 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum AutoRule {
     /// The measured rule: a hardware GPU only, whole shots and studies from
-    /// [`AUTO_GPU_MIN_TABLES`] tables, the kernels on the CPU.
+    /// [`auto_gpu_min_tables`] tables, the kernels on the CPU.
     #[default]
     Measured,
     /// Any adapter that opens, for every size and for the kernels (to exercise the GPU
@@ -420,7 +429,7 @@ impl ShotEngine {
         self.last_on_cpu = false;
         if self.chosen.gpu.is_some()
             && self.chosen.backend == Backend::Auto
-            && n_tables < AUTO_GPU_MIN_TABLES
+            && n_tables < auto_gpu_min_tables()
             && self.chosen.rule == AutoRule::Measured
         {
             // the CPU is faster for a batch this small

@@ -3,6 +3,8 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
+use rayon::prelude::*;
+
 use crate::error::Error;
 use crate::model::Precision;
 
@@ -245,4 +247,87 @@ pub(super) fn map_and_wait(
         }
         None => Ok(()),
     }
+}
+
+/// A piece of a mapped upload buffer, written by one Rayon task.
+struct Block<'a>(wgpu::WriteOnly<'a, [u8]>);
+
+// SAFETY: a `WriteOnly<[u8]>` is an exclusive, write-only view of bytes, as `&mut [u8]`
+// is (wgpu marks `WriteOnly<T>` Send for sized `T` only); each block is a disjoint piece
+// of the mapping, written by one task while the mapping lives.
+unsafe impl Send for Block<'_> {}
+
+/// `view` cut into blocks of `size` bytes (the last one shorter).
+fn split_blocks(mut view: wgpu::WriteOnly<'_, [u8]>, size: usize) -> Vec<Block<'_>> {
+    let mut out = Vec::with_capacity(view.len().div_ceil(size));
+    while view.len() > size {
+        let (head, tail) = view.split_at(size);
+        out.push(Block(head));
+        view = tail;
+    }
+    out.push(Block(view));
+    out
+}
+
+/// Copies each host array to the start of its upload buffer: maps them for writing, copies
+/// in large blocks Rayon over blocks, unmaps them.
+pub(super) fn copy_to_mapped(
+    device: &wgpu::Device,
+    pairs: &[(&wgpu::Buffer, &[u8])],
+) -> Result<(), Error> {
+    let sizes: Vec<(&wgpu::Buffer, u64)> =
+        pairs.iter().map(|(b, h)| (*b, h.len() as u64)).collect();
+    map_for_writing(device, &sizes)?;
+    let mut result = Ok(());
+    for (buf, host) in pairs {
+        match buf.slice(..host.len() as u64).get_mapped_range_mut() {
+            Ok(mut view) => {
+                let blocks = split_blocks(view.slice(..), COPY_BLOCK);
+                blocks
+                    .into_par_iter()
+                    .zip(host.par_chunks(COPY_BLOCK))
+                    .for_each(|(mut dst, src)| dst.0.copy_from_slice(src));
+            }
+            Err(e) => {
+                result = Err(gpu_error(format!(
+                    "the GPU's upload buffers are not writable: {e}"
+                )));
+            }
+        }
+    }
+    for (buf, _) in pairs {
+        buf.unmap();
+    }
+    result
+}
+
+/// Bytes one Rayon task copies into mapped memory.
+const COPY_BLOCK: usize = 1 << 22;
+
+/// Maps the first `len` bytes of each buffer for writing and waits.
+fn map_for_writing(device: &wgpu::Device, buffers: &[(&wgpu::Buffer, u64)]) -> Result<(), Error> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    for (buf, len) in buffers {
+        let tx = tx.clone();
+        buf.slice(..*len)
+            .map_async(wgpu::MapMode::Write, move |r| drop(tx.send(r)));
+    }
+    drop(tx);
+    let polled = device.poll(wgpu::PollType::wait_indefinitely());
+    let results: Vec<_> = rx.try_iter().collect();
+    let failed = results
+        .iter()
+        .find_map(|r| r.as_ref().err().map(|e| e.to_string()));
+    if polled.is_err() || failed.is_some() || results.len() != buffers.len() {
+        for ((buf, _), r) in buffers.iter().zip(&results) {
+            if r.is_ok() {
+                buf.unmap();
+            }
+        }
+        return Err(gpu_error(format!(
+            "the GPU's upload buffers cannot be written: {}",
+            failed.unwrap_or_else(|| "the device did not answer".into())
+        )));
+    }
+    Ok(())
 }

@@ -2,7 +2,9 @@
 
 use std::ops::Range;
 
-use super::device::{Scopes, gpu_error, map_and_wait};
+use rayon::prelude::*;
+
+use super::device::{Scopes, copy_to_mapped, gpu_error, map_and_wait};
 use super::{GpuEngine, Precision};
 use crate::batch::Batch;
 use crate::error::Error;
@@ -27,6 +29,8 @@ struct Grid {
     /// Bytes of the times and of the codes to read back.
     bytes_t: u64,
     bytes_code: u64,
+    /// Bytes of each upload buffer to copy: table_start, ball_state, ball_pv, ball_w.
+    uploads: [u64; 4],
 }
 
 impl GpuEngine {
@@ -76,7 +80,7 @@ impl GpuEngine {
             return Err(e);
         }
         let clock = std::time::Instant::now();
-        let grid = self.upload(batch, tables, kernel, params);
+        let grid = self.upload(batch, tables, kernel, params)?;
         self.timings.upload += clock.elapsed().as_secs_f64();
 
         let clock = std::time::Instant::now();
@@ -97,7 +101,7 @@ impl GpuEngine {
         tables: Range<usize>,
         kernel: Kernel,
         params: &Params,
-    ) -> Grid {
+    ) -> Result<Grid, Error> {
         let n_tables = tables.len();
         self.fill_host(batch, tables);
         let n_balls = self.host.ball_state.len();
@@ -127,28 +131,33 @@ impl GpuEngine {
         uniform.extend_from_slice(&row_len.to_le_bytes());
         uniform.resize(64, 0);
         let bufs = self.bufs.as_ref().expect("buffers were just ensured");
-        let q = &self.queue;
-        q.write_buffer(&bufs.uniform, 0, &uniform);
-        q.write_buffer(
-            &bufs.table_start,
-            0,
-            bytemuck::cast_slice(&self.host.table_start),
-        );
-        q.write_buffer(
-            &bufs.ball_state,
-            0,
-            bytemuck::cast_slice(&self.host.ball_state),
-        );
-        q.write_buffer(&bufs.ball_pv, 0, &self.host.ball_pv);
-        q.write_buffer(&bufs.ball_w, 0, &self.host.ball_w);
+        self.queue.write_buffer(&bufs.uniform, 0, &uniform);
+        // the arrays into the mapped upload buffers (copied to the storage buffers at the
+        // start of the dispatch's submission)
+        let h = &self.host;
+        let arrays: [(&wgpu::Buffer, &[u8]); 4] = [
+            (&bufs.up_table_start, bytemuck::cast_slice(&h.table_start)),
+            (&bufs.up_ball_state, bytemuck::cast_slice(&h.ball_state)),
+            (&bufs.up_ball_pv, &h.ball_pv),
+            (&bufs.up_ball_w, &h.ball_w),
+        ];
+        let nonempty: Vec<(&wgpu::Buffer, &[u8])> =
+            arrays.into_iter().filter(|(_, a)| !a.is_empty()).collect();
+        copy_to_mapped(&self.device, &nonempty)?;
         let real = self.precision.real_size() as u64;
-        Grid {
+        Ok(Grid {
             n_out,
             row_len,
             rows,
             bytes_t: (real * n_out as u64).max(4),
             bytes_code: (4 * n_out as u64).max(4),
-        }
+            uploads: [
+                h.table_start.len() as u64 * 8,
+                h.ball_state.len() as u64 * 4,
+                h.ball_pv.len() as u64,
+                h.ball_w.len() as u64,
+            ],
+        })
     }
 
     /// Dispatches `kernel` over `grid`, copies the results to the readback buffers, maps
@@ -162,6 +171,17 @@ impl GpuEngine {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("kisstime"),
             });
+        let ups = [
+            (&bufs.up_table_start, &bufs.table_start),
+            (&bufs.up_ball_state, &bufs.ball_state),
+            (&bufs.up_ball_pv, &bufs.ball_pv),
+            (&bufs.up_ball_w, &bufs.ball_w),
+        ];
+        for ((up, storage), len) in ups.into_iter().zip(grid.uploads) {
+            if len > 0 {
+                encoder.copy_buffer_to_buffer(up, 0, storage, 0, len);
+            }
+        }
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("kisstime"),
@@ -196,14 +216,12 @@ impl GpuEngine {
                 .get_mapped_range()
                 .map_err(read_error)?;
             match self.precision {
-                Precision::F32 => view
-                    .chunks_exact(4)
-                    .take(n_out)
+                Precision::F32 => view[..4 * n_out]
+                    .par_chunks_exact(4)
                     .map(|c| f32::from_le_bytes(c.try_into().unwrap()) as f64)
                     .collect(),
-                Precision::F64 => view
-                    .chunks_exact(8)
-                    .take(n_out)
+                Precision::F64 => view[..8 * n_out]
+                    .par_chunks_exact(8)
                     .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
                     .collect(),
             }
@@ -214,8 +232,8 @@ impl GpuEngine {
                 .slice(..grid.bytes_code)
                 .get_mapped_range()
                 .map_err(read_error)?;
-            view.chunks_exact(4)
-                .take(n_out)
+            view[..4 * n_out]
+                .par_chunks_exact(4)
                 .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
                 .collect()
         };

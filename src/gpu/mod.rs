@@ -24,6 +24,8 @@
 
 use std::ops::Range;
 
+use rayon::prelude::*;
+
 use crate::batch::{Batch, NextCollision, pair_of_index, pairs};
 use crate::cpu::kernels::table_paths;
 use crate::error::Error;
@@ -195,17 +197,33 @@ impl GpuEngine {
             (n_pairs as u64).saturating_mul(crate::limits::BYTES_PER_PAIR),
         )?;
         let mut out = Vec::with_capacity(n_pairs);
-        let mut paths = Vec::new();
         for chunk in self.plan_chunks(batch, tables)? {
             let (t, code) = self.run_chunk(batch, chunk.clone(), Kernel::PairTimes, params)?;
-            let mut at = 0;
-            for k in chunk {
-                table_paths(batch.balls(k), params, &mut paths);
-                for (i, j) in pairs(paths.len()) {
-                    let horizon = pair_horizon(&paths[i], &paths[j]);
-                    out.push(decode_contact(t[at], code[at], horizon));
-                    at += 1;
-                }
+            // the answers with their horizons (in f64 on the host), Rayon over blocks
+            let first_pair = batch.pair_range(chunk.start).start;
+            let blocks: Vec<Range<usize>> = (chunk.start..chunk.end)
+                .step_by(DECODE_BLOCK)
+                .map(|k| k..chunk.end.min(k + DECODE_BLOCK))
+                .collect();
+            let decoded: Vec<Vec<Contact>> = blocks
+                .into_par_iter()
+                .map(|block| {
+                    let mut paths = Vec::new();
+                    let mut part = Vec::new();
+                    for k in block {
+                        table_paths(batch.balls(k), params, &mut paths);
+                        let mut at = batch.pair_range(k).start - first_pair;
+                        for (i, j) in pairs(paths.len()) {
+                            let horizon = pair_horizon(&paths[i], &paths[j]);
+                            part.push(decode_contact(t[at], code[at], horizon));
+                            at += 1;
+                        }
+                    }
+                    part
+                })
+                .collect();
+            for part in decoded {
+                out.extend(part);
             }
         }
         Ok(out)
@@ -232,28 +250,37 @@ impl GpuEngine {
         params.validate()?;
         self.timings = GpuTimings::default();
         let mut out = Vec::with_capacity(tables.len());
-        let mut paths = Vec::new();
         for chunk in self.plan_chunks(batch, tables)? {
             let (t, code) = self.run_chunk(batch, chunk.clone(), Kernel::NextCollisions, params)?;
-            for (local, k) in chunk.enumerate() {
-                let status = decode_status(code[local] & 3);
-                let ids = batch.ball_ids(k);
-                let mut next = NextCollision::none(batch.table_id(k));
-                // the horizon on the host, in f64, as for per-pair answers
-                table_paths(batch.balls(k), params, &mut paths);
-                next.horizon = paths.iter().map(|p| p.tmax).fold(f64::INFINITY, f64::min);
-                if status != Status::None {
-                    let (i, j) = pair_of_index(ids.len(), (code[local] >> 2) as usize);
-                    next.t = t[local];
-                    next.pair = Some((ids[i], ids[j]));
-                    next.status = status;
-                }
-                out.push(next);
-            }
+            let first = chunk.start;
+            let decoded: Vec<NextCollision> = chunk
+                .into_par_iter()
+                .with_min_len(DECODE_BLOCK)
+                .map_init(Vec::new, |paths, k| {
+                    let local = k - first;
+                    let status = decode_status(code[local] & 3);
+                    let ids = batch.ball_ids(k);
+                    let mut next = NextCollision::none(batch.table_id(k));
+                    // the horizon on the host, in f64, as for per-pair answers
+                    table_paths(batch.balls(k), params, paths);
+                    next.horizon = paths.iter().map(|p| p.tmax).fold(f64::INFINITY, f64::min);
+                    if status != Status::None {
+                        let (i, j) = pair_of_index(ids.len(), (code[local] >> 2) as usize);
+                        next.t = t[local];
+                        next.pair = Some((ids[i], ids[j]));
+                        next.status = status;
+                    }
+                    next
+                })
+                .collect();
+            out.extend(decoded);
         }
         Ok(out)
     }
 }
+
+/// Tables decoded by one Rayon task.
+const DECODE_BLOCK: usize = 512;
 
 fn decode_status(code: u32) -> Status {
     match code {
