@@ -324,16 +324,15 @@ pub(super) fn final_ball(sr: &[f64], su: &[u32], i: usize) -> Result<BallState, 
     ball_state(&sr[10 * i..10 * i + 10], su[i])
 }
 
-/// A finished table's run (final states and outcome), from its I/O block.
-pub(super) fn finish_table(sr: &[f64], su: &[u32]) -> Result<GpuRun, Error> {
+/// A finished table's final states and outcome, from its I/O block, into its run.
+pub(super) fn finish_table(run: &mut GpuRun, sr: &[f64], su: &[u32]) -> Result<(), Error> {
     let n = (su[IO_U_N] as usize).min(GPU_MAX_BALLS);
-    Ok(GpuRun {
-        events: Vec::new(),
-        balls: (0..n)
-            .map(|i| final_ball(sr, su, i))
-            .collect::<Result<_, _>>()?,
-        outcome: table_outcome(sr, su),
-    })
+    run.balls.clear();
+    for i in 0..n {
+        run.balls.push(final_ball(sr, su, i)?);
+    }
+    run.outcome = table_outcome(sr, su);
+    Ok(())
 }
 
 /// Reads a table's watch block.

@@ -35,6 +35,7 @@ use crate::model::table::Table;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::check::check_layout;
+use crate::simulate::events::Outcome;
 use crate::simulate::{EventLoop, Limits};
 
 /// Events per table and dispatch, by default. Short dispatches keep a device responsive;
@@ -367,7 +368,9 @@ impl GpuSimulator {
         let mut watches = Vec::new();
         for start in (0..n).step_by(chunk) {
             let part = input.part(start..n.min(start + chunk));
-            let done = self.simulate_chunk(table, params, limits, part, start, chunk, &mut mode);
+            // the buffers fit the largest chunk of this call (they grow for a larger one)
+            let capacity = chunk.min(n);
+            let done = self.simulate_chunk(table, params, limits, part, start, capacity, &mut mode);
             let (r, w) = done.inspect_err(|_| self.total.add(&self.timings))?;
             runs.extend(r);
             watches.extend(w);
@@ -787,9 +790,26 @@ impl GpuSimulator {
         let len_r = io_reals + if watching { watch_reals } else { 0 };
         let len_u = io_uints + if watching { watch_uints } else { 0 };
         let watched_cue = watching.then_some(watch_cue as usize);
+        // the runs' ball arrays made here, one after the other (many threads allocating
+        // at once contend for the heap), and filled Rayon over tables
+        let mut runs: Vec<GpuRun> = match watched_cue {
+            Some(_) => Vec::new(),
+            None => (0..n_tables)
+                .map(|k| GpuRun {
+                    events: Vec::new(),
+                    balls: Vec::with_capacity(input.shot(k).0.len()),
+                    outcome: Outcome {
+                        n_events: 0,
+                        t_end: 0.0,
+                        cut: None,
+                    },
+                })
+                .collect(),
+        };
         let out = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
-            unpack(precision, n_tables, views[0], views[1], watched_cue)
+            unpack(precision, &mut runs, views[0], views[1], watched_cue)
         })??;
+        let out = (runs, out);
         self.timings.unpack += clock.elapsed().as_secs_f64();
         Ok(out)
     }
@@ -929,30 +949,33 @@ fn read_mapped<T>(
 /// blocks), Rayon over tables.
 fn unpack(
     precision: Precision,
-    n: usize,
+    runs: &mut [GpuRun],
     back_r: &[u8],
     back_u: &[u8],
     watch: Option<usize>,
-) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
+) -> Result<Vec<WatchedRun>, Error> {
     let real = precision.real_size();
-    let (io_r, watch_r) = back_r.split_at(n * IO_REALS * real);
-    let (io_u, watch_u) = back_u.split_at(n * IO_UINTS * 4);
-    let io = io_r
-        .par_chunks(IO_REALS * real)
-        .zip(io_u.par_chunks(IO_UINTS * 4));
     let Some(cue) = watch else {
-        let runs = io
-            .map(|(r, u)| {
+        let n = runs.len();
+        let (io_r, io_u) = (&back_r[..n * IO_REALS * real], &back_u[..n * IO_UINTS * 4]);
+        runs.par_iter_mut()
+            .zip(io_r.par_chunks(IO_REALS * real))
+            .zip(io_u.par_chunks(IO_UINTS * 4))
+            .try_for_each(|((run, r), u)| {
                 let mut sr = [0.0; IO_REALS];
                 reals_into(precision, r, &mut sr);
                 let mut su = [0u32; IO_UINTS];
                 uints_into(u, &mut su);
-                finish_table(&sr, &su)
-            })
-            .collect::<Result<_, _>>()?;
-        return Ok((runs, Vec::new()));
+                finish_table(run, &sr, &su)
+            })?;
+        return Ok(Vec::new());
     };
-    let watched = io
+    // a watched batch: as many tables as its I/O blocks
+    let n = back_u.len() / ((IO_UINTS + WATCH_UINTS) * 4);
+    let (io_r, watch_r) = back_r.split_at(n * IO_REALS * real);
+    let (io_u, watch_u) = back_u.split_at(n * IO_UINTS * 4);
+    io_r.par_chunks(IO_REALS * real)
+        .zip(io_u.par_chunks(IO_UINTS * 4))
         .zip(watch_r.par_chunks(WATCH_REALS * real))
         .zip(watch_u.par_chunks(WATCH_UINTS * 4))
         .map(|(((r, u), wr), wu)| {
@@ -971,8 +994,7 @@ fn unpack(
                 watch: read_watch(&wsr, &wsu, n_balls)?,
             })
         })
-        .collect::<Result<_, Error>>()?;
-    Ok((Vec::new(), watched))
+        .collect()
 }
 
 /// `v` in the shader's precision, as bytes.
