@@ -580,7 +580,9 @@ impl GpuSimulator {
         host_r.resize(len_r as usize, 0);
         host_u.resize(len_u as usize, 0);
         let layout_checked = matches!(input, Input::Strikes { .. });
-        let packed: Vec<Result<Vec<Option<EventRecord>>, Error>> = host_r
+        let make_runs = watch_cue == NO_WATCH;
+        type Block = (Vec<Option<EventRecord>>, Vec<GpuRun>);
+        let packed: Vec<Result<Block, Error>> = host_r
             .par_chunks_mut(PACK_BLOCK * IO_REALS * real)
             .zip(host_u.par_chunks_mut(PACK_BLOCK * IO_UINTS * 4))
             .enumerate()
@@ -588,8 +590,23 @@ impl GpuSimulator {
                 let start = b * PACK_BLOCK;
                 let end = n_tables.min(start + PACK_BLOCK);
                 let mut strikes = Vec::new();
+                // each run's ball array made (and first written) here, beside its table's
+                // layout: made in the unpack instead, the memory's first touch cost the
+                // H200's host twice as much
+                let mut runs = Vec::with_capacity(if make_runs { end - start } else { 0 });
                 for (j, k) in (start..end).enumerate() {
                     let (balls, strike) = input.shot(k);
+                    if make_runs {
+                        runs.push(GpuRun {
+                            events: Vec::new(),
+                            balls: balls.to_vec(),
+                            outcome: Outcome {
+                                n_events: 0,
+                                t_end: 0.0,
+                                cut: None,
+                            },
+                        });
+                    }
                     let mut sr = [0.0; IO_REALS];
                     let mut su = [0u32; IO_UINTS];
                     let shot = ShotRef {
@@ -609,19 +626,23 @@ impl GpuSimulator {
                     let at_u = j * IO_UINTS * 4;
                     dst_u[at_u..at_u + IO_UINTS * 4].copy_from_slice(bytemuck::cast_slice(&su));
                 }
-                Ok(strikes)
+                Ok((strikes, runs))
             })
             .collect();
         let mut strikes: Vec<(usize, EventRecord)> = Vec::new();
+        let mut runs: Vec<GpuRun> = Vec::with_capacity(if make_runs { n_tables } else { 0 });
         let mut failed = None;
         for (b, block) in packed.into_iter().enumerate() {
             match block {
-                Ok(block) => strikes.extend(
-                    block
-                        .into_iter()
-                        .enumerate()
-                        .filter_map(|(j, r)| r.map(|r| (b * PACK_BLOCK + j, r))),
-                ),
+                Ok((block, block_runs)) => {
+                    strikes.extend(
+                        block
+                            .into_iter()
+                            .enumerate()
+                            .filter_map(|(j, r)| r.map(|r| (b * PACK_BLOCK + j, r))),
+                    );
+                    runs.extend(block_runs);
+                }
                 Err(e) => {
                     failed = Some(e);
                     break;
@@ -790,22 +811,6 @@ impl GpuSimulator {
         let len_r = io_reals + if watching { watch_reals } else { 0 };
         let len_u = io_uints + if watching { watch_uints } else { 0 };
         let watched_cue = watching.then_some(watch_cue as usize);
-        // the runs' ball arrays made here, one after the other (many threads allocating
-        // at once contend for the heap), and filled Rayon over tables
-        let mut runs: Vec<GpuRun> = match watched_cue {
-            Some(_) => Vec::new(),
-            None => (0..n_tables)
-                .map(|k| GpuRun {
-                    events: Vec::new(),
-                    balls: Vec::with_capacity(input.shot(k).0.len()),
-                    outcome: Outcome {
-                        n_events: 0,
-                        t_end: 0.0,
-                        cut: None,
-                    },
-                })
-                .collect(),
-        };
         let out = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
             unpack(precision, &mut runs, views[0], views[1], watched_cue)
         })??;
