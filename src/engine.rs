@@ -6,7 +6,9 @@
 //! (BENCHMARKS.md, an H200 beside 16 CPU cores):
 //! - never a software (CPU-type) adapter such as Mesa's lavapipe: the CPU path is faster;
 //! - whole shots and studies on a hardware GPU, for batches of at least
-//!   [`auto_gpu_min_tables`] tables (samples); smaller ones on the CPU;
+//!   [`auto_gpu_min_tables`] tables (samples); smaller ones on the CPU; a study only
+//!   where the CPU has at most [`AUTO_STUDY_MAX_CPU_THREADS`] threads (more beat the GPU's
+//!   study);
 //! - the pair kernels (`pairs`, `next`) on the CPU: end to end (upload and readback
 //!   included) the GPU's kernels are slower than the CPU's.
 //!
@@ -39,6 +41,11 @@ use crate::study::{self, Noise, RunOptions, Sample, StudyConfig};
 /// ran at 74k shots/s on the GPU and 197k on the CPU, 10,000 at 361k and 206k; the
 /// crossing, ~7,200 tables, is ~450 a thread.
 pub const AUTO_GPU_MIN_TABLES_PER_THREAD: usize = 512;
+
+/// `auto` runs a shot study on the GPU only where the CPU has at most this many threads:
+/// measured on an H200 beside 16 threads (BENCHMARKS.md), the GPU's study of 10⁶ samples
+/// ran at 470k samples/s end to end and the CPU's at 732k, ~46k a thread.
+pub const AUTO_STUDY_MAX_CPU_THREADS: usize = 8;
 
 /// The smallest batch `auto` sends to the GPU here: [`AUTO_GPU_MIN_TABLES_PER_THREAD`]
 /// times the CPU threads (8,192 with 16).
@@ -423,16 +430,18 @@ impl ShotEngine {
         what: &str,
         n_balls: usize,
         n_tables: usize,
+        study: bool,
         on_gpu: impl FnOnce(&mut GpuSimulator) -> Result<T, Error>,
         on_cpu: impl FnOnce() -> Result<T, Error>,
     ) -> Result<T, Error> {
         self.last_on_cpu = false;
         if self.chosen.gpu.is_some()
             && self.chosen.backend == Backend::Auto
-            && n_tables < auto_gpu_min_tables()
             && self.chosen.rule == AutoRule::Measured
+            && (n_tables < auto_gpu_min_tables()
+                || (study && rayon::current_num_threads() > AUTO_STUDY_MAX_CPU_THREADS))
         {
-            // the CPU is faster for a batch this small
+            // the CPU is faster for a batch this small, or for a study on this many threads
             self.last_on_cpu = true;
             return on_cpu();
         }
@@ -479,6 +488,7 @@ impl ShotEngine {
             "the batch",
             n_balls,
             shots.len(),
+            false,
             |g| g.simulate(table, params, limits, shots, record_events),
             || simulate_on_cpu(table, params, limits, shots, record_events),
         )
@@ -500,6 +510,7 @@ impl ShotEngine {
             "the study",
             config.balls.len(),
             samples,
+            true,
             |g| {
                 study::run_study_gpu(g, config, sigma, samples, seed, options, &mut |d, n| {
                     (progress.borrow_mut())(d, n)
@@ -526,6 +537,7 @@ impl ShotEngine {
             "the study",
             config.balls.len(),
             strikes.len(),
+            true,
             |g| {
                 study::run_strikes_gpu(g, config, strikes, options, &mut |d, n| {
                     (progress.borrow_mut())(d, n)
