@@ -233,7 +233,8 @@ def pair_times(
     motions last (``kisstime pairs``).
 
     ``backend`` is ``"cpu"`` (Rayon, f64, the reference), ``"gpu"`` (wgpu) or ``"auto"``
-    (the GPU when one works, else the CPU); ``precision`` ``"f32"`` or ``"f64"`` (default:
+    (the backend measured faster: the CPU for these kernels, which are slower end to end on
+    the GPU, unless ``KISSTIME_AUTO_GPU=always``); ``precision`` ``"f32"`` or ``"f64"`` (default:
     f64 on the CPU, f32 on a GPU). Returns a structured array of :data:`PAIR_DTYPE`, tables
     in ascending id order and pairs ``(i, j)`` with ``i < j`` in ball-id order.
     """
@@ -294,8 +295,9 @@ def simulate(
 
     ``backend`` is ``"cpu"`` (Rayon, f64, every core: the reference), ``"gpu"`` (the WGSL
     event loop, one workgroup per table, at most 16 balls a table; ``RuntimeError`` when no
-    GPU is usable) or ``"auto"`` (the GPU when one works, else the CPU, with a
-    ``RuntimeWarning`` saying why; a GPU failure mid-batch is redone on the CPU).
+    GPU is usable) or ``"auto"`` (the backend measured faster: never a software adapter, the
+    GPU from 512 tables per CPU thread, else the CPU; a ``RuntimeWarning`` says why where a
+    GPU could not be used; a GPU failure mid-batch is redone on the CPU).
     ``precision`` is ``"f64"`` (the default and the only one for whole shots; the GPU needs
     ``SHADER_F64``); ``"f32"`` is refused with a ``ValueError`` (in f32 the GPU decides
     contacts to a micrometre and about half of the reference shots end elsewhere).

@@ -621,7 +621,7 @@ fn study_chunk<'py>(
     let config = config_of(kind, text, source, dir)?;
     // checked now; the device is opened only for a chunk that has samples (the Python
     // side checks its arguments with an empty chunk first)
-    let (backend_kind, precision_kind) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
+    let (_, precision_kind) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
     if precision_kind == Precision::F32 {
         // refused on every backend (whole shots are f64 only)
         shot_engine_of(backend, precision)?;

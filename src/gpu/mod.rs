@@ -212,11 +212,10 @@ impl GpuEngine {
                     let mut part = Vec::new();
                     for k in block {
                         table_paths(batch.balls(k), params, &mut paths);
-                        let mut at = batch.pair_range(k).start - first_pair;
-                        for (i, j) in pairs(paths.len()) {
+                        let from = batch.pair_range(k).start - first_pair;
+                        for (at, (i, j)) in (from..).zip(pairs(paths.len())) {
                             let horizon = pair_horizon(&paths[i], &paths[j]);
                             part.push(decode_contact(t[at], code[at], horizon));
-                            at += 1;
                         }
                     }
                     part

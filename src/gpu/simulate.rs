@@ -306,7 +306,7 @@ impl GpuSimulator {
 
     /// One position, `balls`, struck each of the ways `strikes` on ball `cue` (one table
     /// per strike; the layout is checked once), with the device watching the cue ball (a
-    /// study's view of the events: its first contact and every pot, [`GpuWatch`]) instead
+    /// study's view of the events: its first contact and every pot, [`super::GpuWatch`]) instead
     /// of reading any event back; with `stop_at_first` a table stops at the cue ball's
     /// first contact (its final states and outcome are then those at that contact).
     /// Errors as [`GpuSimulator::simulate`], a bad strike naming its table.

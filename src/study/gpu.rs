@@ -3,7 +3,7 @@
 //! sample, [`GPU_CHUNK`] samples per batch.
 //!
 //! No event crosses the bus: the device watches each sample's cue ball
-//! ([`GpuSimulator::simulate_watched`]) and keeps what the study needs of the events (the
+//! ([`GpuSimulator::simulate_strikes_watched`]) and keeps what the study needs of the events (the
 //! first contact, with the cue ball's state and the clock before it and both balls'
 //! centres after it; every pot), read back once with the final states. On the host these
 //! go through the same [`SampleWatch`] as the CPU's events, in event order, so the samples
@@ -27,7 +27,7 @@ use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::EventLoop;
 
 /// Samples per GPU batch: enough tables to fill a large device (each batch is one
-/// [`GpuSimulator::simulate_watched`] call, its buffers reused).
+/// [`GpuSimulator::simulate_strikes_watched`] call, its buffers reused).
 pub const GPU_CHUNK: usize = 1 << 18;
 
 /// [`super::run_study`] on the GPU: `samples` noisy strikes drawn from `seed`.
