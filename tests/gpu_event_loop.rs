@@ -247,3 +247,34 @@ fn chunks_and_dispatch_lengths_do_not_change_the_runs() {
         );
     }
 }
+
+/// The workgroup's thread count changes nothing: 16 and 32 threads a table give the
+/// 64-thread runs bit for bit (events, final states, outcomes).
+#[test]
+fn the_workgroups_thread_count_does_not_change_the_runs() {
+    let Some(mut gpu) = open(Precision::F64, "gpu_event_loop threads") else {
+        return;
+    };
+    let dir = common::fullshots_dir();
+    let params = SimParams::default();
+    let table = read_table(&dir).unwrap();
+    let shots = read_shots(&dir, params.ball.r).unwrap();
+    let inputs: Vec<GpuShot> = shots[100..160]
+        .iter()
+        .map(|s| GpuShot {
+            balls: s.balls.clone(),
+            strike: Some((s.cue, s.strike)),
+        })
+        .collect();
+    let wide = gpu
+        .simulate(&table, params, Limits::default(), &inputs, true)
+        .unwrap();
+    for threads in [16, 32] {
+        let mut narrow = GpuSimulator::with_loop_threads(Precision::F64, threads).unwrap();
+        let runs = narrow
+            .simulate(&table, params, Limits::default(), &inputs, true)
+            .unwrap();
+        assert_eq!(runs, wide, "{threads} threads");
+    }
+    assert!(GpuSimulator::with_loop_threads(Precision::F64, 48).is_err());
+}

@@ -23,8 +23,12 @@
 // The threads of a table's workgroup, and the rounds in which they cover the largest
 // per-table loop (GPU_MAX_PAIRS entries). Every per-thread loop runs LOOP_ROUNDS times on
 // every thread, with the work under an `if`, so that every thread runs the same loops.
-const LOOP_THREADS: u32 = 64u;
-const LOOP_ROUNDS: u32 = 2u;
+// Pipeline-overridable (the host's EVENT_LOOP_THREADS: 16, 32 or 64, a power of two of at
+// least GPU_MAX_BALLS; LOOP_ROUNDS = ⌈GPU_MAX_PAIRS / LOOP_THREADS⌉).
+override LOOP_THREADS: u32 = 64u;
+override LOOP_ROUNDS: u32 = 2u;
+// The most threads a workgroup may have (the reduction's array).
+const MAX_LOOP_THREADS: u32 = 64u;
 
 // Event kinds (Rust: EventKind, the same codes).
 const EVENT_STICK_BALL: u32 = 0u;
@@ -169,7 +173,7 @@ var<workgroup> win_other: u32;
 // The earliest entries, reduced by the threads together (see reduce_entries): per thread
 // then per tree level, the earliest pair; the earliest row of each category (in the first
 // ball's place of the category); the earliest transition (in ball 0's place).
-var<workgroup> red_pair: array<u32, LOOP_THREADS>;
+var<workgroup> red_pair: array<u32, MAX_LOOP_THREADS>;
 var<workgroup> red_row: array<u32, GPU_ROWS>;
 var<workgroup> red_trans: array<u32, GPU_MAX_BALLS>;
 // The cue ball's state and the clock before this step's event, for the watch.
@@ -546,8 +550,11 @@ fn reduce_entries(lid: u32, n: u32) {
         }
     }
     red_pair[lid] = mine;
-    if lid < GPU_ROWS {
-        red_row[lid] = select(NO_AGENT, lid, lid % GPU_MAX_BALLS < n);
+    for (var round = 0u; round < LOOP_ROUNDS; round++) {
+        let q = lid + round * LOOP_THREADS;
+        if q < GPU_ROWS {
+            red_row[q] = select(NO_AGENT, q, q % GPU_MAX_BALLS < n);
+        }
     }
     if lid < GPU_MAX_BALLS {
         red_trans[lid] = select(NO_AGENT, lid, lid < n);
@@ -558,8 +565,11 @@ fn reduce_entries(lid: u32, n: u32) {
             red_pair[lid] = earlier_pair(red_pair[lid], red_pair[lid + stride]);
         }
         if stride < GPU_MAX_BALLS {
-            if lid < GPU_ROWS && lid % GPU_MAX_BALLS < stride {
-                red_row[lid] = earlier_row(red_row[lid], red_row[lid + stride]);
+            for (var round = 0u; round < LOOP_ROUNDS; round++) {
+                let q = lid + round * LOOP_THREADS;
+                if q < GPU_ROWS && q % GPU_MAX_BALLS < stride {
+                    red_row[q] = earlier_row(red_row[q], red_row[q + stride]);
+                }
             }
             if lid < stride {
                 red_trans[lid] = earlier_trans(red_trans[lid], red_trans[lid + stride]);
@@ -733,7 +743,7 @@ fn watch_event(table: u32) {
 
 // One workgroup per table: up to events_per_dispatch steps of its loop (Rust:
 // EventLoop::step, with candidates, choose, advance and resolve).
-@compute @workgroup_size(64)
+@compute @workgroup_size(LOOP_THREADS)
 fn simulate_tables(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,

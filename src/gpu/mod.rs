@@ -51,7 +51,9 @@ pub use shader::shader_source;
 #[doc(hidden)]
 pub use sim_layout::SHADER_LAYOUT;
 pub use sim_layout::{GPU_MAX_BALLS, GpuRun, GpuShot, GpuWatch, WatchedContact, WatchedRun};
-pub use simulate::{EVENTS_PER_DISPATCH, GpuSimulator, MAX_TABLES_PER_CHUNK, OnEvent};
+pub use simulate::{
+    EVENT_LOOP_THREADS, EVENTS_PER_DISPATCH, GpuSimulator, MAX_TABLES_PER_CHUNK, OnEvent,
+};
 
 /// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the
 /// `testing` feature).

@@ -23,9 +23,9 @@ use super::GpuTimings;
 use super::device::{self, AdapterSummary, Scopes, copy_to_mapped, gpu_error, map_and_wait};
 use super::shader::simulate_source;
 use super::sim_layout::{
-    CACHE_REALS, CACHE_UINTS, EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, IO_REALS,
-    IO_U_N, IO_UINTS, NEVER_F32, NEVER_F64, WATCH_REALS, WATCH_UINTS, WatchedRun, event_record,
-    final_ball, finish_table, read_watch, start_table, table_outcome,
+    CACHE_REALS, CACHE_UINTS, EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GPU_MAX_PAIRS, GpuRun,
+    GpuShot, IO_REALS, IO_U_N, IO_UINTS, NEVER_F32, NEVER_F64, WATCH_REALS, WATCH_UINTS,
+    WatchedRun, event_record, final_ball, finish_table, read_watch, start_table, table_outcome,
 };
 use crate::error::{Error, InputError, SimError};
 use crate::model::Precision;
@@ -43,6 +43,23 @@ use crate::simulate::{EventLoop, Limits};
 /// (after 172 events, with some threads' states not written back), while dispatches of
 /// 32 or 64 events give the CPU's events.
 pub const EVENTS_PER_DISPATCH: u32 = 32;
+
+/// Threads of a table's workgroup, by default (the shader's `LOOP_THREADS`).
+pub const EVENT_LOOP_THREADS: usize = 64;
+
+/// The workgroup's threads: `KISSTIME_EVENT_LOOP_THREADS` (16, 32 or 64; for measuring
+/// occupancy on a device) or [`EVENT_LOOP_THREADS`].
+fn event_loop_threads() -> Result<usize, Error> {
+    match std::env::var("KISSTIME_EVENT_LOOP_THREADS") {
+        Err(_) => Ok(EVENT_LOOP_THREADS),
+        Ok(v) => match v.trim().parse::<usize>() {
+            Ok(t @ (16 | 32 | 64)) => Ok(t),
+            _ => Err(Error::Unsupported(format!(
+                "KISSTIME_EVENT_LOOP_THREADS={v:?}: expected 16, 32 or 64"
+            ))),
+        },
+    }
+}
 
 /// Tables per chunk, at most, by default.
 pub const MAX_TABLES_PER_CHUNK: usize = 1 << 20;
@@ -180,6 +197,17 @@ impl GpuSimulator {
     /// Errors: [`Error::GpuUnavailable`] without a usable adapter (or without
     /// `SHADER_F64` for f64); [`Error::Gpu`] when the device or the shader fails to build.
     pub fn new(precision: Precision) -> Result<GpuSimulator, Error> {
+        GpuSimulator::with_loop_threads(precision, event_loop_threads()?)
+    }
+
+    /// [`GpuSimulator::new`] with `threads` threads a table's workgroup (16, 32 or 64: the
+    /// same answers, another occupancy; [`EVENT_LOOP_THREADS`] by default).
+    pub fn with_loop_threads(precision: Precision, threads: usize) -> Result<GpuSimulator, Error> {
+        if !matches!(threads, 16 | 32 | 64) {
+            return Err(Error::Unsupported(format!(
+                "{threads} threads a table: expected 16, 32 or 64"
+            )));
+        }
         let opened = device::open(precision)?;
         let device = opened.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -187,12 +215,19 @@ impl GpuSimulator {
             label: Some("kisstime event loop"),
             source: wgpu::ShaderSource::Wgsl(simulate_source(precision).into()),
         });
+        let constants = [
+            ("LOOP_THREADS", threads as f64),
+            ("LOOP_ROUNDS", GPU_MAX_PAIRS.div_ceil(threads) as f64),
+        ];
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("simulate_tables"),
             layout: None,
             module: &module,
             entry_point: Some("simulate_tables"),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
             cache: None,
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
