@@ -5,11 +5,17 @@
 // Each step: the threads fill the missing cache entries in parallel (ball pairs, then each
 // ball–table category row by row), each entry stamped with (step, position in its
 // category's fill order) as the Rust twin stamps it (simulate/cache.rs), so that the order
-// they are filled in does not matter; thread 0 reduces each category to its earliest
-// entry and chooses the winner with the Rust twin's tie rules (its choose, with
-// comes_before as the comparison), the threads evolve every ball to its time, thread 0
-// resolves it and invalidates the entries of the balls involved. At most `events_per_dispatch` events per dispatch; the host dispatches again
-// until every table is done. Nothing is allocated per event; every loop is bounded.
+// they are filled in does not matter; the threads reduce each category to its earliest
+// entry together (reduce_entries) and thread 0 chooses the winner with the Rust twin's tie
+// rules (its choose, with comes_before as the comparison), the threads evolve every ball to
+// its time, thread 0 resolves it and invalidates the entries of the balls involved. At
+// most `events_per_dispatch` events per dispatch; the host dispatches again until every
+// table is done, each dispatch after the first only over the tables still running (listed
+// in `live`). Nothing is allocated per event; every loop is bounded.
+//
+// Only a table's I/O block (its balls, counts and status) crosses the bus: the first
+// dispatch starts the caches itself. For a study the watch (watch_event) keeps what the
+// host needs of the events, so that none is read back.
 //
 // The strike is resolved on the host (resolve/stick_ball.rs has no twin): a table arrives
 // here after its stick_ball event, at step 1, or at step 0 without one. That gives the
