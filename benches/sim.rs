@@ -1,5 +1,5 @@
 //! Whole-shot simulation throughput on the full-shot reference set
-//! (`../shared/fullshots`: shots 0–99 are breaks, 100–299 ordinary shots).
+//! (`data/fullshots`: shots 0–99 are breaks, 100–299 ordinary shots).
 //!
 //! `cargo bench --bench sim`. For breaks and for ordinary shots separately:
 //! - `1 thread`: every shot of the group in turn through one [`EventLoop`];
@@ -14,7 +14,7 @@
 //! `study/*`: the built-in shot study ([`StudyConfig::builtin`], 8 balls, ~12.6 events a
 //! sample), [`STUDY_SAMPLES`] noisy samples to rest and to the first contact, on 1 and 2
 //! threads; "elem/s" are samples/s. pooltool 0.6.0 runs the same shot at 193 samples/s to
-//! rest (`shared/studies/README.md`). Target (issue 14): ≥ 20,000 samples/s on 2 threads.
+//! rest (`data/studies/README.md`). Target (issue 14): ≥ 20,000 samples/s on 2 threads.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kisstime::io::shot_set::{Shot, read_shots, read_table};
@@ -56,7 +56,7 @@ fn parallel(table: &Table, params: SimParams, shots: &[&Shot]) -> usize {
 }
 
 fn sim(c: &mut Criterion) {
-    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fullshots"));
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots"));
     let params = SimParams::default();
     let table = read_table(dir).unwrap();
     let shots = read_shots(dir, params.ball.r).unwrap();

@@ -1,4 +1,4 @@
-//! Replays a shot study's strikes in the reference format of `shared/studies` and writes
+//! Replays a shot study's strikes in the reference format of `data/studies` and writes
 //! one outcome row per sample with the reference's columns.
 //!
 //! ```text

@@ -29,7 +29,7 @@
 //! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files;
 //! - [`study`]: Monte Carlo shot studies — one shot under cue noise (or given strikes),
 //!   every sample from the strike to rest on the simulator: configuration, noise, the
-//!   driver, statistics, and `shared/studies`' reference format;
+//!   driver, statistics, and `data/studies`' reference format;
 //! - [`workload`]: reproducible built-in workloads; [`limits`], [`error`].
 //!
 //! The `kisstime` command line (`src/main.rs`, `src/cli/`) is a thin layer over these,

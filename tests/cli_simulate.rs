@@ -198,7 +198,7 @@ fn code(column: &str, text: &str, kind: &str, table: &Table) -> f64 {
 /// A break-like batch: many tables with a rack, struck in different ways (pots, cushions,
 /// jaws), to exercise every kind of event.
 fn rack_batch(dir: &Path, tables: usize) -> (PathBuf, PathBuf) {
-    let set = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fullshots");
+    let set = concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots");
     let shots = read_shots(Path::new(set), SimParams::default().ball.r).unwrap();
     let (mut balls, mut strikes) = (
         String::from("table,ball,state,x,y,vx,vy,wx,wy,wz\n"),
@@ -506,7 +506,7 @@ fn bad_input_exits_2_names_the_place_and_writes_nothing() {
 
 #[test]
 fn the_reference_set_gives_the_replays_event_sequences() {
-    let set = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fullshots"));
+    let set = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots"));
     let params = SimParams::default();
     let mut shots = read_shots(set, params.ball.r).unwrap();
     // breaks first in the set, then ordinary shots: take some of each

@@ -97,7 +97,7 @@ fn a_fault_in_the_event_loop_is_an_error_on_gpu_and_redone_on_the_cpu_in_auto() 
 
 #[test]
 fn a_fault_mid_study_is_redone_on_the_cpu_in_auto() {
-    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/studies"));
+    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/studies"));
     let config = StudyConfig::read_reference(&dir.join("dev_scenario.json")).unwrap();
     let strikes: Vec<_> = read_sample_strikes(&dir.join("dev_strikes.csv")).unwrap()[..40]
         .iter()

@@ -1,5 +1,5 @@
 //! Shot studies on the GPU event loop (`kisstime::study::run_strikes_gpu`) against the CPU
-//! f64 study on the reference's 2,000 strikes (`../shared/studies`):
+//! f64 study on the reference's 2,000 strikes (`data/studies`):
 //! - in f64 and in f32, every outcome fraction (the intended ball potted, the scratch,
 //!   each first-contact class) lies within the 95 % Wilson interval of the CPU's fraction;
 //! - in f64, every sample has the CPU's first contact and potted balls and ends within
@@ -22,7 +22,7 @@ use kisstime::study::{
 };
 
 fn dir() -> PathBuf {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/studies")).to_path_buf()
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/studies")).to_path_buf()
 }
 
 fn reference() -> (StudyConfig, Vec<CueStrike>) {

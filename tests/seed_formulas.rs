@@ -1,4 +1,4 @@
-//! The seed worksheet (`shared/seed/quartic-derivation.txt`, read with its `ERRATA.md`),
+//! The seed worksheet (`docs/reference/quartic-derivation.txt`, read with its `ERRATA.md`),
 //! implemented literally — rotated ball frame, `cos`/`sin`/`atan2` and all — as an
 //! independent derivation of the path and quartic coefficients, checked against the
 //! library's trigonometry-free table-frame form (`ball_path`, `RelPath::between`,

@@ -70,8 +70,8 @@ fn variant(replacements: &[(&str, &str)]) -> StudyConfig {
     StudyConfig::parse(&edited(replacements), "variant.toml", None).unwrap()
 }
 
-fn shared(path: &str) -> PathBuf {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/studies")).join(path)
+fn studies(path: &str) -> PathBuf {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/studies")).join(path)
 }
 
 fn text(bytes: &[u8]) -> String {
@@ -641,10 +641,7 @@ fn bad_scenarios_are_input_errors_naming_the_file_key_and_ball() {
     has(&m, &["table.kind", "no_such_table.json"]);
     // the same file, there, is read
     std::fs::copy(
-        concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared/fullshots/table.json"
-        ),
+        concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots/table.json"),
         dir.path().join("no_such_table.json"),
     )
     .unwrap();
@@ -691,7 +688,7 @@ fn example_file_is_the_builtin_study_and_sections_are_optional() {
     assert_eq!(hit[0].first, FirstContact::Ball(1));
     assert!(hit[0].cut_angle.abs() < 1e-9, "{:?}", hit[0]);
     // a reference-format scenario of the same layout gives the same study
-    let reference = shared("dev_scenario.json");
+    let reference = studies("dev_scenario.json");
     let r = StudyConfig::read_reference(&reference).unwrap();
     assert_eq!(r.balls, builtin.balls);
     assert_eq!(r.table, builtin.table);
@@ -844,7 +841,7 @@ fn cli_shots_same_seed_same_csv_whatever_the_threads_and_noise_flags() {
 
 /// The first `n` rows of the reference strikes, as text and as parsed strikes.
 fn dev_strikes(n: usize) -> (String, Vec<(i64, CueStrike)>) {
-    let all = std::fs::read_to_string(shared("dev_strikes.csv")).unwrap();
+    let all = std::fs::read_to_string(studies("dev_strikes.csv")).unwrap();
     let lines: Vec<&str> = all.lines().take(n + 1).collect();
     assert_eq!(lines[0], "sample,V0,phi,theta,a,b");
     let strikes = lines[1..]
@@ -960,7 +957,7 @@ fn cli_shots_evaluates_given_strikes_csv_and_npy() {
     let (csv_text, strikes) = dev_strikes(n);
     let strikes_csv = dir.path().join("strikes.csv");
     std::fs::write(&strikes_csv, &csv_text).unwrap();
-    let scenario = shared("dev_scenario.json");
+    let scenario = studies("dev_scenario.json");
     let out_csv = dir.path().join("out.csv");
     let out = common::run_kisstime(
         &[
@@ -1071,7 +1068,7 @@ fn cli_shots_bad_input_exits_2_and_leaves_no_output() {
     let dir = tempfile::tempdir().unwrap();
     let out_csv = dir.path().join("out.csv");
     let out_png = dir.path().join("out.png");
-    let scenario = shared("dev_scenario.json");
+    let scenario = studies("dev_scenario.json");
     let files_before = |extra: &[&Path]| {
         let mut names: Vec<String> = std::fs::read_dir(dir.path())
             .unwrap()

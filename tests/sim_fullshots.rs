@@ -1,4 +1,4 @@
-//! The full-shot reference set (`../shared/fullshots`, 300 pooltool 0.6.0 shots from the
+//! The full-shot reference set (`data/fullshots`, 300 pooltool 0.6.0 shots from the
 //! strike to rest): every shot is replayed through `kisstime::simulate`, the checker's
 //! `events.csv` and `final.csv` are written to a temporary folder, and the set's own
 //! judge, `check_fullshots.py`, must report every shot passed.

@@ -378,7 +378,7 @@ fn overlap_statistics() {
             survey(&table, &random_rack(k as u64, n, 0.5), 0, s, limits()),
         ));
     }
-    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fullshots"));
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots"));
     if let (Ok(set_table), Ok(shots)) = (
         read_table(dir),
         read_shots(dir, SimParams::default().ball.r),

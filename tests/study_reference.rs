@@ -1,4 +1,4 @@
-//! The shot-study reference (`../shared/studies`: one scenario, 2,000 noisy strikes and
+//! The shot-study reference (`data/studies`: one scenario, 2,000 noisy strikes and
 //! pooltool 0.6.0's full outcome for each): every strike is replayed through the same
 //! code as `kisstime shots --strikes` and compared with pooltool's row, sample by sample.
 //! pooltool's own sensitivity file flags no sample, so the target is every sample: the
@@ -14,7 +14,7 @@ use kisstime::study::{
 };
 
 fn dir() -> PathBuf {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/studies")).to_path_buf()
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/studies")).to_path_buf()
 }
 
 /// A CSV file's rows as maps from column to text.

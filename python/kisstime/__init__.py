@@ -305,7 +305,7 @@ def simulate(
     ``strikes`` (at most one per table, applied at t = 0) is a structured array of
     :data:`STRIKE_DTYPE` or a dict of its columns. ``table`` is ``"9ft"`` (pooltool's 9-ft
     pocket table), ``"rectangle"`` (its playing surface, no pockets) or the path of a JSON
-    table in the format of ``shared/fullshots/table.json``. A table is cut after
+    table in the format of ``data/fullshots/table.json``. A table is cut after
     ``max_events`` events or before an event later than ``max_time`` s (see
     ``outcomes['cut']``). The arrays' layouts are those of the command line's ``.npy``
     outputs (``-o``, ``--final``, ``--outcomes``); ``events['type']`` indexes
@@ -348,7 +348,7 @@ def table_ids(table: Union[str, os.PathLike] = "9ft") -> dict:
 class Scenario:
     """A shot study's scenario as text (picklable, so that Dask workers need no file):
     ``kind`` is ``builtin``, ``toml``, ``json`` (the reference format of
-    ``shared/studies``) or ``dict``. Make one with :func:`scenario`."""
+    ``data/studies``) or ``dict``. Make one with :func:`scenario`."""
 
     kind: str
     text: str = ""
@@ -363,7 +363,7 @@ def scenario(
     x: Union[None, str, os.PathLike, Mapping[str, Any], Scenario] = None, **sections: Any
 ) -> Scenario:
     """The scenario ``x`` names: ``None`` the built-in study; a path to a TOML study
-    (``examples/study.toml``'s format) or to a ``.json`` scenario in ``shared/studies``'
+    (``examples/study.toml``'s format) or to a ``.json`` scenario in ``data/studies``'
     format; a dict with the TOML file's schema (``{"balls": [...], "shot": {...}, ...}``).
     Or, with no ``x``, the sections as keyword arguments: ``scenario(balls=[{"id": "cue",
     "x": 0.6, "y": 0.5}, ...], shot={"cue_ball": "cue", "object_ball": 1, "v0": 1.5,
@@ -425,7 +425,7 @@ class Study:
     every count as ``{"count", "fraction", "ci95"}`` (Wilson 95 % interval), every
     statistic as ``{"n", "mean", "std", "p5", "p50", "p95"}``. ``samples`` has one row per
     sample (fields :data:`SAMPLE_FIELDS`), ``potted`` each sample's pocketed balls as
-    ``ball@pocket;…`` in order (``shared/studies``' vocabulary).
+    ``ball@pocket;…`` in order (``data/studies``' vocabulary).
     """
 
     summary: dict

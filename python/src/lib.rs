@@ -417,7 +417,7 @@ fn simulate<'py>(
 }
 
 /// A study's configuration from its kind and text: `builtin`, `toml` (with the folder
-/// its table file is relative to), `json` (the reference format of `shared/studies`),
+/// its table file is relative to), `json` (the reference format of `data/studies`),
 /// `dict` (the TOML schema as JSON text).
 fn config_of(kind: &str, text: &str, source: &str, dir: Option<&str>) -> PyResult<StudyConfig> {
     let dir = dir.map(std::path::Path::new);

@@ -20,7 +20,7 @@ import kisstime
 from arrays import balls_array, strike_columns
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-SHARED = ROOT.parent / "shared"
+DATA = ROOT / "data"
 
 
 def cli() -> str:
@@ -133,10 +133,10 @@ def test_shot_study_matches_the_cli(tmp_path):
 
 
 def test_shot_study_scenarios_strikes_and_modes():
-    scen = SHARED / "studies" / "dev_scenario.json"
-    strikes = np.genfromtxt(SHARED / "studies" / "dev_strikes.csv", delimiter=",", names=True)[:300]
+    scen = DATA / "studies" / "dev_scenario.json"
+    strikes = np.genfromtxt(DATA / "studies" / "dev_strikes.csv", delimiter=",", names=True)[:300]
     study = kisstime.shot_study(scen, strikes=strikes)
-    ref = list(csv.DictReader(open(SHARED / "studies" / "dev_full.csv")))[:300]
+    ref = list(csv.DictReader(open(DATA / "studies" / "dev_full.csv")))[:300]
     assert [r["potted"] for r in ref] == study.potted
     assert list(study.samples["sample"]) == [int(r["sample"]) for r in ref]
     # a dict scenario: the built-in study's TOML as a dict gives the built-in study

@@ -21,8 +21,8 @@ import pytest
 import kisstime
 import kisstime.dask
 
-# shared/ sits beside the repository (as for the crate's tests: CARGO_MANIFEST_DIR/../shared).
-STUDIES = Path(__file__).resolve().parents[2].parent / "shared" / "studies"
+# the reference sets live in the repository's data/ (as for the crate's tests: CARGO_MANIFEST_DIR/data).
+STUDIES = Path(__file__).resolve().parents[2] / "data" / "studies"
 DEV_SCENARIO = STUDIES / "dev_scenario.json"
 DEV_STRIKES = STUDIES / "dev_strikes.csv"
 STUDY_TOML = Path(__file__).resolve().parents[2] / "examples" / "study.toml"

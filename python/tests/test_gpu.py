@@ -18,12 +18,12 @@ import kisstime
 from arrays import balls_array, strike_columns
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-SHARED = ROOT.parent / "shared"
-SCENARIO = SHARED / "studies" / "dev_scenario.json"
+DATA = ROOT / "data"
+SCENARIO = DATA / "studies" / "dev_scenario.json"
 
 
 def strikes(n: int) -> np.ndarray:
-    return np.genfromtxt(SHARED / "studies" / "dev_strikes.csv", delimiter=",", names=True)[:n]
+    return np.genfromtxt(DATA / "studies" / "dev_strikes.csv", delimiter=",", names=True)[:n]
 
 
 def need_gpu(precision: str = "f64") -> None:

@@ -1,6 +1,6 @@
 """kisstime.pooltool: pooltool Systems converted, simulated by kisstime, compared with pooltool.
 
-Shots of the full-shot reference set (shared/fullshots: a break and ordinary shots, with
+Shots of the full-shot reference set (data/fullshots: a break and ordinary shots, with
 linear and circular cushion hits, a pot and a scratch) are built as pooltool ``System``s
 the way the set was made, converted with ``from_system``, simulated by
 ``kisstime.simulate`` and turned back with ``to_events``; the events must be pooltool's
@@ -42,8 +42,8 @@ from pooltool.objects.table.specs import PocketTableSpecs  # noqa: E402
 import kisstime  # noqa: E402
 import kisstime.pooltool as kpt  # noqa: E402
 
-# shared/ sits beside the repository (as for the crate's tests: CARGO_MANIFEST_DIR/../shared).
-FULLSHOTS = Path(__file__).resolve().parents[2].parent / "shared" / "fullshots"
+# the reference sets live in the repository's data/ (as for the crate's tests: CARGO_MANIFEST_DIR/data).
+FULLSHOTS = Path(__file__).resolve().parents[2] / "data" / "fullshots"
 
 # Times: 1e-9 relative or absolute (the longest shot here, a 859-event break, is within
 # 8.3e-10 s of pooltool; the ordinary shots within 1e-11 s).

@@ -60,7 +60,7 @@ pub enum Command {
     ///
     /// SCENARIO is a TOML file (table, balls, intended shot, called pocket, target circle,
     /// noise; see examples/study.toml), or a .json scenario in the format of
-    /// shared/studies; without it the built-in study runs. Prints the first contact (each
+    /// data/studies; without it the built-in study runs. Prints the first contact (each
     /// object ball, a cushion, nothing), the intended ball potted (and where), the cue ball
     /// potted (scratch), other balls potted, no ball hit, each with count, fraction and 95%
     /// confidence interval; the time to pot; where the cue ball ends (and how often in the
@@ -93,7 +93,7 @@ pub struct SimulateArgs {
     pub strikes: Option<PathBuf>,
     /// The table: `9ft` (pooltool's 9-ft pocket table), `rectangle` (its 1.27 × 2.54 m
     /// playing surface with four rails and no pockets) or a JSON file (the format of
-    /// shared/fullshots/table.json).
+    /// data/fullshots/table.json).
     #[arg(long, default_value = "9ft")]
     pub table: String,
     /// Write every event here (atomically; .npy by name).
@@ -189,7 +189,7 @@ pub struct GenArgs {
 #[derive(Args)]
 pub struct ShotsArgs {
     /// The study: TOML (see examples/study.toml) or a .json scenario in the format of
-    /// shared/studies. Default: the built-in study.
+    /// data/studies. Default: the built-in study.
     pub scenario: Option<PathBuf>,
     /// Number of noisy samples (ignored with --strikes).
     #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..))]

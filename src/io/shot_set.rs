@@ -1,4 +1,4 @@
-//! The full-shot reference set's files (`shared/fullshots/README.md`): reading its shots
+//! The full-shot reference set's files (`data/fullshots/README.md`): reading its shots
 //! (`shots.csv`, `initial.csv`, `table.json`) and writing a replay in the checker's format
 //! (`events.csv`: `shot,k,t,type,agents`; `final.csv`: `shot,ball,ball_id,state,x,y,pocket`).
 

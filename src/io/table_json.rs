@@ -1,4 +1,4 @@
-//! Tables from JSON: the layout of `shared/fullshots/table.json` (pooltool's table
+//! Tables from JSON: the layout of `data/fullshots/table.json` (pooltool's table
 //! description). Objects are read in text order with repeated keys kept — the order of a
 //! table's cushions and pockets is pooltool's detection order, and a repeated id is an
 //! error, not a silent overwrite — through `serde_json` (with `float_roundtrip`, so
@@ -124,7 +124,7 @@ pub fn table_by_name(name: &str) -> Result<Table, Error> {
 }
 
 impl Table {
-    /// A table from JSON in the format of `shared/fullshots/table.json`: either that whole
+    /// A table from JSON in the format of `data/fullshots/table.json`: either that whole
     /// file (the table under `"table"`) or the table object itself, with
     /// `linear_cushion_segments` (`{id: {p1: [x,y,z], p2: [x,y,z], direction}}`),
     /// `circular_cushion_segments` (`{id: {center: [x,y,z], radius}}`) and `pockets`
@@ -263,11 +263,8 @@ mod tests {
     use super::*;
 
     fn reference_json() -> String {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared/fullshots/table.json"
-        );
-        std::fs::read_to_string(path).expect("shared/fullshots/table.json beside the repo")
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots/table.json");
+        std::fs::read_to_string(path).expect("data/fullshots/table.json in the repository")
     }
 
     fn max_diff(a: &Table, b: &Table) -> f64 {

@@ -7,7 +7,7 @@
 //!   `create_pocket_table_pockets`), restated in spec §6.2–6.4; [`Table::nine_foot`] is the
 //!   9-ft one (`Table.from_table_specs(PocketTableSpecs(l=2.54, w=1.27))`).
 //! - [`Table::rectangle`]: four rails and no pockets.
-//! - [`Table::from_json`]: a table in the format of `shared/fullshots/table.json`, checked.
+//! - [`Table::from_json`]: a table in the format of `data/fullshots/table.json`, checked.
 
 use crate::error::SimError;
 use crate::model::vec3::Vec3;

@@ -2,7 +2,7 @@
 //!
 //! Between events every ball that moves follows a quadratic path
 //! `r(t) = c + b t + a t²` until its next motion transition (the derivation is in
-//! `shared/seed/quartic-derivation.txt`, read with its `ERRATA.md`):
+//! `docs/reference/quartic-derivation.txt`, read with its `ERRATA.md`):
 //!
 //! | state                    | `a` (half the acceleration)          | `b`   | motion time `tmax`   |
 //! |--------------------------|--------------------------------------|-------|----------------------|

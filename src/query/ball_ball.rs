@@ -15,7 +15,7 @@
 //!    `H` is not a collision of these paths.
 //!
 //! # Method
-//! Bracket, don't enumerate (see `shared/notes/numerics.md`). The real roots of `f''`
+//! Bracket, don't enumerate (see `docs/reference/numerics.md`). The real roots of `f''`
 //! (a quadratic, solved with the stable formula) split `[0, H]` into pieces on which `f'`
 //! is monotone; a sign change of `f'` on a piece brackets a critical point of `f`, found
 //! by [`refine_root`]. Critical points and inflection points together split `[0, H]` into
@@ -104,7 +104,7 @@ impl RelPath {
     /// `a = |A|²`, `b = 2 A·B`, `c = |B|² + 2 A·C`, `d = 2 B·C`, `e = |C|² − 4R²`.
     ///
     /// The solver never evaluates this form (cancellation in `e` costs accuracy, see
-    /// `shared/notes/numerics.md`); it is here for inspection and tests.
+    /// `docs/reference/numerics.md`); it is here for inspection and tests.
     pub fn quartic(&self, radius: f64) -> [f64; 5] {
         let (a, b, c) = (self.a, self.b, self.c);
         [

@@ -1,5 +1,5 @@
 //! Resolutions: what an event does to the balls it involves (pooltool 0.6.0's default
-//! resolver, `shared/notes/pooltool-physics.md` §5):
+//! resolver, `docs/reference/pooltool-physics.md` §5):
 //!
 //! - [`stick_ball`]: the cue strike (instantaneous point contact with squirt);
 //! - [`ball_ball`]: `frictional_inelastic` with Alciatore's friction, after make_kiss;

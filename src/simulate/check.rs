@@ -238,7 +238,7 @@ mod tests {
             check_layout(&table, R, &[a, nan]),
             Err(SimError::Ball { index: 1, .. })
         ));
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fullshots");
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots");
         if let Ok(shots) =
             crate::io::shot_set::read_shots(std::path::Path::new(dir), SimParams::default().ball.r)
         {

@@ -1,7 +1,7 @@
 //! # simulate — pooltool 0.6.0's event-based shot simulation
 //!
 //! A re-implementation of `pt.simulate(system)` with pooltool's default resolver on its
-//! pocket tables, following `shared/notes/pooltool-physics.md` (cited below as "spec §N"),
+//! pocket tables, following `docs/reference/pooltool-physics.md` (cited below as "spec §N"),
 //! down to the quirks its event sequences depend on. f64 throughout; plain functions
 //! over plain `Copy` structs, with the vocabulary pooltool uses: **evolve** (motion
 //! between events), **detect** (when the next event of each kind comes), **resolve**
@@ -17,7 +17,7 @@
 //! | the loop | here: [`cache`], [`event_loop`], [`events`] |
 //! | layout checks, many tables at once | here: [`check`], [`batch`] ([`simulate_batch`]) |
 //!
-//! Agreement: on `shared/fullshots` (300 pooltool shots, 26,936 events) every event
+//! Agreement: on `data/fullshots` (300 pooltool shots, 26,936 events) every event
 //! sequence is identical to pooltool's and `check_fullshots.py` passes 300 of 300
 //! (`tests/sim_fullshots.rs`).
 //!

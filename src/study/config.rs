@@ -10,7 +10,7 @@
 //!
 //! ```toml
 //! [table]            # optional: "9ft" (the default), "rectangle", or a JSON table file
-//! kind = "9ft"       #   (the format of shared/fullshots/table.json; relative paths are
+//! kind = "9ft"       #   (the format of data/fullshots/table.json; relative paths are
 //!                    #   taken from the study file's folder)
 //!
 //! [physics]          # optional, each key too: pooltool 0.6.0's defaults

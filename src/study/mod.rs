@@ -3,7 +3,7 @@
 //! and what came of it: the first contact, the balls potted, where the cue ball ended.
 //!
 //! - [`config`]: the study file (TOML, the simulator's frame) and the built-in study;
-//! - [`reference`](mod@reference): the reference format of `shared/studies` (pooltool's scenario JSON,
+//! - [`reference`](mod@reference): the reference format of `data/studies` (pooltool's scenario JSON,
 //!   its outcome columns);
 //! - [`noise`]: each sample's noisy strike;
 //! - [`run`]: the driver over samples on the event loop ([`crate::simulate`]), to rest or

@@ -1,4 +1,4 @@
-//! The shot-study reference format (`shared/studies/README.md`): a scenario as JSON in
+//! The shot-study reference format (`data/studies/README.md`): a scenario as JSON in
 //! pooltool's frame and vocabulary, and one outcome row per sample with pooltool's columns
 //! ([`REFERENCE_COLUMNS`]), so that a study can be checked against pooltool sample by
 //! sample (`examples/replay_study.rs`, `tests/study_reference.rs`).

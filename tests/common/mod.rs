@@ -257,9 +257,9 @@ pub fn plain_array_npy<T: npyz::AutoSerialize + Copy>(shape: &[u64], values: &[T
     bytes
 }
 
-/// The full-shot reference set's folder (`../shared/fullshots`).
+/// The full-shot reference set's folder (`data/fullshots`).
 pub fn fullshots_dir() -> std::path::PathBuf {
-    std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fullshots")).to_path_buf()
+    std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots")).to_path_buf()
 }
 
 /// Runs the set's judge, `check_fullshots.py`, on a replay in `out` (its `events.csv` and
