@@ -1,6 +1,6 @@
 //! The GPU event loop (`shaders/simulate/event_loop.wgsl`, host `kisstime::gpu::GpuSimulator`)
 //! against the CPU's (`kisstime::simulate::EventLoop`) on the full-shot reference set
-//! (`../shared/fullshots`, 300 pooltool shots from the strike to rest; shots 0–99 are
+//! (`data/fullshots`, 300 pooltool shots from the strike to rest; shots 0–99 are
 //! breaks, 100–299 ordinary shots). In f64:
 //! - every ordinary shot gives the CPU's events (kinds and agents in the same order, times
 //!   within 1e-9 s) and final states (within 1e-6 m);
@@ -187,6 +187,21 @@ fn judge(
     Some((passed, failed))
 }
 
+/// The reference set's table and its shots `range` as GPU inputs.
+fn reference_shots(range: std::ops::Range<usize>) -> (kisstime::simulate::Table, Vec<GpuShot>) {
+    let dir = common::fullshots_dir();
+    let table = read_table(&dir).unwrap();
+    let shots = read_shots(&dir, SimParams::default().ball.r).unwrap();
+    let inputs = shots[range]
+        .iter()
+        .map(|s| GpuShot {
+            balls: s.balls.clone(),
+            strike: Some((s.cue, s.strike)),
+        })
+        .collect();
+    (table, inputs)
+}
+
 /// Chunks and dispatch lengths change nothing: the 200 ordinary shots in chunks of 7
 /// tables and 17 events per dispatch give exactly the runs of one chunk of 32-event
 /// dispatches (the states go through storage between dispatches bit for bit).
@@ -195,17 +210,8 @@ fn chunks_and_dispatch_lengths_do_not_change_the_runs() {
     let Some(mut gpu) = open(Precision::F64, "gpu_event_loop chunks") else {
         return;
     };
-    let dir = common::fullshots_dir();
     let params = SimParams::default();
-    let table = read_table(&dir).unwrap();
-    let shots = read_shots(&dir, params.ball.r).unwrap();
-    let inputs: Vec<GpuShot> = shots[100..]
-        .iter()
-        .map(|s| GpuShot {
-            balls: s.balls.clone(),
-            strike: Some((s.cue, s.strike)),
-        })
-        .collect();
+    let (table, inputs) = reference_shots(100..300);
     let whole = gpu
         .simulate(&table, params, Limits::default(), &inputs, true)
         .unwrap();
@@ -255,17 +261,8 @@ fn the_workgroups_thread_count_does_not_change_the_runs() {
     let Some(mut gpu) = open(Precision::F64, "gpu_event_loop threads") else {
         return;
     };
-    let dir = common::fullshots_dir();
     let params = SimParams::default();
-    let table = read_table(&dir).unwrap();
-    let shots = read_shots(&dir, params.ball.r).unwrap();
-    let inputs: Vec<GpuShot> = shots[100..160]
-        .iter()
-        .map(|s| GpuShot {
-            balls: s.balls.clone(),
-            strike: Some((s.cue, s.strike)),
-        })
-        .collect();
+    let (table, inputs) = reference_shots(100..160);
     let wide = gpu
         .simulate(&table, params, Limits::default(), &inputs, true)
         .unwrap();
