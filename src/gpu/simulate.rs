@@ -616,7 +616,8 @@ impl GpuSimulator {
         host_u.resize(len_u as usize, 0);
         let layout_checked = matches!(input, Input::Strikes { .. });
         let make_runs = watch_cue == NO_WATCH;
-        type Block = (Vec<Option<EventRecord>>, Vec<GpuRun>);
+        // a block's strike records (with their tables' places in the chunk) and its runs
+        type Block = (Vec<(usize, EventRecord)>, Vec<GpuRun>);
         let packed: Vec<Result<Block, Error>> = host_r
             .par_chunks_mut(PACK_BLOCK * IO_REALS * real)
             .zip(host_u.par_chunks_mut(PACK_BLOCK * IO_UINTS * 4))
@@ -652,9 +653,8 @@ impl GpuSimulator {
                     };
                     let record =
                         pack_table(table, &params, limits, shot, record, &mut sr, &mut su)?;
-                    if record.is_some() || !strikes.is_empty() {
-                        strikes.resize(j, None);
-                        strikes.push(record);
+                    if let Some(record) = record {
+                        strikes.push((k, record));
                     }
                     let at_r = j * IO_REALS * real;
                     put_reals(precision, &sr, &mut dst_r[at_r..at_r + IO_REALS * real]);
@@ -667,15 +667,10 @@ impl GpuSimulator {
         let mut strikes: Vec<(usize, EventRecord)> = Vec::new();
         let mut runs: Vec<GpuRun> = Vec::with_capacity(if make_runs { n_tables } else { 0 });
         let mut failed = None;
-        for (b, block) in packed.into_iter().enumerate() {
+        for block in packed {
             match block {
-                Ok((block, block_runs)) => {
-                    strikes.extend(
-                        block
-                            .into_iter()
-                            .enumerate()
-                            .filter_map(|(j, r)| r.map(|r| (b * PACK_BLOCK + j, r))),
-                    );
+                Ok((block_strikes, block_runs)) => {
+                    strikes.extend(block_strikes);
                     runs.extend(block_runs);
                 }
                 Err(e) => {
