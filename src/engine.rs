@@ -23,16 +23,24 @@
 use crate::batch::{Batch, NextCollision};
 use crate::cpu;
 use crate::error::Error;
-use crate::gpu::{GPU_MAX_BALLS, GpuEngine, GpuRun, GpuShot, GpuSimulator};
+use crate::error::SimError;
+use crate::gpu::{GpuEngine, GpuRun, GpuShot, GpuSimulator};
 use crate::model::Params;
 pub use crate::model::Precision;
+use crate::model::ball_state::BallState;
 use crate::model::sim_params::SimParams;
 use crate::model::table::Table;
 use crate::query::ball_ball::Contact;
 use crate::resolve::stick_ball::CueStrike;
-use crate::simulate::check::check_layout;
-use crate::simulate::{BatchError, BatchOptions, EventLoop, Limits, MAX_BALLS, simulate_batch};
+use crate::simulate::batch::check_table;
+use crate::simulate::{
+    BatchError, BatchOptions, BatchStats, Chunk, EventLoop, Limits, MAX_BALLS, simulate_batch,
+};
+use std::ops::Range;
+use std::time::Instant;
+
 use crate::study::{self, Noise, RunOptions, Sample, StudyConfig};
+use rayon::prelude::*;
 
 /// Whole-shot batches and studies of fewer tables (samples) than this many per CPU
 /// thread run on the CPU under `auto` ([`auto_gpu_min_tables`]): below it the GPU's fixed
@@ -46,6 +54,15 @@ pub const AUTO_GPU_MIN_TABLES_PER_THREAD: usize = 512;
 /// measured on an H200 beside 16 threads (BENCHMARKS.md), the GPU's study of 10⁶ samples
 /// ran at 470k samples/s end to end and the CPU's at 732k, ~46k a thread.
 pub const AUTO_STUDY_MAX_CPU_THREADS: usize = 8;
+
+/// Tables per chunk of [`ShotEngine::simulate_with`] on the GPU without recorded events:
+/// large enough to fill an H200 (its event loop runs one workgroup a table), small enough
+/// that a chunk's final states (~1 KB a table) stay a few hundred MB.
+pub const GPU_STREAM_TABLES: usize = 1 << 18;
+
+/// Tables per chunk of [`ShotEngine::simulate_with`] on the GPU when events are recorded:
+/// a chunk of breaks (~200 events each, ~200 bytes an event kept) holds some 650 MB.
+pub const GPU_STREAM_TABLES_EVENTS: usize = 1 << 14;
 
 /// The smallest batch `auto` sends to the GPU here: [`AUTO_GPU_MIN_TABLES_PER_THREAD`]
 /// times the CPU threads (8,192 with 16).
@@ -362,14 +379,16 @@ fn redone(batch: &Batch, tables: &std::ops::Range<usize>) -> &'static str {
 /// fallback (`auto`), reusable across many batches.
 ///
 /// `auto` opens the GPU when it works in the precision asked for and otherwise uses the
-/// CPU, with a note; a table or study of more than [`GPU_MAX_BALLS`] balls is run on the
-/// CPU with a note; a GPU failure during a batch (device lost, failed dispatch, failed
+/// CPU, with a note; tables of any ball count the CPU takes (up to [`crate::gpu::GPU_MAX_BALLS`]) run on
+/// the GPU (on the build for the largest table's bucket); a GPU failure during a batch (device lost, failed dispatch, failed
 /// readback) redoes that batch on the CPU in f64 with a note, and the CPU is used from then
 /// on. `gpu` reports each of these as an error. Bad input is an error on every backend.
 pub struct ShotEngine {
     chosen: Chosen<GpuSimulator>,
     /// Whether the last call ran on the CPU although a GPU is open (`auto`, a small batch).
     last_on_cpu: bool,
+    /// Tables per GPU chunk of [`ShotEngine::simulate_with`], where set (else the defaults).
+    gpu_chunk: Option<usize>,
 }
 
 impl ShotEngine {
@@ -394,12 +413,20 @@ impl ShotEngine {
         Ok(ShotEngine {
             chosen: Chosen::open(backend, precision, rule, "simulating")?,
             last_on_cpu: false,
+            gpu_chunk: None,
         })
     }
 
     /// The backend asked for.
     pub fn backend(&self) -> Backend {
         self.chosen.backend
+    }
+
+    /// Sets the tables per GPU chunk of [`ShotEngine::simulate_with`] (at least 1; `None`:
+    /// [`GPU_STREAM_TABLES`] or [`GPU_STREAM_TABLES_EVENTS`]). The results do not depend on
+    /// it; only memory and speed do.
+    pub fn set_gpu_chunk_tables(&mut self, tables: Option<usize>) {
+        self.gpu_chunk = tables.map(|n| n.max(1));
     }
 
     /// The GPU event loop in use, if any.
@@ -422,52 +449,114 @@ impl ShotEngine {
         std::mem::take(&mut self.chosen.notes)
     }
 
-    /// [`Chosen::run`] for work of at most `n_balls` balls a table: more than
-    /// [`GPU_MAX_BALLS`] is an error with `gpu` and the CPU's work with `auto`.
-    #[allow(clippy::too_many_arguments)]
+    /// Whether a call of `n_tables` tables (samples; `study`: a shot study) runs on the
+    /// CPU: there is no GPU, or `auto` measured the CPU faster for a batch this small, or
+    /// for a study on this many threads. The one place the backend is chosen per call.
+    fn cpu_for(&self, n_tables: usize, study: bool) -> bool {
+        self.chosen.gpu.is_none()
+            || (self.chosen.backend == Backend::Auto
+                && self.chosen.rule == AutoRule::Measured
+                && (n_tables < auto_gpu_min_tables()
+                    || (study && rayon::current_num_threads() > AUTO_STUDY_MAX_CPU_THREADS)))
+    }
+
+    /// [`Chosen::run`] for work of `n_tables` tables (samples), on the CPU where
+    /// [`ShotEngine::cpu_for`] says so.
     fn run<T>(
         &mut self,
         what: &str,
-        n_balls: usize,
         n_tables: usize,
         study: bool,
         on_gpu: impl FnOnce(&mut GpuSimulator) -> Result<T, Error>,
         on_cpu: impl FnOnce() -> Result<T, Error>,
     ) -> Result<T, Error> {
         self.last_on_cpu = false;
-        if self.chosen.gpu.is_some()
-            && self.chosen.backend == Backend::Auto
-            && self.chosen.rule == AutoRule::Measured
-            && (n_tables < auto_gpu_min_tables()
-                || (study && rayon::current_num_threads() > AUTO_STUDY_MAX_CPU_THREADS))
-        {
-            // the CPU is faster for a batch this small, or for a study on this many threads
+        if self.chosen.gpu.is_some() && self.cpu_for(n_tables, study) {
             self.last_on_cpu = true;
             return on_cpu();
-        }
-        if self.chosen.gpu.is_some() && n_balls > GPU_MAX_BALLS {
-            let why = format!(
-                "{what} has tables of {n_balls} balls; the GPU event loop takes at most \
-                 {GPU_MAX_BALLS}"
-            );
-            if self.chosen.backend == Backend::Auto {
-                self.chosen
-                    .notes
-                    .push(format!("{why}: simulated on the CPU in f64"));
-                self.last_on_cpu = true;
-                return on_cpu();
-            }
-            return Err(Error::Unsupported(why));
         }
         self.chosen.run(&format!("{what} was"), on_gpu, on_cpu)
     }
 
-    /// Simulates every shot on `table` to rest (or to a limit), in shot order, as
-    /// [`GpuSimulator::simulate`] does; on the CPU through
-    /// [`crate::simulate::simulate_batch`]. Every table is checked first, on the host, as
-    /// `simulate_batch` checks it (`check_layout` and [`EventLoop::reset`]): the first bad
-    /// one is [`BatchError::Table`] with its position, whatever the backend; any other
-    /// error is [`BatchError::Sink`].
+    /// **The** whole-shot entry point: simulates `n_tables` tables on `table` from the
+    /// strike to rest (or to a limit) on this engine's backend, and hands the results to
+    /// `sink` one [`Chunk`] at a time, in table order, with bounded memory whatever
+    /// `n_tables` is. The CLI's `simulate`, the Python module and every other caller come
+    /// through here; none of them chooses a backend or converts results itself.
+    ///
+    /// `input(k, balls)` is [`simulate_batch`]'s: it fills `balls` with table `k`'s balls
+    /// (pooltool's ball order) and returns its strike. Each table is checked as
+    /// `simulate_batch` checks it, whatever the backend ([`crate::simulate::check_layout`] when
+    /// `options.check_layout`, and [`EventLoop::reset`]); the first bad table in table order
+    /// stops the run with [`BatchError::Table`] before its chunk reaches the sink. A sink
+    /// error is [`BatchError::Sink`]; a backend error (a GPU failure with `gpu`) is
+    /// `BatchError::Sink` too, carried as `E: From<Error>`.
+    ///
+    /// Backends: the CPU runs [`simulate_batch`] (chunks of `options.chunk_tables`); the GPU
+    /// runs chunks of [`GPU_STREAM_TABLES`] tables ([`GPU_STREAM_TABLES_EVENTS`] when events
+    /// are recorded; [`ShotEngine::set_gpu_chunk_tables`] changes it), each through [`GpuSimulator::simulate`]. `auto` decides for the whole
+    /// call ([`auto_gpu_min_tables`]); a GPU failure redoes that chunk and the rest on the
+    /// CPU, with a note. The results are the same on every backend (bit for bit in f64 on
+    /// the reference sets; see the README).
+    ///
+    /// [`BatchStats::sim_seconds`] counts the simulation only, not the sink's time.
+    #[allow(clippy::too_many_arguments)]
+    pub fn simulate_with<E: From<Error>>(
+        &mut self,
+        table: &Table,
+        params: SimParams,
+        options: &BatchOptions,
+        n_tables: usize,
+        input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError>
+        + Sync,
+        mut sink: impl FnMut(&Chunk) -> Result<(), E>,
+    ) -> Result<BatchStats, BatchError<E>> {
+        self.last_on_cpu = false;
+        if self.cpu_for(n_tables, false) {
+            self.last_on_cpu = self.chosen.gpu.is_some();
+            return simulate_batch(table, params, options, n_tables, input, sink);
+        }
+        // the parameters, checked once
+        EventLoop::new(table, params, options.limits, 0)
+            .map_err(|error| BatchError::Table { table: 0, error })?;
+        let per = self.gpu_chunk.unwrap_or(if options.record_events {
+            GPU_STREAM_TABLES_EVENTS
+        } else {
+            GPU_STREAM_TABLES
+        });
+        let mut stats = BatchStats::default();
+        for start in (0..n_tables).step_by(per) {
+            let end = n_tables.min(start + per);
+            let started = Instant::now();
+            let shots = checked_shots(table, params, options, start..end, &input)
+                .map_err(|(table, error)| BatchError::Table { table, error })?;
+            let (limits, record) = (options.limits, options.record_events);
+            let runs = self
+                .run(
+                    "the batch",
+                    n_tables,
+                    false,
+                    |g| g.simulate(table, params, limits, &shots, record),
+                    || simulate_on_cpu(table, params, limits, &shots, record),
+                )
+                .map_err(|e| BatchError::Sink(E::from(e)))?;
+            drop(shots);
+            let mut chunk = Chunk::empty(start);
+            for run in &runs {
+                chunk.push(&run.events, &run.balls, run.outcome);
+            }
+            drop(runs);
+            stats.sim_seconds += started.elapsed().as_secs_f64();
+            stats.tables += chunk.len();
+            stats.events += chunk.n_events();
+            stats.cut += chunk.iter().filter(|r| r.outcome.cut.is_some()).count();
+            sink(&chunk).map_err(BatchError::Sink)?;
+        }
+        Ok(stats)
+    }
+
+    /// Every shot of `shots` simulated through [`ShotEngine::simulate_with`] and collected
+    /// (one [`GpuRun`] a shot, in shot order): for callers that hold the whole batch.
     pub fn simulate(
         &mut self,
         table: &Table,
@@ -476,23 +565,26 @@ impl ShotEngine {
         shots: &[GpuShot],
         record_events: bool,
     ) -> Result<Vec<GpuRun>, BatchError<Error>> {
-        let mut lp = EventLoop::new(table, params, limits, MAX_BALLS)
-            .map_err(|error| BatchError::Table { table: 0, error })?;
-        for (k, shot) in shots.iter().enumerate() {
-            check_layout(table, params.ball.r, &shot.balls)
-                .and_then(|()| lp.reset(&shot.balls, shot.strike))
-                .map_err(|error| BatchError::Table { table: k, error })?;
-        }
-        let n_balls = shots.iter().map(|s| s.balls.len()).max().unwrap_or(0);
-        self.run(
-            "the batch",
-            n_balls,
-            shots.len(),
-            false,
-            |g| g.simulate(table, params, limits, shots, record_events),
-            || simulate_on_cpu(table, params, limits, shots, record_events),
-        )
-        .map_err(BatchError::Sink)
+        let options = BatchOptions {
+            limits,
+            record_events,
+            ..BatchOptions::default()
+        };
+        let mut runs = Vec::with_capacity(shots.len());
+        let input = |k: usize, balls: &mut Vec<BallState>| {
+            balls.clear();
+            balls.extend_from_slice(&shots[k].balls);
+            Ok(shots[k].strike)
+        };
+        self.simulate_with(table, params, &options, shots.len(), input, |chunk| {
+            runs.extend(chunk.iter().map(|run| GpuRun {
+                events: run.events.to_vec(),
+                balls: run.balls.to_vec(),
+                outcome: run.outcome,
+            }));
+            Ok::<(), Error>(())
+        })?;
+        Ok(runs)
     }
 
     /// [`study::run_study`] on this backend ([`study::run_study_gpu`] on the GPU).
@@ -508,7 +600,6 @@ impl ShotEngine {
         let progress = std::cell::RefCell::new(progress);
         self.run(
             "the study",
-            config.balls.len(),
             samples,
             true,
             |g| {
@@ -535,7 +626,6 @@ impl ShotEngine {
         let progress = std::cell::RefCell::new(progress);
         self.run(
             "the study",
-            config.balls.len(),
             strikes.len(),
             true,
             |g| {
@@ -552,7 +642,37 @@ impl ShotEngine {
     }
 }
 
-/// [`ShotEngine::simulate`] on the CPU.
+/// Tables `tables` from `input`, each checked as [`simulate_batch`] checks it (Rayon over
+/// tables): the shots for the GPU, or the first bad table's position and error.
+fn checked_shots(
+    table: &Table,
+    params: SimParams,
+    options: &BatchOptions,
+    tables: Range<usize>,
+    input: &(impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync),
+) -> Result<Vec<GpuShot>, (usize, SimError)> {
+    let limits = options.limits;
+    let shots: Vec<Result<GpuShot, (usize, SimError)>> = tables
+        .into_par_iter()
+        .map_init(
+            || EventLoop::new(table, params, limits, MAX_BALLS),
+            |lp, k| {
+                let fail = |e| (k, e);
+                // cannot fail: the parameters were checked before
+                let lp = lp
+                    .as_mut()
+                    .map_err(|_| fail(SimError::Table("no event loop".to_owned())))?;
+                let mut balls = Vec::new();
+                let strike = input(k, &mut balls).map_err(fail)?;
+                check_table(lp, table, params.ball.r, options, &balls, strike).map_err(fail)?;
+                Ok(GpuShot { balls, strike })
+            },
+        )
+        .collect();
+    shots.into_iter().collect()
+}
+
+/// [`ShotEngine::simulate_with`]'s chunk on the CPU, where the GPU fell back.
 fn simulate_on_cpu(
     table: &Table,
     params: SimParams,
@@ -563,12 +683,12 @@ fn simulate_on_cpu(
     let options = BatchOptions {
         limits,
         record_events,
-        // ShotEngine::simulate checked every layout already
+        // ShotEngine::simulate_with checked every table already
         check_layout: false,
         ..BatchOptions::default()
     };
     let mut runs = Vec::with_capacity(shots.len());
-    let input = |k: usize, balls: &mut Vec<crate::model::ball_state::BallState>| {
+    let input = |k: usize, balls: &mut Vec<BallState>| {
         balls.clear();
         balls.extend_from_slice(&shots[k].balls);
         Ok(shots[k].strike)

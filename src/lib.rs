@@ -25,6 +25,8 @@
 //! - [`gpu`]: the GPU backend (wgpu host code; each WGSL twin in `shaders/` mirrors its
 //!   Rust file: `shaders/query/ball_ball.wgsl` beside `src/query/ball_ball.rs`);
 //! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback, and the defaults;
+//!   the one whole-shot entry point, [`engine::ShotEngine::simulate_with`], which streams
+//!   either backend's results to a sink (the CLI, Python and every new capability use it);
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
 //! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files;
 //! - [`study`]: Monte Carlo shot studies — one shot under cue noise (or given strikes),

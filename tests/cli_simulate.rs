@@ -494,13 +494,27 @@ fn bad_input_exits_2_names_the_place_and_writes_nothing() {
         2,
         &["in.csv", "table 4", "at most 64"],
     );
-    // --max-time must be positive
+    // the limits, by the one rule every entry point applies (Limits::new)
     check(
         BALLS,
         &good_strikes,
         &["--max-time", "0"],
         2,
-        &["--max-time"],
+        &["max_time 0: it must be greater than 0 s"],
+    );
+    check(
+        BALLS,
+        &good_strikes,
+        &["--max-time", "nan"],
+        2,
+        &["max_time NaN: it must be greater than 0 s"],
+    );
+    check(
+        BALLS,
+        &good_strikes,
+        &["--max-events", "0"],
+        2,
+        &["max_events 0: it must be at least 1"],
     );
 }
 

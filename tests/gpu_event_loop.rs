@@ -275,3 +275,103 @@ fn the_workgroups_thread_count_does_not_change_the_runs() {
     }
     assert!(GpuSimulator::with_loop_threads(Precision::F64, 48).is_err());
 }
+
+/// Tables of `n` balls on the 9-ft table, spread on a jittered grid (no overlap), the cue
+/// ball (ball 0) struck hard in a different direction on each table: many collisions.
+fn crowded_shots(n: usize, tables: usize) -> Vec<GpuShot> {
+    let r = SimParams::default().ball.r;
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64 ^ n as u64;
+    let mut uniform = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (cols, rows) = (6usize, n.div_ceil(6));
+    let (dx, dy) = (1.17 / cols as f64, 2.44 / rows as f64);
+    (0..tables)
+        .map(|_| {
+            let balls = (0..n)
+                .map(|i| {
+                    let (c, w) = (i % cols, i / cols);
+                    let x = 0.05 + dx * (c as f64 + 0.5) + (uniform() - 0.5) * (dx - 2.5 * r);
+                    let y = 0.05 + dy * (w as f64 + 0.5) + (uniform() - 0.5) * (dy - 2.5 * r);
+                    kisstime::simulate::BallState::at_rest(x, y, r)
+                })
+                .collect();
+            let strike = kisstime::simulate::CueStrike {
+                v0: 2.5 + 2.0 * uniform(),
+                phi: 360.0 * uniform(),
+                theta: 0.0,
+                a: 0.2 * (uniform() - 0.5),
+                b: 0.4 * (uniform() - 0.5),
+            };
+            GpuShot {
+                balls,
+                strike: Some((0, strike)),
+            }
+        })
+        .collect()
+}
+
+/// Any ball count up to 64 on the GPU (issue 25): tables of 22 balls (a snooker rack's
+/// count) run on the 32-ball build, tables of 40 on the 48-ball one and of 64 on the
+/// 64-ball one, in f64, with the CPU's events (kinds, agents, times within 1e-9 s) and
+/// final states; a batch that mixes counts runs on the bucket of its largest; 65 balls is
+/// refused.
+#[test]
+fn tables_of_22_40_and_64_balls_run_as_on_the_cpu() {
+    let Some(mut gpu) = open(Precision::F64, "gpu_event_loop 22 and 40 balls") else {
+        return;
+    };
+    let table = kisstime::simulate::Table::nine_foot();
+    let params = SimParams::default();
+    let limits = Limits {
+        max_events: 3_000,
+        ..Limits::default()
+    };
+    for (n, tables) in [(22, 6), (40, 4), (64, 1)] {
+        let mut inputs = crowded_shots(n, tables);
+        // a small table in the same batch: it runs on the large build too
+        inputs.push(crowded_shots(3, 1).remove(0));
+        let runs = gpu
+            .simulate(&table, params, limits, &inputs, true)
+            .unwrap_or_else(|e| panic!("{n} balls: {e}"));
+        let mut collisions = 0;
+        for (k, (shot, run)) in inputs.iter().zip(&runs).enumerate() {
+            let mut events = Vec::new();
+            let mut last = shot.balls.clone();
+            simulate(&table, params, limits, &shot.balls, shot.strike, |e, b| {
+                events.push(EventRecord::new(*e, b));
+                last = b.to_vec();
+            })
+            .unwrap();
+            if let Some(why) = first_difference(&run.events, &events, 1e-9) {
+                panic!("{n} balls, table {k}: {why}");
+            }
+            for (i, (g, c)) in run.balls.iter().zip(&last).enumerate() {
+                assert!(
+                    (g.r - c.r).norm() < 1e-9 && g.s == c.s,
+                    "{n} balls, table {k}, ball {i}: {g:?} vs {c:?}"
+                );
+            }
+            collisions += events
+                .iter()
+                .filter(|e| e.event.kind == kisstime::simulate::EventKind::BallBall)
+                .count();
+        }
+        println!(
+            "{n} balls: {} tables, {collisions} ball-ball collisions",
+            runs.len()
+        );
+        assert!(
+            collisions >= 3 * tables,
+            "{n} balls: {collisions} collisions"
+        );
+    }
+    let too_many = crowded_shots(65, 1);
+    let err = gpu
+        .simulate(&table, params, limits, &too_many, false)
+        .unwrap_err();
+    assert!(err.to_string().contains("at most 64"), "{err}");
+}

@@ -134,7 +134,7 @@ fn a_fault_mid_study_is_redone_on_the_cpu_in_auto() {
 }
 
 #[test]
-fn bad_tables_are_input_errors_on_every_backend_and_large_tables_go_to_the_cpu_in_auto() {
+fn bad_tables_are_input_errors_on_every_backend_and_large_tables_run_on_the_gpu() {
     let (table, mut inputs) = shots();
     let params = SimParams::default();
     let limits = Limits::default();
@@ -158,37 +158,143 @@ fn bad_tables_are_input_errors_on_every_backend_and_large_tables_go_to_the_cpu_i
             "{backend:?}: no fallback for bad input"
         );
     }
-    // 17 balls: more than the GPU event loop takes
+    // 17 balls: the GPU's 32-ball build, no fallback; 65: more than any backend takes
     let (_, inputs) = shots();
-    let mut big = inputs[0].clone();
-    let mut extra = big.balls[1];
-    extra.r.x = 0.3;
-    extra.r.y = 0.3;
-    extra.v = kisstime::model::vec3::Vec3::new(0.0, 0.0, 0.0);
-    extra.w = kisstime::model::vec3::Vec3::new(0.0, 0.0, 0.0);
-    extra.s = kisstime::MotionState::Stationary;
-    while big.balls.len() < 17 {
-        let mut b = extra;
-        b.r.y += 0.06 * big.balls.len() as f64;
-        big.balls.push(b);
+    let grown = |n: usize| {
+        let mut big = inputs[0].clone();
+        let mut extra = big.balls[1];
+        extra.r.x = 0.3;
+        extra.r.y = 0.3;
+        extra.v = kisstime::model::vec3::Vec3::new(0.0, 0.0, 0.0);
+        extra.w = kisstime::model::vec3::Vec3::new(0.0, 0.0, 0.0);
+        extra.s = kisstime::MotionState::Stationary;
+        while big.balls.len() < n {
+            let mut b = extra;
+            let k = big.balls.len() - inputs[0].balls.len();
+            b.r.x += 0.07 * (k % 12) as f64;
+            b.r.y += 0.07 * (k / 12) as f64;
+            big.balls.push(b);
+        }
+        big
+    };
+    let big = grown(17);
+    let one = std::slice::from_ref(&big);
+    let mut cpu = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let on_cpu = cpu.simulate(&table, params, limits, one, false).unwrap();
+    for backend in [Backend::Gpu, Backend::Auto] {
+        let mut e = engine(backend, "large_table").unwrap();
+        let runs = e.simulate(&table, params, limits, one, false).unwrap();
+        assert_eq!(runs[0].outcome.n_events, on_cpu[0].outcome.n_events);
+        assert!(e.describe().starts_with("gpu"), "{}", e.describe());
+        assert!(e.take_notes().is_empty(), "{backend:?}: no fallback");
     }
-    let Some(mut gpu) = engine(Backend::Gpu, "large_table") else {
+    let huge = grown(65);
+    for backend in [Backend::Cpu, Backend::Gpu, Backend::Auto] {
+        let mut e = if backend == Backend::Cpu {
+            ShotEngine::new(backend, Precision::F64).unwrap()
+        } else {
+            engine(backend, "huge_table").unwrap()
+        };
+        match e.simulate(&table, params, limits, std::slice::from_ref(&huge), false) {
+            Err(BatchError::Table { table: 0, error }) => {
+                assert!(error.to_string().contains("at most 64"), "{error}")
+            }
+            other => panic!("{backend:?}: {other:?}"),
+        }
+    }
+}
+
+/// The one entry point, `ShotEngine::simulate_with`, streams the GPU's runs in chunks: in
+/// table order, each chunk at most the chunk size, the same runs as the CPU's stream
+/// (events and final states); a bad table stops the stream there, the chunks before it
+/// delivered, the same error on both backends.
+#[test]
+fn the_stream_is_the_same_on_both_backends() {
+    use kisstime::simulate::{BallState, BatchOptions, SimError};
+    let Some(mut gpu) = engine(Backend::Gpu, "the stream") else {
         return;
     };
-    let err = gpu
-        .simulate(&table, params, limits, std::slice::from_ref(&big), false)
-        .unwrap_err();
-    assert!(
-        matches!(&err, BatchError::Sink(Error::Unsupported(m)) if m.contains("at most 16")),
-        "{err:?}"
-    );
-    let mut auto = engine(Backend::Auto, "large_table").unwrap();
+    gpu.set_gpu_chunk_tables(Some(8));
     let mut cpu = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
-    let one = std::slice::from_ref(&big);
-    assert_eq!(
-        auto.simulate(&table, params, limits, one, false).unwrap(),
-        cpu.simulate(&table, params, limits, one, false).unwrap()
-    );
-    assert!(auto.take_notes().iter().any(|n| n.contains("17 balls")));
-    assert!(auto.gpu().is_some(), "the GPU stays for later batches");
+    let (table, inputs) = shots();
+    let params = SimParams::default();
+    let options = BatchOptions {
+        chunk_tables: 5,
+        ..BatchOptions::default()
+    };
+    // table 21 gets a ball off the table
+    let input = |bad: bool| {
+        let inputs = &inputs;
+        move |k: usize, balls: &mut Vec<BallState>| -> Result<_, SimError> {
+            balls.clear();
+            balls.extend_from_slice(&inputs[k].balls);
+            if bad && k == 21 {
+                balls[1].r.x = -5.0;
+            }
+            Ok(inputs[k].strike)
+        }
+    };
+    let mut runs = [Vec::new(), Vec::new()];
+    for (side, e) in [&mut gpu, &mut cpu].into_iter().enumerate() {
+        let mut next = 0;
+        let stats = e
+            .simulate_with(&table, params, &options, inputs.len(), input(false), |c| {
+                assert_eq!(c.tables().start, next, "chunks in table order");
+                assert!(
+                    c.len() <= if side == 0 { 8 } else { 5 },
+                    "{} tables",
+                    c.len()
+                );
+                next = c.tables().end;
+                runs[side].extend(c.iter().map(|r| (r.events.to_vec(), r.balls.to_vec())));
+                Ok::<(), Error>(())
+            })
+            .unwrap();
+        assert_eq!((stats.tables, next), (inputs.len(), inputs.len()));
+    }
+    assert!(gpu.describe().starts_with("gpu"), "{}", gpu.describe());
+    assert!(cpu.describe().starts_with("cpu"), "{}", cpu.describe());
+    assert_eq!(runs[0].len(), 30);
+    // the GPU's stream is its whole batch, bit for bit ...
+    let whole = gpu
+        .gpu()
+        .unwrap()
+        .simulate(&table, params, Limits::default(), &inputs, true)
+        .unwrap();
+    for (k, (s, w)) in runs[0].iter().zip(&whole).enumerate() {
+        assert!(
+            s.0 == w.events && s.1 == w.balls,
+            "table {k}: the stream differs"
+        );
+    }
+    // ... and the CPU's event sequence (the f64 polyfills differ in the last ulps)
+    for (k, (g, c)) in runs[0].iter().zip(&runs[1]).enumerate() {
+        let kinds = |r: &Vec<kisstime::simulate::EventRecord>| {
+            r.iter()
+                .map(|e| (e.event.kind, e.event.ball, e.event.other))
+                .collect::<Vec<_>>()
+        };
+        assert!(kinds(&g.0) == kinds(&c.0), "table {k}: other events");
+        let far = g.1.iter().zip(&c.1).any(|(a, b)| (a.r - b.r).norm() > 1e-9);
+        assert!(!far, "table {k}: other final positions");
+    }
+    for e in [&mut gpu, &mut cpu] {
+        let mut seen = 0;
+        let err = e
+            .simulate_with(&table, params, &options, inputs.len(), input(true), |c| {
+                seen = c.tables().end;
+                Ok::<(), Error>(())
+            })
+            .unwrap_err();
+        match err {
+            BatchError::Table { table: 21, error } => {
+                assert!(error.to_string().contains("ball"), "{error}")
+            }
+            other => panic!("{other}"),
+        }
+        assert!(
+            (15..=21).contains(&seen),
+            "chunks before the bad table: {seen}"
+        );
+    }
 }

@@ -1145,7 +1145,16 @@ fn cli_shots_bad_input_exits_2_and_leaves_no_output() {
     // bad noise
     fails(&["--samples", "10", "--noise", "-1"], 2, &["--noise"]);
     fails(&["--samples", "10", "--sigma-a", "nan"], 2, &["--sigma-a"]);
-    fails(&["--samples", "10", "--max-time", "0"], 2, &["--max-time"]);
+    fails(
+        &["--samples", "10", "--max-time", "0"],
+        2,
+        &["max_time 0: it must be greater than 0 s"],
+    );
+    fails(
+        &["--samples", "10", "--max-events", "0"],
+        2,
+        &["max_events 0: it must be at least 1"],
+    );
     // clap: --strikes with --samples, no samples
     fails(
         &["--strikes", path_str(&off), "--samples", "10"],

@@ -323,6 +323,8 @@ const TWINS: &[Twin] = &[
             ),
             ("check_balls", "the host checks the tables"),
             ("check_input", "the host checks the tables"),
+            ("Limits::new", "the host checks the limits"),
+            ("Limits::check", "the host checks the limits"),
             (
                 "choose",
                 "the entry point's choice, with comes_before as the comparison",

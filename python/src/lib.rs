@@ -17,13 +17,12 @@ use pyo3::types::{PyBytes, PyDict};
 
 use kisstime::batch::Batch;
 use kisstime::engine::ShotEngine;
-use kisstime::gpu::{GpuRun, GpuShot};
 use kisstime::io::npy::{batch_from_columns, batch_from_records};
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{match_strikes, sample_strikes_from_columns, strike_rows_from_columns};
 use kisstime::io::table_json::table_by_name;
 use kisstime::io::{Format, PairsWriter};
-use kisstime::simulate::{BatchError, BatchOptions, Limits, SimParams, TableRun, simulate_batch};
+use kisstime::simulate::{BatchError, BatchOptions, Limits, SimParams};
 use kisstime::study::{
     Class, FirstContact, Pot, Result4, RunOptions, Sample, StudyConfig, Summary, Until,
     noisy_strike,
@@ -42,6 +41,22 @@ fn py_err(e: Error) -> PyErr {
         Error::Gpu(_) | Error::GpuUnavailable(_) => PyRuntimeError::new_err(e.to_string()),
         Error::Io { .. } => PyOSError::new_err(e.to_string()),
         _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// Why a sink of [`ShotEngine::simulate_with`] stopped: a Python exception (Ctrl-C), or an
+/// error of the engine (a GPU failure) as one.
+struct Stop(PyErr);
+
+impl From<Error> for Stop {
+    fn from(e: Error) -> Stop {
+        Stop(py_err(e))
+    }
+}
+
+impl From<PyErr> for Stop {
+    fn from(e: PyErr) -> Stop {
+        Stop(e)
     }
 }
 
@@ -277,7 +292,7 @@ fn simulate<'py>(
     batch: &PyBatch,
     strikes: Option<(I64s<'py>, I64s<'py>, [F64s<'py>; 5])>,
     table_name: &str,
-    max_events: usize,
+    max_events: u64,
     max_time: f64,
     events: bool,
     backend: &str,
@@ -287,11 +302,7 @@ fn simulate<'py>(
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
 )> {
-    if !(max_time.is_finite() && max_time > 0.0) || max_events == 0 {
-        return Err(PyValueError::new_err(format!(
-            "max_events {max_events} and max_time {max_time} must be greater than 0"
-        )));
-    }
+    let limits = Limits::new(max_events, max_time).map_err(|e| py_err(e.into()))?;
     let batch = &batch.batch;
     let tbl = table_by_name(table_name).map_err(py_err)?;
     let params = SimParams::default();
@@ -312,19 +323,18 @@ fn simulate<'py>(
         None => Vec::new(),
     };
     let options = BatchOptions {
-        limits: Limits {
-            max_events,
-            max_time,
-        },
+        limits,
         record_events: events,
         ..BatchOptions::default()
     };
     let mut engine = shot_engine_of(backend, precision)?;
     warn_notes(py, &mut engine)?;
-    let on_gpu = engine.gpu().is_some();
     let n = batch.num_tables();
     let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
-    {
+    // the one entry point, with the GIL released; each chunk's results are written as it
+    // comes, and Ctrl-C is noticed between chunks
+    let input = batch.sim_input(&strikes, params.ball.r);
+    let result = py.detach(|| {
         let mut ev_w = if events {
             Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
         } else {
@@ -333,70 +343,11 @@ fn simulate<'py>(
         let mut fin_w = FinalWriter::new(&mut fin_out, Format::Npy, batch.num_balls() as u64)
             .map_err(mem_err)?;
         let mut oc_w = OutcomesWriter::new(&mut oc_out, Format::Npy, n as u64).map_err(mem_err)?;
-        // chunks of tables, each simulated with the GIL released (its results kept), then
-        // written; Ctrl-C is noticed between chunks
-        let input = batch.sim_input(&strikes, params.ball.r);
-        for part in chunks(n, 16_384) {
-            let offset = part.start;
-            let result = if on_gpu {
-                // the GPU's event loop (or the CPU, where `auto` falls back)
-                py.detach(|| {
-                    let mut shots = Vec::with_capacity(part.len());
-                    for k in part.clone() {
-                        let mut balls = Vec::new();
-                        let strike = input(k, &mut balls).map_err(|error| BatchError::Table {
-                            table: k - offset,
-                            error,
-                        })?;
-                        shots.push(GpuShot { balls, strike });
-                    }
-                    engine.simulate(&tbl, params, options.limits, &shots, events)
-                })
-            } else {
-                py.detach(|| {
-                    let mut kept: Vec<GpuRun> = Vec::with_capacity(part.len());
-                    simulate_batch(
-                        &tbl,
-                        params,
-                        &options,
-                        part.len(),
-                        |k, balls| input(offset + k, balls),
-                        |chunk| {
-                            kept.extend(chunk.iter().map(|run| GpuRun {
-                                events: run.events.to_vec(),
-                                balls: run.balls.to_vec(),
-                                outcome: run.outcome,
-                            }));
-                            Ok::<(), Error>(())
-                        },
-                    )
-                    .map(|_| kept)
-                })
-            };
-            warn_notes(py, &mut engine)?;
-            let kept = match result {
-                Ok(kept) => kept,
-                Err(BatchError::Table { table: k, error }) => {
-                    let e = Error::from(
-                        kisstime::InputError::new(error.to_string())
-                            .in_file("balls")
-                            .at_table(batch.table_id(offset + k)),
-                    );
-                    return Err(py_err(e));
-                }
-                Err(BatchError::Sink(e)) => return Err(py_err(e)),
-            };
-            for (j, r) in kept.iter().enumerate() {
-                let k = offset + j;
-                let run = TableRun {
-                    table: k,
-                    events: &r.events,
-                    balls: &r.balls,
-                    outcome: r.outcome,
-                };
+        let done = engine.simulate_with(&tbl, params, &options, n, input, |chunk| {
+            for run in chunk.iter() {
                 let ids = TableIds {
-                    table: batch.table_id(k),
-                    balls: batch.ball_ids(k),
+                    table: batch.table_id(run.table),
+                    balls: batch.ball_ids(run.table),
                 };
                 if let Some(w) = ev_w.as_mut() {
                     w.write_table(ids, &tbl, &run).map_err(mem_err)?;
@@ -404,14 +355,28 @@ fn simulate<'py>(
                 fin_w.write_table(ids, &tbl, &run).map_err(mem_err)?;
                 oc_w.write_table(ids, &run).map_err(mem_err)?;
             }
-            py.check_signals()?;
+            Python::attach(|py| py.check_signals()).map_err(Stop)
+        });
+        match done {
+            Ok(_) => {}
+            Err(BatchError::Table { table: k, error }) => {
+                let e = Error::from(
+                    kisstime::InputError::new(error.to_string())
+                        .in_file("balls")
+                        .at_table(batch.table_id(k)),
+                );
+                return Err(py_err(e));
+            }
+            Err(BatchError::Sink(Stop(e))) => return Err(e),
         }
         if let Some(w) = ev_w {
             w.finish().map_err(mem_err)?;
         }
         fin_w.finish().map_err(mem_err)?;
-        oc_w.finish().map_err(mem_err)?;
-    }
+        oc_w.finish().map_err(mem_err)
+    });
+    warn_notes(py, &mut engine)?;
+    result?;
     let ev = events.then(|| PyBytes::new(py, &ev_out));
     Ok((ev, PyBytes::new(py, &fin_out), PyBytes::new(py, &oc_out)))
 }
@@ -613,7 +578,7 @@ fn study_chunk<'py>(
     strikes: Option<(I64s<'py>, [F64s<'py>; 5])>,
     until: &str,
     noise: Option<f64>,
-    max_events: usize,
+    max_events: u64,
     max_time: f64,
     backend: &str,
     precision: Option<&str>,
@@ -627,11 +592,7 @@ fn study_chunk<'py>(
         shot_engine_of(backend, precision)?;
     }
     let until = until_of(until)?;
-    if !(max_time.is_finite() && max_time > 0.0) || max_events == 0 {
-        return Err(PyValueError::new_err(format!(
-            "max_events {max_events} and max_time {max_time} must be greater than 0"
-        )));
-    }
+    let limits = Limits::new(max_events, max_time).map_err(|e| py_err(e.into()))?;
     let (ids, strikes): (Vec<i64>, Vec<_>) = match &strikes {
         Some((sample, v)) => {
             let cols = [
@@ -662,13 +623,7 @@ fn study_chunk<'py>(
                 .unzip()
         }
     };
-    let options = RunOptions {
-        until,
-        limits: Limits {
-            max_events,
-            max_time,
-        },
-    };
+    let options = RunOptions { until, limits };
     let samples = if strikes.is_empty() {
         kisstime::study::run_strikes(&config, &[], &options, &mut |_, _| {}).map_err(py_err)?
     } else {

@@ -104,6 +104,41 @@ def test_simulate_matches_the_cli_on_the_break_example(tmp_path):
     assert npy_in.exists()
 
 
+@pytest.mark.parametrize(
+    "flag, value",
+    [("max-time", "0"), ("max-time", "-1.5"), ("max-time", "nan"), ("max-events", "0")],
+)
+def test_bad_limits_give_the_clis_message(flag, value):
+    """One rule for the limits (Limits::new): the CLI and Python refuse the same value
+    with the same message, for whole shots and for studies."""
+    balls_csv = ROOT / "examples" / "break.csv"
+    strikes_csv = ROOT / "examples" / "break_strike.csv"
+    r = run("simulate", str(balls_csv), "--strikes", str(strikes_csv), f"--{flag}", value)
+    assert r.returncode == 2, r.stderr
+    message = r.stderr.strip().splitlines()[-1].split("error: ", 1)[-1]
+    assert flag.replace("-", "_") in message, message
+    kw = {flag.replace("-", "_"): float(value) if flag == "max-time" else int(value)}
+    with pytest.raises(ValueError) as raised:
+        kisstime.simulate(balls_array(balls_csv), strike_columns(strikes_csv), **kw)
+    assert str(raised.value) == message
+    r = run("shots", "--samples", "10", f"--{flag}", value)
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().splitlines()[-1].split("error: ", 1)[-1] == message
+    with pytest.raises(ValueError) as raised:
+        kisstime.shot_study(samples=10, **kw)
+    assert str(raised.value) == message
+
+
+def test_no_time_limit_is_inf():
+    balls_csv = ROOT / "examples" / "break.csv"
+    strikes_csv = ROOT / "examples" / "break_strike.csv"
+    arr, cols = balls_array(balls_csv), strike_columns(strikes_csv)
+    assert same(
+        kisstime.simulate(arr, cols, max_time=float("inf")).final,
+        kisstime.simulate(arr, cols).final,
+    )
+
+
 def test_shot_study_matches_the_cli(tmp_path):
     out = tmp_path / "s.csv"
     r = run("shots", "--samples", "3000", "--seed", "5", "-o", str(out), "--json")

@@ -7,10 +7,12 @@
 // category's fixed order, so the insertion order within a category is (step, position in
 // that order): an entry stores the step that filled it, and its position is its index.
 
-// The most balls of a table on the GPU (Rust: the host's GPU_MAX_BALLS), and so the most
-// pair entries.
+// The most balls of a table on the GPU, and so the most pair entries (Rust: the host's
+// SimLayout). The host builds the event loop once per ball-count bucket and writes the
+// bucket's count on the next line (GPU_BALL_BUCKETS: 16, 32, 48, 64); every other layout
+// constant is derived from it.
 const GPU_MAX_BALLS: u32 = 16u;
-const GPU_MAX_PAIRS: u32 = 120u;
+const GPU_MAX_PAIRS: u32 = GPU_MAX_BALLS * (GPU_MAX_BALLS - 1u) / 2u;
 
 // The step of a cache entry that must be (re)computed (Rust: Slot::MISSING).
 const MISSING_STEP: u32 = 0xffffffffu;

@@ -62,39 +62,39 @@ const ITEMS_POCKET: u32 = 2u;
 // dispatch, read back at the end), the caches (the device's own: filled at the first
 // dispatch, never read back) and the watch (a study's record of each table's key events,
 // read back at the end where the host asks for it). A region starts at n_tables times the
-// blocks before it (Rust: the host's layout constants, the same names and values; a test
-// compares them).
+// blocks before it (Rust: the host's SimLayout, the same names in lower case; a test
+// evaluates these declarations for every bucket and compares them).
 // I/O reals: every ball's r, v, w, t (10 each), its transition's time, the clock.
-const IO_REALS: u32 = 177u;
-const IO_R_TRANS: u32 = 160u;
-const IO_R_CLOCK: u32 = 176u;
+const IO_R_TRANS: u32 = 10u * GPU_MAX_BALLS;
+const IO_R_CLOCK: u32 = IO_R_TRANS + GPU_MAX_BALLS;
+const IO_REALS: u32 = IO_R_CLOCK + 1u;
 // I/O u32s: every ball's motion state, its transition's kind, then n_balls, n_events and
 // the status.
-const IO_UINTS: u32 = 35u;
-const IO_U_TRANS: u32 = 16u;
-const IO_U_N: u32 = 32u;
-// Cache reals: pair times, then row times. Cache u32s: pair steps, row steps, row items.
-const CACHE_REALS: u32 = 168u;
-const CACHE_R_ROWS: u32 = 120u;
-const CACHE_UINTS: u32 = 216u;
-const CACHE_U_ROWS: u32 = 120u;
-const CACHE_U_ITEMS: u32 = 168u;
+const IO_U_TRANS: u32 = GPU_MAX_BALLS;
+const IO_U_N: u32 = 2u * GPU_MAX_BALLS;
+const IO_UINTS: u32 = IO_U_N + 3u;
 // The ball–table rows of a table: 3 categories of GPU_MAX_BALLS.
-const GPU_ROWS: u32 = 48u;
+const GPU_ROWS: u32 = 3u * GPU_MAX_BALLS;
+// Cache reals: pair times, then row times. Cache u32s: pair steps, row steps, row items.
+const CACHE_R_ROWS: u32 = GPU_MAX_PAIRS;
+const CACHE_REALS: u32 = GPU_MAX_PAIRS + GPU_ROWS;
+const CACHE_U_ROWS: u32 = GPU_MAX_PAIRS;
+const CACHE_U_ITEMS: u32 = GPU_MAX_PAIRS + GPU_ROWS;
+const CACHE_UINTS: u32 = GPU_MAX_PAIRS + 2u * GPU_ROWS;
 // Watch reals: the first contact's time, the clock before it, the cue ball's r, v, w, t
 // before it (10), the cue ball's and the other ball's centres after it (3 each), then
 // each pot's time (GPU_MAX_BALLS).
-const WATCH_REALS: u32 = 34u;
 const WATCH_R_BEFORE: u32 = 2u;
 const WATCH_R_CUE: u32 = 12u;
 const WATCH_R_OTHER: u32 = 15u;
 const WATCH_R_POTS: u32 = 18u;
+const WATCH_REALS: u32 = WATCH_R_POTS + GPU_MAX_BALLS;
 // Watch u32s: the pots so far, the first contact's event number (0: none yet), kind, ball,
 // other and the cue ball's motion state before it, then each pot's event number, ball and
 // pocket (GPU_MAX_BALLS each).
-const WATCH_UINTS: u32 = 54u;
 const WATCH_U_FIRST: u32 = 1u;
 const WATCH_U_POTS: u32 = 6u;
+const WATCH_UINTS: u32 = WATCH_U_POTS + 3u * GPU_MAX_BALLS;
 // Reals and u32s of one recorded event (t and the two agents' r, v, w, t; kind, ball,
 // other and the two agents' motion states).
 const EVENT_REALS: u32 = 21u;

@@ -106,10 +106,11 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub outcomes: Option<PathBuf>,
     /// Stop a table after this many events (the strike included); it is reported as cut.
-    #[arg(long, default_value_t = 200_000, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, default_value_t = 200_000)]
     pub max_events: u64,
-    /// Stop a table before an event later than this simulated time in s; reported as cut.
-    #[arg(long, default_value_t = 3600.0)]
+    /// Stop a table before an event later than this simulated time in s; reported as cut
+    /// (`inf`: no time limit).
+    #[arg(long, default_value_t = 3600.0, allow_negative_numbers = true)]
     pub max_time: f64,
     /// Worker threads (default: one per core). Results do not depend on it.
     #[arg(long)]
@@ -122,7 +123,7 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "K", requires = "plot")]
     pub table_id: Option<i64>,
     /// Where to simulate: `cpu` (Rayon, f64, the reference), `gpu` (the WGSL event loop,
-    /// one workgroup per table; at most 16 balls a table; an error when no GPU is usable)
+    /// one workgroup per table; up to 64 balls a table; an error when no GPU is usable)
     /// or `auto` (the backend measured faster for the work: never a software adapter; whole shots on a
     /// hardware GPU from 512 tables per CPU thread; the pair kernels on the CPU; see the README).
     #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
@@ -239,13 +240,14 @@ pub struct ShotsArgs {
     #[arg(long)]
     pub plot: Option<PathBuf>,
     /// Stop a sample after this many events (the strike included); it is counted as cut.
-    #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, default_value_t = 10_000)]
     pub max_events: u64,
-    /// Stop a sample before an event later than this simulated time in s; counted as cut.
-    #[arg(long, default_value_t = 600.0)]
+    /// Stop a sample before an event later than this simulated time in s; counted as cut
+    /// (`inf`: no time limit).
+    #[arg(long, default_value_t = 600.0, allow_negative_numbers = true)]
     pub max_time: f64,
     /// Where to simulate: `cpu` (Rayon, f64, the reference), `gpu` (the WGSL event loop,
-    /// one workgroup per sample; at most 16 balls; an error when no GPU is usable) or
+    /// one workgroup per sample; up to 64 balls; an error when no GPU is usable) or
     /// `auto` (the backend measured faster for the work: never a software adapter; whole shots on a
     /// hardware GPU from 512 tables per CPU thread; the pair kernels on the CPU; see the README).
     #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]

@@ -72,12 +72,7 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
     if let Some(plot) = &args.plot {
         check_output(plot, "--plot", &["png"])?;
     }
-    if !(args.max_time.is_finite() && args.max_time > 0.0) {
-        return Err(Error::Unsupported(format!(
-            "invalid --max-time {}: it must be finite and greater than 0",
-            args.max_time
-        )));
-    }
+    let limits = Limits::new(args.max_events, args.max_time)?;
     let scenario = read_scenario(args.scenario.as_deref())?;
     let sigma = shots_sigma(args, &scenario)?;
     // the given strikes (and their sample ids), or none for a noisy study
@@ -93,10 +88,7 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
             UntilArg::Rest => Until::Rest,
             UntilArg::FirstContact => Until::FirstContact,
         },
-        limits: Limits {
-            max_events: usize::try_from(args.max_events).unwrap_or(usize::MAX),
-            max_time: args.max_time,
-        },
+        limits,
     };
     let n = given
         .as_ref()

@@ -6,15 +6,13 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use kisstime::engine::{Backend, Precision, ShotEngine};
-use kisstime::gpu::{GpuRun, GpuShot};
 use kisstime::io::Format;
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
 use kisstime::io::table_json::table_by_name;
 use kisstime::io::{output_error, write_output};
 use kisstime::simulate::{
-    BallState, BatchError, BatchOptions, BatchStats, CueStrike, Limits, SimError, SimParams, Table,
-    TableRun, simulate_batch,
+    BallState, BatchError, BatchOptions, Limits, SimError, SimParams, TableRun,
 };
 use kisstime::{Batch, Error, InputError};
 
@@ -131,63 +129,6 @@ fn out_err(path: Option<&Path>) -> impl Fn(std::io::Error) -> Error + '_ {
     }
 }
 
-/// The runs of the GPU event loop for `--backend gpu` and `auto` (with the seconds it
-/// took), or `None` where the CPU simulates (streamed): `--backend cpu`, or `auto` without
-/// a usable GPU (said on stderr). A table of more than 16 balls (`GPU_MAX_BALLS`) or a GPU
-/// failure is an error with `gpu`; with `auto` the batch is simulated on the CPU then
-/// ([`ShotEngine`], which says why on stderr).
-#[allow(clippy::too_many_arguments)]
-fn gpu_simulate(
-    args: &SimulateArgs,
-    batch: &Batch,
-    strikes: &[Option<(usize, CueStrike)>],
-    strike_rows: &[StrikeRow],
-    table: &Table,
-    params: SimParams,
-    limits: Limits,
-    record_events: bool,
-) -> Result<Option<(Vec<GpuRun>, f64, String)>, Error> {
-    let backend = args.backend.backend();
-    if backend == Backend::Cpu {
-        return Ok(None);
-    }
-    let precision = args.precision.precision();
-    let mut engine = ShotEngine::new(backend, precision)?;
-    let say = |engine: &mut ShotEngine| {
-        for note in engine.take_notes() {
-            eprintln!("kisstime: {note}");
-        }
-    };
-    say(&mut engine);
-    if engine.gpu().is_none() {
-        return Ok(None);
-    }
-    let n = batch.num_tables();
-    let input = batch.sim_input(strikes, params.ball.r);
-    let mut shots = Vec::with_capacity(n);
-    for k in 0..n {
-        let mut balls = Vec::new();
-        let strike =
-            input(k, &mut balls).map_err(|e| table_error(args, batch, strike_rows, k, e))?;
-        shots.push(GpuShot { balls, strike });
-    }
-    let started = std::time::Instant::now();
-    let runs = engine
-        .simulate(table, params, limits, &shots, record_events)
-        .map_err(|e| match e {
-            BatchError::Table { table: k, error } => {
-                table_error(args, batch, strike_rows, k, error)
-            }
-            BatchError::Sink(e) => e,
-        });
-    say(&mut engine);
-    Ok(Some((
-        runs?,
-        started.elapsed().as_secs_f64(),
-        engine.describe(),
-    )))
-}
-
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     if args.backend.backend() == Backend::Cpu && args.precision.precision() == Precision::F32 {
         return Err(InputError::new(
@@ -195,13 +136,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         )
         .into());
     }
-    if args.max_time.is_nan() || args.max_time <= 0.0 {
-        return Err(InputError::new(format!(
-            "--max-time {} must be greater than 0",
-            args.max_time
-        ))
-        .into());
-    }
+    let limits = Limits::new(args.max_events, args.max_time)?;
     if let Some(path) = &args.plot {
         check_output(path, "--plot", &["png"])?;
     }
@@ -241,24 +176,17 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         );
     }
     let options = BatchOptions {
-        limits: Limits {
-            max_events: usize::try_from(args.max_events).unwrap_or(usize::MAX),
-            max_time: args.max_time,
-        },
+        limits,
         record_events: args.output.is_some(),
         ..BatchOptions::default()
     };
-    let mut ran_on = format!("cpu f64 ({} threads)", rayon::current_num_threads());
-    let mut gpu_runs = gpu_simulate(
-        args,
-        &batch,
-        &strikes,
-        &strike_rows,
-        &table,
-        params,
-        options.limits,
-        options.record_events,
-    )?;
+    let mut engine = ShotEngine::new(args.backend.backend(), args.precision.precision())?;
+    let say = |engine: &mut ShotEngine| {
+        for note in engine.take_notes() {
+            eprintln!("kisstime: {note}");
+        }
+    };
+    say(&mut engine);
     let events_path = args.output.as_deref();
     let final_path = args.final_states.as_deref();
     let outcomes_path = args.outcomes.as_deref();
@@ -309,36 +237,15 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                     }
                     Ok(())
                 };
-                let result = match gpu_runs.take() {
-                    Some((runs, secs, on)) => {
-                        ran_on = on;
-                        for (k, r) in runs.iter().enumerate() {
-                            write_run(&TableRun {
-                                table: k,
-                                events: &r.events,
-                                balls: &r.balls,
-                                outcome: r.outcome,
-                            })?;
-                        }
-                        bar.inc(n as u64);
-                        Ok(BatchStats {
-                            tables: n,
-                            events: runs.iter().map(|r| r.outcome.n_events).sum(),
-                            cut: runs.iter().filter(|r| r.outcome.cut.is_some()).count(),
-                            sim_seconds: secs,
-                        })
+                let input = batch.sim_input(&strikes, params.ball.r);
+                let result = engine.simulate_with(&table, params, &options, n, input, |chunk| {
+                    for run in chunk.iter() {
+                        write_run(&run)?;
                     }
-                    None => {
-                        let input = batch.sim_input(&strikes, params.ball.r);
-                        simulate_batch(&table, params, &options, n, input, |chunk| {
-                            for run in chunk.iter() {
-                                write_run(&run)?;
-                            }
-                            bar.inc(chunk.len() as u64);
-                            Ok::<(), Error>(())
-                        })
-                    }
-                };
+                    bar.inc(chunk.len() as u64);
+                    Ok::<(), Error>(())
+                });
+                say(&mut engine);
                 bar.done();
                 let s = result.map_err(|e| match e {
                     BatchError::Table { table: k, error } => {
@@ -379,6 +286,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         )?;
         write_output(Some(path), |w| w.write_all(&png).map_err(output_error))?;
     }
+    let ran_on = engine.describe();
     if let Some(s) = stats {
         let secs = s.sim_seconds.max(1e-9);
         eprintln!(

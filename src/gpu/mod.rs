@@ -47,10 +47,12 @@ pub use device::AdapterSummary;
 pub use dispatch::Kernel;
 #[cfg(feature = "testing")]
 pub use fault::{Fault, adapter as test_adapter};
-pub use shader::shader_source;
+pub use shader::{GPU_MAX_BALLS_LINE, shader_source};
 #[doc(hidden)]
-pub use sim_layout::SHADER_LAYOUT;
-pub use sim_layout::{GPU_MAX_BALLS, GpuRun, GpuShot, GpuWatch, WatchedContact, WatchedRun};
+pub use sim_layout::{
+    GPU_BALL_BUCKETS, GPU_MAX_BALLS, GpuRun, GpuShot, GpuWatch, SimLayout, WatchedContact,
+    WatchedRun,
+};
 pub use simulate::{
     EVENT_LOOP_THREADS, EVENTS_PER_DISPATCH, GpuSimulator, MAX_TABLES_PER_CHUNK, OnEvent,
 };

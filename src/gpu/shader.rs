@@ -154,17 +154,28 @@ pub const SIMULATE_FILES: [(&str, &str); 2] = [
     ),
 ];
 
-/// The WGSL source of the event loop for `precision`: the prelude, [`SHADER_FILES`]
-/// without the kernels' entry points, then [`SIMULATE_FILES`].
-pub fn simulate_source(precision: Precision) -> String {
-    std::iter::once(prelude(precision))
+/// The line of `simulate/cache.wgsl` that declares the event loop's ball count; the host
+/// writes each bucket's there ([`simulate_source`]), and every other layout constant of
+/// the shader is derived from it.
+pub const GPU_MAX_BALLS_LINE: &str = "const GPU_MAX_BALLS: u32 = 16u;";
+
+/// The WGSL source of the event loop for `precision` and tables of up to `max_balls`
+/// balls: the prelude, [`SHADER_FILES`] without the kernels' entry points, then
+/// [`SIMULATE_FILES`] with [`GPU_MAX_BALLS_LINE`] set to `max_balls`.
+pub fn simulate_source(precision: Precision, max_balls: usize) -> String {
+    let own = format!("const GPU_MAX_BALLS: u32 = {max_balls}u;");
+    std::iter::once(prelude(precision).to_owned())
         .chain(
             SHADER_FILES
                 .iter()
                 .filter(|(name, _)| *name != "kernels.wgsl")
-                .map(|(_, text)| *text),
+                .map(|(_, text)| (*text).to_owned()),
         )
-        .chain(SIMULATE_FILES.iter().map(|(_, text)| *text))
+        .chain(
+            SIMULATE_FILES
+                .iter()
+                .map(|(_, text)| text.replace(GPU_MAX_BALLS_LINE, &own)),
+        )
         .collect::<Vec<_>>()
         .join("\n")
 }

@@ -3,15 +3,19 @@
 //! reads the shader's and compares), and the host's packing and unpacking of one table:
 //! its start (after the strike, resolved here), its end, its recorded events and its watch.
 //!
+//! The layout depends on the most balls a table of the call may have ([`SimLayout`], one
+//! per bucket of [`GPU_BALL_BUCKETS`]); the shader is built once per bucket, its
+//! `GPU_MAX_BALLS` set to the bucket and every other constant derived from it.
+//!
 //! A batch's state is three regions, one after the other in the real buffer and in the
 //! u32 buffer, each a block per table:
-//! - **I/O** ([`IO_REALS`], [`IO_UINTS`]): the balls, their transitions, the clock, the
+//! - **I/O** ([`SimLayout::io_reals`], [`SimLayout::io_uints`]): the balls, their transitions, the clock, the
 //!   counts and the status. The host writes it before the first dispatch and reads it back
 //!   at the end; it is all that crosses the bus for a batch of final states.
-//! - **caches** ([`CACHE_REALS`], [`CACHE_UINTS`]): pair and row entries, the device's
+//! - **caches** ([`SimLayout::cache_reals`], [`SimLayout::cache_uints`]): pair and row entries, the device's
 //!   own: the first dispatch starts them empty (as [`crate::simulate::EventLoop::reset`]
 //!   does), and they are never read back.
-//! - **watch** ([`WATCH_REALS`], [`WATCH_UINTS`]): what a study needs of a table's events
+//! - **watch** ([`SimLayout::watch_reals`], [`SimLayout::watch_uints`]): what a study needs of a table's events
 //!   (the cue ball's first contact, every pot), read back only by a study.
 
 use crate::error::Error;
@@ -27,82 +31,170 @@ use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
 
 use super::device::gpu_error;
 
-/// The most balls of one table on the GPU (the shader's `GPU_MAX_BALLS`).
-pub const GPU_MAX_BALLS: usize = 16;
-/// Pair entries of one table (the shader's `GPU_MAX_PAIRS`).
-pub(super) const GPU_MAX_PAIRS: usize = GPU_MAX_BALLS * (GPU_MAX_BALLS - 1) / 2;
-/// Ball–table rows of one table: 3 categories of [`GPU_MAX_BALLS`] (`GPU_ROWS`).
-pub(super) const GPU_ROWS: usize = 3 * GPU_MAX_BALLS;
+/// The ball counts the event loop is built for: a call runs on the smallest that holds its
+/// largest table (one pipeline each, built when first needed). Each is the shader's
+/// `GPU_MAX_BALLS` of its build; the workgroup keeps the table's state in workgroup memory,
+/// which grows with the square of it (about 6 KB at 16 balls, 16 KB at 32, 28 KB at 48,
+/// 42 KB at 64 in f64): an adapter whose workgroup memory is too small for a bucket
+/// refuses it with [`Error::Unsupported`].
+pub const GPU_BALL_BUCKETS: [usize; 4] = [16, 32, 48, 64];
 
-/// I/O reals per table: every ball's r, v, w, t (10 each), its transition's time, the clock.
-pub(super) const IO_REALS: usize = 177;
-pub(super) const IO_R_TRANS: usize = 10 * GPU_MAX_BALLS;
-pub(super) const IO_R_CLOCK: usize = IO_R_TRANS + GPU_MAX_BALLS;
-/// I/O u32s per table: every ball's motion state, its transition's kind, then n_balls,
-/// n_events and the status.
-pub(super) const IO_UINTS: usize = 35;
-pub(super) const IO_U_TRANS: usize = GPU_MAX_BALLS;
-pub(super) const IO_U_N: usize = 2 * GPU_MAX_BALLS;
-/// Cache reals per table: pair times, then row times.
-pub(super) const CACHE_REALS: usize = GPU_MAX_PAIRS + GPU_ROWS;
-pub(super) const CACHE_R_ROWS: usize = GPU_MAX_PAIRS;
-/// Cache u32s per table: pair steps, row steps, row items.
-pub(super) const CACHE_UINTS: usize = GPU_MAX_PAIRS + 2 * GPU_ROWS;
-pub(super) const CACHE_U_ROWS: usize = GPU_MAX_PAIRS;
-pub(super) const CACHE_U_ITEMS: usize = GPU_MAX_PAIRS + GPU_ROWS;
-/// Watch reals per table: the first contact's time, the clock before it, the cue ball's
-/// r, v, w, t before it, the cue ball's and the other ball's centres after it, each pot's
-/// time.
-pub(super) const WATCH_REALS: usize = 34;
-pub(super) const WATCH_R_BEFORE: usize = 2;
-pub(super) const WATCH_R_CUE: usize = 12;
-pub(super) const WATCH_R_OTHER: usize = 15;
-pub(super) const WATCH_R_POTS: usize = 18;
-/// Watch u32s per table: the pots so far, the first contact's event number (0: none), its
-/// kind, ball, other and the cue ball's motion state before it, then each pot's event
-/// number, ball and pocket.
-pub(super) const WATCH_UINTS: usize = 54;
-pub(super) const WATCH_U_FIRST: usize = 1;
-pub(super) const WATCH_U_POTS: usize = 6;
-/// Per recorded event (`EVENT_REALS`, `EVENT_UINTS`).
+/// The most balls of one table on the GPU: the largest bucket, the CPU loop's
+/// [`crate::simulate::MAX_BALLS`] too.
+pub const GPU_MAX_BALLS: usize = GPU_BALL_BUCKETS[GPU_BALL_BUCKETS.len() - 1];
+
+/// Per recorded event (`EVENT_REALS`, `EVENT_UINTS`): t and the two agents' r, v, w, t;
+/// kind, ball, other and the two agents' motion states.
 pub(super) const EVENT_REALS: usize = 21;
 pub(super) const EVENT_UINTS: usize = 5;
 
-/// Every layout constant the shader declares too, by its WGSL name, for the test that
-/// compares them.
-#[doc(hidden)]
-pub const SHADER_LAYOUT: &[(&str, usize)] = &[
-    ("GPU_MAX_BALLS", GPU_MAX_BALLS),
-    ("GPU_MAX_PAIRS", GPU_MAX_PAIRS),
-    ("GPU_ROWS", GPU_ROWS),
-    ("IO_REALS", IO_REALS),
-    ("IO_R_TRANS", IO_R_TRANS),
-    ("IO_R_CLOCK", IO_R_CLOCK),
-    ("IO_UINTS", IO_UINTS),
-    ("IO_U_TRANS", IO_U_TRANS),
-    ("IO_U_N", IO_U_N),
-    ("CACHE_REALS", CACHE_REALS),
-    ("CACHE_R_ROWS", CACHE_R_ROWS),
-    ("CACHE_UINTS", CACHE_UINTS),
-    ("CACHE_U_ROWS", CACHE_U_ROWS),
-    ("CACHE_U_ITEMS", CACHE_U_ITEMS),
-    ("WATCH_REALS", WATCH_REALS),
-    ("WATCH_R_BEFORE", WATCH_R_BEFORE),
-    ("WATCH_R_CUE", WATCH_R_CUE),
-    ("WATCH_R_OTHER", WATCH_R_OTHER),
-    ("WATCH_R_POTS", WATCH_R_POTS),
-    ("WATCH_UINTS", WATCH_UINTS),
-    ("WATCH_U_FIRST", WATCH_U_FIRST),
-    ("WATCH_U_POTS", WATCH_U_POTS),
-    ("EVENT_REALS", EVENT_REALS),
-    ("EVENT_UINTS", EVENT_UINTS),
-];
+/// The storage layout of the event loop built for `max_balls` balls a table: every
+/// constant the shader declares with the same name in upper case (a test evaluates the
+/// shader's declarations and compares them for every bucket).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SimLayout {
+    /// The most balls of a table (`GPU_MAX_BALLS`).
+    pub gpu_max_balls: usize,
+    /// Pair entries of one table (`GPU_MAX_PAIRS`).
+    pub gpu_max_pairs: usize,
+    /// Ball–table rows of one table: 3 categories of `gpu_max_balls` (`GPU_ROWS`).
+    pub gpu_rows: usize,
+    /// I/O reals per table: every ball's r, v, w, t (10 each), its transition's time, the
+    /// clock (`IO_REALS`; `IO_R_TRANS`, `IO_R_CLOCK` where they start).
+    pub io_reals: usize,
+    /// Where the transitions' times start in the I/O reals.
+    pub io_r_trans: usize,
+    /// Where the clock is in the I/O reals.
+    pub io_r_clock: usize,
+    /// I/O u32s per table: every ball's motion state, its transition's kind, then n_balls,
+    /// n_events and the status (`IO_UINTS`).
+    pub io_uints: usize,
+    /// Where the transitions' kinds start in the I/O u32s.
+    pub io_u_trans: usize,
+    /// Where n_balls, n_events and the status are in the I/O u32s.
+    pub io_u_n: usize,
+    /// Cache reals per table: pair times, then row times (`CACHE_REALS`).
+    pub cache_reals: usize,
+    /// Where the row times start in the cache reals.
+    pub cache_r_rows: usize,
+    /// Cache u32s per table: pair steps, row steps, row items (`CACHE_UINTS`).
+    pub cache_uints: usize,
+    /// Where the row steps start in the cache u32s.
+    pub cache_u_rows: usize,
+    /// Where the row items start in the cache u32s.
+    pub cache_u_items: usize,
+    /// Watch reals per table: the first contact's time, the clock before it, the cue
+    /// ball's r, v, w, t before it, the cue ball's and the other ball's centres after it,
+    /// each pot's time (`WATCH_REALS`).
+    pub watch_reals: usize,
+    /// Where the cue ball's state before the first contact starts in the watch reals.
+    pub watch_r_before: usize,
+    /// Where the cue ball's centre after it starts.
+    pub watch_r_cue: usize,
+    /// Where the other ball's centre after it starts.
+    pub watch_r_other: usize,
+    /// Where the pots' times start.
+    pub watch_r_pots: usize,
+    /// Watch u32s per table: the pots so far, the first contact's event number (0: none),
+    /// its kind, ball, other and the cue ball's motion state before it, then each pot's
+    /// event number, ball and pocket (`WATCH_UINTS`).
+    pub watch_uints: usize,
+    /// Where the first contact starts in the watch u32s.
+    pub watch_u_first: usize,
+    /// Where the pots start in the watch u32s.
+    pub watch_u_pots: usize,
+}
 
-// The layout's blocks hold what they say.
-const _: () = assert!(IO_REALS == IO_R_CLOCK + 1);
-const _: () = assert!(IO_UINTS == IO_U_N + 3);
-const _: () = assert!(WATCH_REALS == WATCH_R_POTS + GPU_MAX_BALLS);
-const _: () = assert!(WATCH_UINTS == WATCH_U_POTS + 3 * GPU_MAX_BALLS);
+impl SimLayout {
+    /// The layout for tables of up to `max_balls` balls.
+    pub const fn for_balls(max_balls: usize) -> SimLayout {
+        let n = max_balls;
+        let pairs = n * n.saturating_sub(1) / 2;
+        let rows = 3 * n;
+        let io_r_trans = 10 * n;
+        let io_r_clock = io_r_trans + n;
+        let io_u_n = 2 * n;
+        let watch_r_pots = 18;
+        let watch_u_pots = 6;
+        SimLayout {
+            gpu_max_balls: n,
+            gpu_max_pairs: pairs,
+            gpu_rows: rows,
+            io_reals: io_r_clock + 1,
+            io_r_trans,
+            io_r_clock,
+            io_uints: io_u_n + 3,
+            io_u_trans: n,
+            io_u_n,
+            cache_reals: pairs + rows,
+            cache_r_rows: pairs,
+            cache_uints: pairs + 2 * rows,
+            cache_u_rows: pairs,
+            cache_u_items: pairs + rows,
+            watch_reals: watch_r_pots + n,
+            watch_r_before: 2,
+            watch_r_cue: 12,
+            watch_r_other: 15,
+            watch_r_pots,
+            watch_uints: watch_u_pots + 3 * n,
+            watch_u_first: 1,
+            watch_u_pots,
+        }
+    }
+
+    /// The layout of the smallest bucket ([`GPU_BALL_BUCKETS`]) that holds tables of
+    /// `n_balls` balls, or `None` past [`GPU_MAX_BALLS`].
+    pub fn bucket(n_balls: usize) -> Option<SimLayout> {
+        GPU_BALL_BUCKETS
+            .iter()
+            .find(|&&b| b >= n_balls)
+            .map(|&b| SimLayout::for_balls(b))
+    }
+
+    /// Every constant by its WGSL name (`EVENT_REALS` and `EVENT_UINTS` too), for the test
+    /// that compares them with the shader's.
+    pub fn named(&self) -> Vec<(&'static str, usize)> {
+        vec![
+            ("GPU_MAX_BALLS", self.gpu_max_balls),
+            ("GPU_MAX_PAIRS", self.gpu_max_pairs),
+            ("GPU_ROWS", self.gpu_rows),
+            ("IO_REALS", self.io_reals),
+            ("IO_R_TRANS", self.io_r_trans),
+            ("IO_R_CLOCK", self.io_r_clock),
+            ("IO_UINTS", self.io_uints),
+            ("IO_U_TRANS", self.io_u_trans),
+            ("IO_U_N", self.io_u_n),
+            ("CACHE_REALS", self.cache_reals),
+            ("CACHE_R_ROWS", self.cache_r_rows),
+            ("CACHE_UINTS", self.cache_uints),
+            ("CACHE_U_ROWS", self.cache_u_rows),
+            ("CACHE_U_ITEMS", self.cache_u_items),
+            ("WATCH_REALS", self.watch_reals),
+            ("WATCH_R_BEFORE", self.watch_r_before),
+            ("WATCH_R_CUE", self.watch_r_cue),
+            ("WATCH_R_OTHER", self.watch_r_other),
+            ("WATCH_R_POTS", self.watch_r_pots),
+            ("WATCH_UINTS", self.watch_uints),
+            ("WATCH_U_FIRST", self.watch_u_first),
+            ("WATCH_U_POTS", self.watch_u_pots),
+            ("EVENT_REALS", EVENT_REALS),
+            ("EVENT_UINTS", EVENT_UINTS),
+        ]
+    }
+}
+
+/// The largest bucket's layout: the sizes of the host's scratch blocks.
+pub(super) const MAX_LAYOUT: SimLayout = SimLayout::for_balls(GPU_MAX_BALLS);
+
+// The layout's blocks hold what they say (checked for the largest bucket).
+const _: () = {
+    let l = SimLayout::for_balls(GPU_MAX_BALLS);
+    assert!(l.watch_r_pots == l.watch_r_other + 3);
+    assert!(l.watch_r_other == l.watch_r_cue + 3);
+    assert!(l.watch_r_cue == l.watch_r_before + 10);
+    assert!(l.watch_u_pots == l.watch_u_first + 5);
+    assert!(GPU_MAX_BALLS == crate::simulate::MAX_BALLS);
+};
 
 /// The shader's "never" as the host writes it in f64 (f32 buffers get `NEVER_F32`).
 pub(super) const NEVER_F64: f64 = 1.0e300;
@@ -184,16 +276,18 @@ pub(super) fn from_never(t: f64) -> f64 {
 /// Lays out one table's I/O block at its start (after the strike, which is resolved
 /// here, under the CPU loop's rule) in `sr` and `su`; returns the strike's event record if
 /// there was a strike and `record` asks for it. Allocates nothing.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn start_table(
     shot_balls: &[BallState],
     shot_strike: Option<(usize, CueStrike)>,
     params: &SimParams,
     limits: Limits,
     record: bool,
-    sr: &mut [f64; IO_REALS],
-    su: &mut [u32; IO_UINTS],
+    layout: &SimLayout,
+    sr: &mut [f64],
+    su: &mut [u32],
 ) -> Option<EventRecord> {
-    let n = shot_balls.len().min(GPU_MAX_BALLS);
+    let n = shot_balls.len().min(layout.gpu_max_balls);
     let mut balls = [BallState::at_rest(0.0, 0.0, params.ball.r); GPU_MAX_BALLS];
     for (b, s) in balls.iter_mut().zip(shot_balls) {
         *b = BallState { t: 0.0, ..*s };
@@ -228,14 +322,14 @@ pub(super) fn start_table(
         let (t, kind) = next_transition(b, &params.ball).map_or((f64::INFINITY, 0), |(tau, k)| {
             (b.t + tau, transition_code(k))
         });
-        sr[IO_R_TRANS + i] = if t.is_finite() { t } else { NEVER_F64 };
-        su[IO_U_TRANS + i] = kind;
+        sr[layout.io_r_trans + i] = if t.is_finite() { t } else { NEVER_F64 };
+        su[layout.io_u_trans + i] = kind;
     }
-    sr[IO_R_CLOCK] = 0.0;
-    su[IO_U_N] = n as u32;
-    su[IO_U_N + 1] = n_events;
+    sr[layout.io_r_clock] = 0.0;
+    su[layout.io_u_n] = n as u32;
+    su[layout.io_u_n + 1] = n_events;
     // a table without balls, or one cut before its first event, is done already
-    su[IO_U_N + 2] = if limits.max_events == 0 {
+    su[layout.io_u_n + 2] = if limits.max_events == 0 {
         STATUS_CUT_EVENTS
     } else if n == 0 {
         STATUS_DONE
@@ -307,11 +401,11 @@ pub(super) fn event_record(u: &[u32], r: &[f64]) -> Result<EventRecord, Error> {
 }
 
 /// A finished table's outcome, from its I/O block.
-pub(super) fn table_outcome(sr: &[f64], su: &[u32]) -> Outcome {
+pub(super) fn table_outcome(layout: &SimLayout, sr: &[f64], su: &[u32]) -> Outcome {
     Outcome {
-        n_events: su[IO_U_N + 1] as usize,
-        t_end: from_never(sr[IO_R_CLOCK]),
-        cut: match su[IO_U_N + 2] {
+        n_events: su[layout.io_u_n + 1] as usize,
+        t_end: from_never(sr[layout.io_r_clock]),
+        cut: match su[layout.io_u_n + 2] {
             STATUS_CUT_EVENTS => Some(Cut::MaxEvents),
             STATUS_CUT_TIME => Some(Cut::MaxTime),
             _ => None,
@@ -325,36 +419,47 @@ pub(super) fn final_ball(sr: &[f64], su: &[u32], i: usize) -> Result<BallState, 
 }
 
 /// A finished table's final states and outcome, from its I/O block, into its run.
-pub(super) fn finish_table(run: &mut GpuRun, sr: &[f64], su: &[u32]) -> Result<(), Error> {
-    let n = (su[IO_U_N] as usize).min(GPU_MAX_BALLS);
+pub(super) fn finish_table(
+    layout: &SimLayout,
+    run: &mut GpuRun,
+    sr: &[f64],
+    su: &[u32],
+) -> Result<(), Error> {
+    let n = (su[layout.io_u_n] as usize).min(layout.gpu_max_balls);
     run.balls.clear();
     for i in 0..n {
         run.balls.push(final_ball(sr, su, i)?);
     }
-    run.outcome = table_outcome(sr, su);
+    run.outcome = table_outcome(layout, sr, su);
     Ok(())
 }
 
 /// Reads a table's watch block.
-pub(super) fn read_watch(sr: &[f64], su: &[u32], n_balls: usize) -> Result<GpuWatch, Error> {
+pub(super) fn read_watch(
+    layout: &SimLayout,
+    sr: &[f64],
+    su: &[u32],
+    n_balls: usize,
+) -> Result<GpuWatch, Error> {
+    let l = layout;
     let v3 = |at: usize| Vec3::new(sr[at], sr[at + 1], sr[at + 2]);
-    let first = match su[WATCH_U_FIRST] {
+    let first = match su[l.watch_u_first] {
         0 => None,
         number => Some(WatchedContact {
             number: number as usize,
             event: Event {
-                kind: event_kind(su[WATCH_U_FIRST + 1])?,
+                kind: event_kind(su[l.watch_u_first + 1])?,
                 t: sr[0],
-                ball: su[WATCH_U_FIRST + 2],
-                other: su[WATCH_U_FIRST + 3],
+                ball: su[l.watch_u_first + 2],
+                other: su[l.watch_u_first + 3],
             },
             cue_before: ball_state(
-                &sr[WATCH_R_BEFORE..WATCH_R_BEFORE + 10],
-                su[WATCH_U_FIRST + 4],
+                &sr[l.watch_r_before..l.watch_r_before + 10],
+                su[l.watch_u_first + 4],
             )?,
             t0: sr[1],
-            cue_after: v3(WATCH_R_CUE),
-            other_after: v3(WATCH_R_OTHER),
+            cue_after: v3(l.watch_r_cue),
+            other_after: v3(l.watch_r_other),
         }),
     };
     let n_pots = su[0] as usize;
@@ -363,14 +468,14 @@ pub(super) fn read_watch(sr: &[f64], su: &[u32], n_balls: usize) -> Result<GpuWa
     }
     let pots = (0..n_pots)
         .map(|k| {
-            let at = WATCH_U_POTS + k;
+            let at = l.watch_u_pots + k;
             (
                 su[at] as usize,
                 Event {
                     kind: EventKind::BallPocket,
-                    t: sr[WATCH_R_POTS + k],
-                    ball: su[at + GPU_MAX_BALLS],
-                    other: su[at + 2 * GPU_MAX_BALLS],
+                    t: sr[l.watch_r_pots + k],
+                    ball: su[at + l.gpu_max_balls],
+                    other: su[at + 2 * l.gpu_max_balls],
                 },
             )
         })

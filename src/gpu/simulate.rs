@@ -14,8 +14,10 @@
 //!
 //! The buffers and their bind group are made once and reused across chunks and calls while
 //! they are large enough. A batch is cut into chunks of whole tables that fit the device's
-//! largest binding. Limits of this version: at most [`GPU_MAX_BALLS`] balls per table, and
-//! no fall back to the CPU here (the caller chooses: [`crate::engine::ShotEngine`] does).
+//! largest binding. A call runs on the pipeline built for the smallest ball-count bucket
+//! that holds its largest table ([`SimLayout::bucket`]; up to [`GPU_MAX_BALLS`] balls);
+//! each bucket's pipeline is built when first needed. There is no fall back to the CPU
+//! here (the caller chooses: [`crate::engine::ShotEngine`] does).
 
 use rayon::prelude::*;
 
@@ -23,9 +25,9 @@ use super::GpuTimings;
 use super::device::{self, AdapterSummary, Scopes, copy_to_mapped, gpu_error, map_and_wait};
 use super::shader::simulate_source;
 use super::sim_layout::{
-    CACHE_REALS, CACHE_UINTS, EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GPU_MAX_PAIRS, GpuRun,
-    GpuShot, IO_REALS, IO_U_N, IO_UINTS, NEVER_F32, NEVER_F64, WATCH_REALS, WATCH_UINTS,
-    WatchedRun, event_record, final_ball, finish_table, read_watch, start_table, table_outcome,
+    EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, MAX_LAYOUT, NEVER_F32, NEVER_F64,
+    SimLayout, WatchedRun, event_record, final_ball, finish_table, read_watch, start_table,
+    table_outcome,
 };
 use crate::error::{Error, InputError, SimError};
 use crate::model::Precision;
@@ -131,6 +133,8 @@ enum Mode<'a> {
 
 /// The event loop's buffers, made for up to `tables` tables and reused while a call fits.
 struct LoopBuffers {
+    /// The layout (and so the pipeline) the buffers and the bind group were made for.
+    layout: SimLayout,
     tables: usize,
     per: usize,
     record: bool,
@@ -165,7 +169,12 @@ pub struct GpuSimulator {
     queue: wgpu::Queue,
     adapter: AdapterSummary,
     precision: Precision,
-    pipeline: wgpu::ComputePipeline,
+    /// The event loop's pipeline for each ball-count bucket built so far.
+    pipelines: Vec<(SimLayout, wgpu::ComputePipeline)>,
+    /// Threads a table's workgroup (at least the bucket's ball count).
+    threads: usize,
+    /// The largest workgroup memory the device allows, in bytes.
+    max_workgroup_bytes: u32,
     pub(super) max_groups_per_dim: u32,
     /// The largest storage binding the device allows, in bytes.
     max_binding: u64,
@@ -210,14 +219,54 @@ impl GpuSimulator {
         }
         let opened = device::open(precision)?;
         let device = opened.device;
+        let mut sim = GpuSimulator {
+            max_groups_per_dim: opened.limits.max_compute_workgroups_per_dimension,
+            max_binding: opened
+                .limits
+                .max_storage_buffer_binding_size
+                .min(opened.limits.max_buffer_size),
+            max_workgroup_bytes: opened.limits.max_compute_workgroup_storage_size,
+            device,
+            queue: opened.queue,
+            adapter: opened.adapter,
+            watch: opened.watch,
+            bufs: None,
+            pack_r: Vec::new(),
+            pack_u: Vec::new(),
+            #[cfg(feature = "testing")]
+            pending_fault: None,
+            precision,
+            pipelines: Vec::new(),
+            threads,
+            timings: GpuTimings::default(),
+            total: GpuTimings::default(),
+            dispatches: 0,
+            events_per_dispatch: EVENTS_PER_DISPATCH,
+            max_tables_per_chunk: MAX_TABLES_PER_CHUNK,
+        };
+        // the 16-ball bucket now: a shader that does not build fails here
+        sim.pipeline(&SimLayout::for_balls(16))?;
+        Ok(sim)
+    }
+
+    /// The event loop's pipeline for `layout`'s bucket, built the first time it is needed:
+    /// the shader with its `GPU_MAX_BALLS` set to the bucket's, `LOOP_THREADS` the
+    /// simulator's threads or the bucket's ball count if larger, `LOOP_ROUNDS` to match.
+    fn pipeline(&mut self, layout: &SimLayout) -> Result<&wgpu::ComputePipeline, Error> {
+        if let Some(k) = self.pipelines.iter().position(|(l, _)| l == layout) {
+            return Ok(&self.pipelines[k].1);
+        }
+        let n = layout.gpu_max_balls;
+        let threads = self.threads.max(n.next_power_of_two());
+        let device = &self.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("kisstime event loop"),
-            source: wgpu::ShaderSource::Wgsl(simulate_source(precision).into()),
+            source: wgpu::ShaderSource::Wgsl(simulate_source(self.precision, n).into()),
         });
         let constants = [
             ("LOOP_THREADS", threads as f64),
-            ("LOOP_ROUNDS", GPU_MAX_PAIRS.div_ceil(threads) as f64),
+            ("LOOP_ROUNDS", layout.gpu_max_pairs.div_ceil(threads) as f64),
         ];
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("simulate_tables"),
@@ -231,37 +280,23 @@ impl GpuSimulator {
             cache: None,
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
+            let text = e.to_string();
+            if n > 16 && text.to_lowercase().contains("workgroup") {
+                return Err(Error::Unsupported(format!(
+                    "tables of up to {n} balls need more workgroup memory than the {} bytes \
+                     of {}: {text}",
+                    self.max_workgroup_bytes, self.adapter.name
+                )));
+            }
             return Err(gpu_error(format!(
-                "the {} event-loop shader does not build on {}: {e}",
-                precision.name(),
-                opened.adapter.name
+                "the {} event-loop shader for {n} balls does not build on {}: {e}",
+                self.precision.name(),
+                self.adapter.name
             )));
         }
-        Ok(GpuSimulator {
-            max_groups_per_dim: opened.limits.max_compute_workgroups_per_dimension,
-            max_binding: opened
-                .limits
-                .max_storage_buffer_binding_size
-                .min(opened.limits.max_buffer_size),
-            device,
-            queue: opened.queue,
-            adapter: opened.adapter,
-            watch: opened.watch,
-            bufs: None,
-            pack_r: Vec::new(),
-            pack_u: Vec::new(),
-            #[cfg(feature = "testing")]
-            pending_fault: None,
-            precision,
-            pipeline,
-            timings: GpuTimings::default(),
-            total: GpuTimings::default(),
-            dispatches: 0,
-            events_per_dispatch: EVENTS_PER_DISPATCH,
-            max_tables_per_chunk: MAX_TABLES_PER_CHUNK,
-        })
+        self.pipelines.push((*layout, pipeline));
+        Ok(&self.pipelines.last().expect("pushed").1)
     }
-
     /// The adapter in use.
     pub fn adapter(&self) -> &AdapterSummary {
         &self.adapter
@@ -390,22 +425,34 @@ impl GpuSimulator {
         // the parameters checked as the CPU loop checks them
         EventLoop::new(table, params, limits, GPU_MAX_BALLS)
             .map_err(|e| gpu_error(format!("the simulation parameters: {e}")))?;
+        // the call's bucket: the smallest that holds its largest table
+        let n = input.len();
+        let most = (0..n).map(|k| input.shot(k).0.len()).max().unwrap_or(0);
+        let Some(layout) = SimLayout::bucket(most) else {
+            let at = (0..n).find(|&k| input.shot(k).0.len() == most).unwrap_or(0);
+            return Err(Error::Unsupported(format!(
+                "table {at}: {most} balls, the GPU event loop takes at most {GPU_MAX_BALLS}"
+            )));
+        };
+        self.pipeline(&layout)?;
+        let l = &layout;
         let per = self.events_per_dispatch.max(1) as usize;
         let real = self.precision.real_size();
         // the largest per-table binding decides how many tables fit one binding
-        let per_table = ((IO_REALS + CACHE_REALS + WATCH_REALS) * real)
+        let per_table = ((l.io_reals + l.cache_reals + l.watch_reals) * real)
             .max(per * EVENT_REALS * real)
             .max(4 * (1 + per * EVENT_UINTS));
         let fit = (self.max_binding / per_table as u64).max(1) as usize;
         let chunk = self.max_tables_per_chunk.max(1).min(fit);
-        let n = input.len();
         let mut runs = Vec::with_capacity(n);
         let mut watches = Vec::new();
         for start in (0..n).step_by(chunk) {
             let part = input.part(start..n.min(start + chunk));
             // the buffers fit the largest chunk of this call (they grow for a larger one)
             let capacity = chunk.min(n);
-            let done = self.simulate_chunk(table, params, limits, part, start, capacity, &mut mode);
+            let done = self.simulate_chunk(
+                table, params, limits, layout, part, start, capacity, &mut mode,
+            );
             let (r, w) = done.inspect_err(|_| self.total.add(&self.timings))?;
             runs.extend(r);
             watches.extend(w);
@@ -418,13 +465,15 @@ impl GpuSimulator {
     /// large enough, else new ones.
     fn buffers(
         &mut self,
+        layout: SimLayout,
         tables: usize,
         record: bool,
         geometry_reals: usize,
     ) -> Result<&LoopBuffers, Error> {
         let per = self.events_per_dispatch.max(1) as usize;
         let fits = self.bufs.as_ref().is_some_and(|b| {
-            b.tables >= tables
+            b.layout == layout
+                && b.tables >= tables
                 && b.per == per
                 && b.record == record
                 && b.geometry_reals >= geometry_reals
@@ -436,7 +485,7 @@ impl GpuSimulator {
                 return Err(e);
             }
             let scopes = Scopes::push(&self.device);
-            let made = self.make_buffers(tables, per, record, geometry_reals);
+            let made = self.make_buffers(layout, tables, per, record, geometry_reals)?;
             map_and_wait(
                 &self.device,
                 scopes,
@@ -450,12 +499,15 @@ impl GpuSimulator {
     }
 
     fn make_buffers(
-        &self,
+        &mut self,
+        layout: SimLayout,
         tables: usize,
         per: usize,
         record: bool,
         geometry_reals: usize,
-    ) -> LoopBuffers {
+    ) -> Result<LoopBuffers, Error> {
+        let l = &layout;
+        let bind_layout = self.pipeline(l)?.get_bind_group_layout(0);
         let real = self.precision.real_size() as u64;
         let n = tables as u64;
         let dev = &self.device;
@@ -471,11 +523,11 @@ impl GpuSimulator {
         let rw = storage | wgpu::BufferUsages::COPY_SRC;
         let back = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
         let up = wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC;
-        let state_reals = n * (IO_REALS + CACHE_REALS + WATCH_REALS) as u64;
-        let state_uints = n * (IO_UINTS + CACHE_UINTS + WATCH_UINTS) as u64;
+        let state_reals = n * (l.io_reals + l.cache_reals + l.watch_reals) as u64;
+        let state_uints = n * (l.io_uints + l.cache_uints + l.watch_uints) as u64;
         // what comes back at the end: the I/O region, then the watch region, of each kind
-        let back_reals = n * (IO_REALS + WATCH_REALS) as u64;
-        let back_uints = n * (IO_UINTS + WATCH_UINTS) as u64;
+        let back_reals = n * (l.io_reals + l.watch_reals) as u64;
+        let back_uints = n * (l.io_uints + l.watch_uints) as u64;
         let (events_reals, events_uints) = if record {
             (
                 n * (per * EVENT_REALS) as u64,
@@ -497,7 +549,6 @@ impl GpuSimulator {
         let events_u = make("events_u", events_uints * 4, rw);
         let running = make("running", 4, rw);
         let live = make("live", 2 * n * 4, rw);
-        let layout = self.pipeline.get_bind_group_layout(0);
         let entries: Vec<wgpu::BindGroupEntry> = [
             &cfg, &sim, &geometry, &state_r, &state_u, &events_r, &events_u, &running, &live,
         ]
@@ -510,16 +561,17 @@ impl GpuSimulator {
         .collect();
         let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("event loop"),
-            layout: &layout,
+            layout: &bind_layout,
             entries: &entries,
         });
-        LoopBuffers {
+        Ok(LoopBuffers {
+            layout,
             tables,
             per,
             record,
             geometry_reals,
-            up_r: make("upload reals", n * (IO_REALS as u64) * real, up),
-            up_u: make("upload u32s", n * (IO_UINTS as u64) * 4, up),
+            up_r: make("upload reals", n * (l.io_reals as u64) * real, up),
+            up_u: make("upload u32s", n * (l.io_uints as u64) * 4, up),
             back_running: make("readback running", 4, back),
             back_r: make("readback reals", back_reals * real, back),
             back_u: make("readback u32s", back_uints * 4, back),
@@ -535,7 +587,7 @@ impl GpuSimulator {
             running,
             live,
             bind,
-        }
+        })
     }
 
     /// One chunk of tables that fits the buffers (made for `capacity` tables); `first` is
@@ -546,11 +598,13 @@ impl GpuSimulator {
         table: &Table,
         params: SimParams,
         limits: Limits,
+        layout: SimLayout,
         input: Input<'_>,
         first: usize,
         capacity: usize,
         mode: &mut Mode<'_>,
     ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
+        let l = &layout;
         let n_tables = input.len();
         if n_tables == 0 {
             return Ok((Vec::new(), Vec::new()));
@@ -596,10 +650,12 @@ impl GpuSimulator {
             r.beta_n,
             r.k_n,
             r.spacer,
-            limits.max_time,
+            // `inf` (no time limit) as the largest finite number: the same comparisons,
+            // and no infinity in a uniform (WGSL leaves its handling to the implementation)
+            limits.max_time.min(f64::MAX),
         ];
         let per = self.events_per_dispatch.max(1) as usize;
-        self.buffers(capacity.max(n_tables), record, geometry.len())?;
+        self.buffers(layout, capacity.max(n_tables), record, geometry.len())?;
         let bufs = self.bufs.as_ref().expect("made by buffers");
         let queue = &self.queue;
         queue.write_buffer(&bufs.sim, 0, &real_bytes(precision, &sim));
@@ -608,8 +664,8 @@ impl GpuSimulator {
         // precision in host arrays kept across calls, Rayon over blocks of tables; then
         // copied to the mapped upload buffers in large blocks (mapped memory may be
         // write-combining: large sequential copies suit it)
-        let len_r = (n_tables * IO_REALS * real) as u64;
-        let len_u = (n_tables * IO_UINTS * 4) as u64;
+        let len_r = (n_tables * l.io_reals * real) as u64;
+        let len_u = (n_tables * l.io_uints * 4) as u64;
         let mut host_r = std::mem::take(&mut self.pack_r);
         let mut host_u = std::mem::take(&mut self.pack_u);
         host_r.resize(len_r as usize, 0);
@@ -619,8 +675,8 @@ impl GpuSimulator {
         // a block's strike records (with their tables' places in the chunk) and its runs
         type Block = (Vec<(usize, EventRecord)>, Vec<GpuRun>);
         let packed: Vec<Result<Block, Error>> = host_r
-            .par_chunks_mut(PACK_BLOCK * IO_REALS * real)
-            .zip(host_u.par_chunks_mut(PACK_BLOCK * IO_UINTS * 4))
+            .par_chunks_mut(PACK_BLOCK * l.io_reals * real)
+            .zip(host_u.par_chunks_mut(PACK_BLOCK * l.io_uints * 4))
             .enumerate()
             .map(|(b, (dst_r, dst_u))| {
                 let start = b * PACK_BLOCK;
@@ -643,23 +699,23 @@ impl GpuSimulator {
                             },
                         });
                     }
-                    let mut sr = [0.0; IO_REALS];
-                    let mut su = [0u32; IO_UINTS];
+                    let mut sr = [0.0; MAX_LAYOUT.io_reals];
+                    let mut su = [0u32; MAX_LAYOUT.io_uints];
+                    let (sr, su) = (&mut sr[..l.io_reals], &mut su[..l.io_uints]);
                     let shot = ShotRef {
                         at: first + k,
                         balls,
                         strike,
                         layout_checked,
                     };
-                    let record =
-                        pack_table(table, &params, limits, shot, record, &mut sr, &mut su)?;
+                    let record = pack_table(table, &params, limits, l, shot, record, sr, su)?;
                     if let Some(record) = record {
                         strikes.push((k, record));
                     }
-                    let at_r = j * IO_REALS * real;
-                    put_reals(precision, &sr, &mut dst_r[at_r..at_r + IO_REALS * real]);
-                    let at_u = j * IO_UINTS * 4;
-                    dst_u[at_u..at_u + IO_UINTS * 4].copy_from_slice(bytemuck::cast_slice(&su));
+                    let at_r = j * l.io_reals * real;
+                    put_reals(precision, sr, &mut dst_r[at_r..at_r + l.io_reals * real]);
+                    let at_u = j * l.io_uints * 4;
+                    dst_u[at_u..at_u + l.io_uints * 4].copy_from_slice(bytemuck::cast_slice(su));
                 }
                 Ok((strikes, runs))
             })
@@ -802,10 +858,10 @@ impl GpuSimulator {
         // only the I/O region (and the watch region) comes back
         let bufs = self.bufs.as_ref().expect("made by buffers");
         let watching = watch_cue != NO_WATCH;
-        let io_reals = (n_tables * IO_REALS * real) as u64;
-        let io_uints = (n_tables * IO_UINTS * 4) as u64;
-        let watch_reals = (n_tables * WATCH_REALS * real) as u64;
-        let watch_uints = (n_tables * WATCH_UINTS * 4) as u64;
+        let io_reals = (n_tables * l.io_reals * real) as u64;
+        let io_uints = (n_tables * l.io_uints * 4) as u64;
+        let watch_reals = (n_tables * l.watch_reals * real) as u64;
+        let watch_uints = (n_tables * l.watch_uints * 4) as u64;
         let mut copies = vec![
             Copy {
                 src: &bufs.state_r,
@@ -824,13 +880,13 @@ impl GpuSimulator {
             // the watch region follows the I/O and cache regions
             copies.push(Copy {
                 src: &bufs.state_r,
-                offset: (n_tables * (IO_REALS + CACHE_REALS) * real) as u64,
+                offset: (n_tables * (l.io_reals + l.cache_reals) * real) as u64,
                 dst: &bufs.back_r,
                 len: watch_reals,
             });
             copies.push(Copy {
                 src: &bufs.state_u,
-                offset: (n_tables * (IO_UINTS + CACHE_UINTS) * 4) as u64,
+                offset: (n_tables * (l.io_uints + l.cache_uints) * 4) as u64,
                 dst: &bufs.back_u,
                 len: watch_uints,
             });
@@ -842,7 +898,7 @@ impl GpuSimulator {
         let len_u = io_uints + if watching { watch_uints } else { 0 };
         let watched_cue = watching.then_some(watch_cue as usize);
         let out = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
-            unpack(precision, &mut runs, views[0], views[1], watched_cue)
+            unpack(precision, l, &mut runs, views[0], views[1], watched_cue)
         })??;
         let out = (runs, out);
         self.timings.unpack += clock.elapsed().as_secs_f64();
@@ -869,7 +925,14 @@ impl GpuSimulator {
                 label: Some("kisstime event loop"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&self.pipeline);
+            let layout = self.bufs.as_ref().map(|b| b.layout);
+            let pipeline = self
+                .pipelines
+                .iter()
+                .find(|(l, _)| Some(*l) == layout)
+                .map(|(_, p)| p)
+                .ok_or_else(|| gpu_error("no pipeline for the buffers' layout"))?;
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(x, y, 1);
         }
@@ -915,21 +978,24 @@ struct ShotRef<'a> {
 /// Checks a table as the CPU loop checks it ([`check_layout`] unless done, and
 /// [`EventLoop::check_input`]) and lays out its I/O block at its start in `sr` and `su`;
 /// returns its run so far and the strike's event record.
+#[allow(clippy::too_many_arguments)]
 fn pack_table(
     table: &Table,
     params: &SimParams,
     limits: Limits,
+    layout: &SimLayout,
     shot: ShotRef<'_>,
     record: bool,
-    sr: &mut [f64; IO_REALS],
-    su: &mut [u32; IO_UINTS],
+    sr: &mut [f64],
+    su: &mut [u32],
 ) -> Result<Option<EventRecord>, Error> {
     let at = shot.at;
     let bad = |e: SimError| Error::from(InputError::new(format!("table {at}: {e}")));
-    if shot.balls.len() > GPU_MAX_BALLS {
+    if shot.balls.len() > layout.gpu_max_balls {
         return Err(Error::Unsupported(format!(
-            "table {at}: {} balls, the GPU event loop takes at most {GPU_MAX_BALLS}",
-            shot.balls.len()
+            "table {at}: {} balls, the GPU event loop was built for at most {}",
+            shot.balls.len(),
+            layout.gpu_max_balls
         )));
     }
     if !shot.layout_checked {
@@ -942,6 +1008,7 @@ fn pack_table(
         params,
         limits,
         record,
+        layout,
         sr,
         su,
     ))
@@ -984,6 +1051,7 @@ fn read_mapped<T>(
 /// blocks), Rayon over tables.
 fn unpack(
     precision: Precision,
+    l: &SimLayout,
     runs: &mut [GpuRun],
     back_r: &[u8],
     back_u: &[u8],
@@ -992,41 +1060,50 @@ fn unpack(
     let real = precision.real_size();
     let Some(cue) = watch else {
         let n = runs.len();
-        let (io_r, io_u) = (&back_r[..n * IO_REALS * real], &back_u[..n * IO_UINTS * 4]);
+        let (io_r, io_u) = (
+            &back_r[..n * l.io_reals * real],
+            &back_u[..n * l.io_uints * 4],
+        );
         runs.par_iter_mut()
-            .zip(io_r.par_chunks(IO_REALS * real))
-            .zip(io_u.par_chunks(IO_UINTS * 4))
+            .zip(io_r.par_chunks(l.io_reals * real))
+            .zip(io_u.par_chunks(l.io_uints * 4))
             .try_for_each(|((run, r), u)| {
-                let mut sr = [0.0; IO_REALS];
-                reals_into(precision, r, &mut sr);
-                let mut su = [0u32; IO_UINTS];
-                uints_into(u, &mut su);
-                finish_table(run, &sr, &su)
+                let mut sr = [0.0; MAX_LAYOUT.io_reals];
+                let sr = &mut sr[..l.io_reals];
+                reals_into(precision, r, sr);
+                let mut su = [0u32; MAX_LAYOUT.io_uints];
+                let su = &mut su[..l.io_uints];
+                uints_into(u, su);
+                finish_table(l, run, sr, su)
             })?;
         return Ok(Vec::new());
     };
     // a watched batch: as many tables as its I/O blocks
-    let n = back_u.len() / ((IO_UINTS + WATCH_UINTS) * 4);
-    let (io_r, watch_r) = back_r.split_at(n * IO_REALS * real);
-    let (io_u, watch_u) = back_u.split_at(n * IO_UINTS * 4);
-    io_r.par_chunks(IO_REALS * real)
-        .zip(io_u.par_chunks(IO_UINTS * 4))
-        .zip(watch_r.par_chunks(WATCH_REALS * real))
-        .zip(watch_u.par_chunks(WATCH_UINTS * 4))
+    let n = back_u.len() / ((l.io_uints + l.watch_uints) * 4);
+    let (io_r, watch_r) = back_r.split_at(n * l.io_reals * real);
+    let (io_u, watch_u) = back_u.split_at(n * l.io_uints * 4);
+    io_r.par_chunks(l.io_reals * real)
+        .zip(io_u.par_chunks(l.io_uints * 4))
+        .zip(watch_r.par_chunks(l.watch_reals * real))
+        .zip(watch_u.par_chunks(l.watch_uints * 4))
         .map(|(((r, u), wr), wu)| {
-            let mut sr = [0.0; IO_REALS];
-            reals_into(precision, r, &mut sr);
-            let mut su = [0u32; IO_UINTS];
-            uints_into(u, &mut su);
-            let mut wsr = [0.0; WATCH_REALS];
-            reals_into(precision, wr, &mut wsr);
-            let mut wsu = [0u32; WATCH_UINTS];
-            uints_into(wu, &mut wsu);
-            let n_balls = su[IO_U_N] as usize;
+            let mut sr = [0.0; MAX_LAYOUT.io_reals];
+            let sr = &mut sr[..l.io_reals];
+            reals_into(precision, r, sr);
+            let mut su = [0u32; MAX_LAYOUT.io_uints];
+            let su = &mut su[..l.io_uints];
+            uints_into(u, su);
+            let mut wsr = [0.0; MAX_LAYOUT.watch_reals];
+            let wsr = &mut wsr[..l.watch_reals];
+            reals_into(precision, wr, wsr);
+            let mut wsu = [0u32; MAX_LAYOUT.watch_uints];
+            let wsu = &mut wsu[..l.watch_uints];
+            uints_into(wu, wsu);
+            let n_balls = su[l.io_u_n] as usize;
             Ok(WatchedRun {
-                cue: final_ball(&sr, &su, cue)?,
-                outcome: table_outcome(&sr, &su),
-                watch: read_watch(&wsr, &wsu, n_balls)?,
+                cue: final_ball(sr, su, cue)?,
+                outcome: table_outcome(l, sr, su),
+                watch: read_watch(l, wsr, wsu, n_balls)?,
             })
         })
         .collect()

@@ -151,7 +151,8 @@ pub struct Chunk {
 }
 
 impl Chunk {
-    fn empty(first: usize) -> Chunk {
+    /// A chunk of no tables whose first table will be `first`.
+    pub(crate) fn empty(first: usize) -> Chunk {
         Chunk {
             first,
             event_start: vec![0],
@@ -194,6 +195,15 @@ impl Chunk {
     /// Its tables in order.
     pub fn iter(&self) -> impl Iterator<Item = TableRun<'_>> {
         (0..self.len()).filter_map(|i| self.get(i))
+    }
+
+    /// Appends the next table's results (a backend that does not simulate into chunks).
+    pub(crate) fn push(&mut self, events: &[EventRecord], balls: &[BallState], outcome: Outcome) {
+        self.events.extend_from_slice(events);
+        self.balls.extend_from_slice(balls);
+        self.outcomes.push(outcome);
+        self.event_start.push(self.events.len());
+        self.ball_start.push(self.balls.len());
     }
 
     /// Appends `other`, which holds the tables right after this chunk's.
@@ -325,27 +335,7 @@ fn run_tables(
     for k in tables {
         let fail = |e| (k, e);
         let strike = input(k, buf).map_err(fail)?;
-        if buf.len() > MAX_BALLS {
-            return Err(fail(SimError::Ball {
-                index: MAX_BALLS,
-                reason: format!(
-                    "the table has {} balls; the simulator takes at most {MAX_BALLS}",
-                    buf.len()
-                ),
-            }));
-        }
-        if options.check_layout {
-            check_layout(table, radius, buf).map_err(fail)?;
-        }
-        if let Some((cue, _)) = strike
-            && buf.get(cue).is_some_and(|b| b.s == MotionState::Pocketed)
-        {
-            return Err(fail(SimError::Ball {
-                index: cue,
-                reason: "the strike's ball is pocketed".to_owned(),
-            }));
-        }
-        lp.reset(buf, strike).map_err(fail)?;
+        check_table(lp, table, radius, options, buf, strike).map_err(fail)?;
         while let Some(ev) = lp.step() {
             if options.record_events {
                 out.events.push(EventRecord::new(ev, lp.balls()));
@@ -357,6 +347,41 @@ fn run_tables(
         out.ball_start.push(out.balls.len());
     }
     Ok(out)
+}
+
+/// Checks one table's input as every backend checks it before simulating it, and leaves
+/// `lp` reset to it: at most [`MAX_BALLS`] balls, [`check_layout`] (when
+/// `options.check_layout`), a strike on a ball that is on the table, and
+/// [`EventLoop::reset`]'s checks (finite numbers, a valid strike).
+pub(crate) fn check_table(
+    lp: &mut EventLoop,
+    table: &Table,
+    radius: f64,
+    options: &BatchOptions,
+    balls: &[BallState],
+    strike: Option<(usize, CueStrike)>,
+) -> Result<(), SimError> {
+    if balls.len() > MAX_BALLS {
+        return Err(SimError::Ball {
+            index: MAX_BALLS,
+            reason: format!(
+                "the table has {} balls; the simulator takes at most {MAX_BALLS}",
+                balls.len()
+            ),
+        });
+    }
+    if options.check_layout {
+        check_layout(table, radius, balls)?;
+    }
+    if let Some((cue, _)) = strike
+        && balls.get(cue).is_some_and(|b| b.s == MotionState::Pocketed)
+    {
+        return Err(SimError::Ball {
+            index: cue,
+            reason: "the strike's ball is pocketed".to_owned(),
+        });
+    }
+    lp.reset(balls, strike)
 }
 
 /// The index of the pocket a pocketed ball sits in (its centre is the pocket's, as the

@@ -13,7 +13,7 @@
 //! Q13 (in the resolvers and evolution), Q14 (ties), Q17 (a transition's agent is stamped
 //! `t + (T − t)`).
 
-use crate::error::SimError;
+use crate::error::{InputError, SimError};
 use crate::model::ball_state::{BallState, ball_energy};
 use crate::model::sim_params::SimParams;
 use crate::model::table::Table;
@@ -57,6 +57,39 @@ impl Default for Limits {
             max_events: 200_000,
             max_time: 3600.0,
         }
+    }
+}
+
+impl Limits {
+    /// The limits a user asked for, checked by the one rule every entry point (the CLI's
+    /// `--max-events`/`--max-time`, Python's `max_events=`/`max_time=`, a study) applies:
+    /// `max_events` at least 1 (the strike is an event; a count beyond `usize` means no
+    /// cap), `max_time` greater than 0 s — `inf` means no time limit, NaN is refused.
+    ///
+    /// The error names the value and the rule, in the same words for every entry point.
+    pub fn new(max_events: u64, max_time: f64) -> Result<Limits, InputError> {
+        let limits = Limits {
+            max_events: usize::try_from(max_events).unwrap_or(usize::MAX),
+            max_time,
+        };
+        limits.check()?;
+        Ok(limits)
+    }
+
+    /// Checks these limits by [`Limits::new`]'s rule.
+    pub fn check(&self) -> Result<(), InputError> {
+        if self.max_events == 0 {
+            return Err(InputError::new(
+                "max_events 0: it must be at least 1 (the strike is an event)",
+            ));
+        }
+        if self.max_time.is_nan() || self.max_time <= 0.0 {
+            return Err(InputError::new(format!(
+                "max_time {}: it must be greater than 0 s (inf: no time limit)",
+                self.max_time
+            )));
+        }
+        Ok(())
     }
 }
 
