@@ -28,7 +28,7 @@ use crate::gpu::{GpuEngine, GpuRun, GpuShot, GpuSimulator};
 use crate::model::Params;
 pub use crate::model::Precision;
 use crate::model::ball_state::BallState;
-use crate::model::sim_params::SimParams;
+use crate::model::sim_params::Physics;
 use crate::model::table::Table;
 use crate::query::ball_ball::Contact;
 use crate::resolve::stick_ball::CueStrike;
@@ -501,23 +501,27 @@ impl ShotEngine {
     ///
     /// [`BatchStats::sim_seconds`] counts the simulation only, not the sink's time.
     #[allow(clippy::too_many_arguments)]
-    pub fn simulate_with<E: From<Error>>(
+    pub fn simulate_with<'p, E: From<Error>>(
         &mut self,
         table: &Table,
-        params: SimParams,
+        physics: impl Into<Physics<'p>>,
         options: &BatchOptions,
         n_tables: usize,
         input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError>
         + Sync,
         mut sink: impl FnMut(&Chunk) -> Result<(), E>,
     ) -> Result<BatchStats, BatchError<E>> {
+        let physics = physics.into();
         self.last_on_cpu = false;
         if self.cpu_for(n_tables, false) {
             self.last_on_cpu = self.chosen.gpu.is_some();
-            return simulate_batch(table, params, options, n_tables, input, sink);
+            return simulate_batch(table, physics, options, n_tables, input, sink);
         }
-        // the parameters, checked once
-        EventLoop::new(table, params, options.limits, 0)
+        // the parameters, checked once (each table's, where per table)
+        physics
+            .check(n_tables)
+            .map_err(|(table, error)| BatchError::Table { table, error })?;
+        EventLoop::new(table, physics.first(), options.limits, 0)
             .map_err(|error| BatchError::Table { table: 0, error })?;
         let per = self.gpu_chunk.unwrap_or(if options.record_events {
             GPU_STREAM_TABLES_EVENTS
@@ -528,16 +532,17 @@ impl ShotEngine {
         for start in (0..n_tables).step_by(per) {
             let end = n_tables.min(start + per);
             let started = Instant::now();
-            let shots = checked_shots(table, params, options, start..end, &input)
+            let shots = checked_shots(table, physics, options, start..end, &input)
                 .map_err(|(table, error)| BatchError::Table { table, error })?;
+            let part = physics.part(start..end);
             let (limits, record) = (options.limits, options.record_events);
             let runs = self
                 .run(
                     "the batch",
                     n_tables,
                     false,
-                    |g| g.simulate(table, params, limits, &shots, record),
-                    || simulate_on_cpu(table, params, limits, &shots, record),
+                    |g| g.simulate(table, part, limits, &shots, record),
+                    || simulate_on_cpu(table, part, limits, &shots, record),
                 )
                 .map_err(|e| BatchError::Sink(E::from(e)))?;
             drop(shots);
@@ -557,10 +562,10 @@ impl ShotEngine {
 
     /// Every shot of `shots` simulated through [`ShotEngine::simulate_with`] and collected
     /// (one [`GpuRun`] a shot, in shot order): for callers that hold the whole batch.
-    pub fn simulate(
+    pub fn simulate<'p>(
         &mut self,
         table: &Table,
-        params: SimParams,
+        physics: impl Into<Physics<'p>>,
         limits: Limits,
         shots: &[GpuShot],
         record_events: bool,
@@ -576,7 +581,7 @@ impl ShotEngine {
             balls.extend_from_slice(&shots[k].balls);
             Ok(shots[k].strike)
         };
-        self.simulate_with(table, params, &options, shots.len(), input, |chunk| {
+        self.simulate_with(table, physics, &options, shots.len(), input, |chunk| {
             runs.extend(chunk.iter().map(|run| GpuRun {
                 events: run.events.to_vec(),
                 balls: run.balls.to_vec(),
@@ -646,7 +651,7 @@ impl ShotEngine {
 /// tables): the shots for the GPU, or the first bad table's position and error.
 fn checked_shots(
     table: &Table,
-    params: SimParams,
+    physics: Physics<'_>,
     options: &BatchOptions,
     tables: Range<usize>,
     input: &(impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync),
@@ -655,7 +660,7 @@ fn checked_shots(
     let shots: Vec<Result<GpuShot, (usize, SimError)>> = tables
         .into_par_iter()
         .map_init(
-            || EventLoop::new(table, params, limits, MAX_BALLS),
+            || EventLoop::new(table, physics.first(), limits, MAX_BALLS),
             |lp, k| {
                 let fail = |e| (k, e);
                 // cannot fail: the parameters were checked before
@@ -664,7 +669,9 @@ fn checked_shots(
                     .map_err(|_| fail(SimError::Table("no event loop".to_owned())))?;
                 let mut balls = Vec::new();
                 let strike = input(k, &mut balls).map_err(fail)?;
-                check_table(lp, table, params.ball.r, options, &balls, strike).map_err(fail)?;
+                lp.set_params(physics.of(k)).map_err(fail)?;
+                let radius = physics.of(k).ball.r;
+                check_table(lp, table, radius, options, &balls, strike).map_err(fail)?;
                 Ok(GpuShot { balls, strike })
             },
         )
@@ -675,7 +682,7 @@ fn checked_shots(
 /// [`ShotEngine::simulate_with`]'s chunk on the CPU, where the GPU fell back.
 fn simulate_on_cpu(
     table: &Table,
-    params: SimParams,
+    physics: Physics<'_>,
     limits: Limits,
     shots: &[GpuShot],
     record_events: bool,
@@ -693,7 +700,7 @@ fn simulate_on_cpu(
         balls.extend_from_slice(&shots[k].balls);
         Ok(shots[k].strike)
     };
-    simulate_batch(table, params, &options, shots.len(), input, |chunk| {
+    simulate_batch(table, physics, &options, shots.len(), input, |chunk| {
         runs.extend(chunk.iter().map(|run| GpuRun {
             events: run.events.to_vec(),
             balls: run.balls.to_vec(),

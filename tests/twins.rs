@@ -125,6 +125,15 @@ const TWINS: &[Twin] = &[
             ("CueParams::validate", "the strike is resolved on the host"),
             ("ResolverParams::validate", HOST_ONLY),
             ("SimParams::validate", HOST_ONLY),
+            (
+                "Physics<'_>::of",
+                "the host writes each table's parameter block; the shader's load_params reads it",
+            ),
+            ("Physics<'_>::check", HOST_ONLY),
+            ("Physics<'_>::part", HOST_ONLY),
+            ("Physics<'_>::first", HOST_ONLY),
+            ("Physics<'_>::is_shared", HOST_ONLY),
+            ("from", HOST_ONLY),
         ],
         wgsl_only: &[],
     },
@@ -324,6 +333,14 @@ const TWINS: &[Twin] = &[
             ("check_balls", "the host checks the tables"),
             ("check_input", "the host checks the tables"),
             ("Limits::new", "the host checks the limits"),
+            (
+                "set_params",
+                "each table's parameters are its block of `sim` (load_params)",
+            ),
+            (
+                "params",
+                "each table's parameters are its block of `sim` (load_params)",
+            ),
             ("Limits::check", "the host checks the limits"),
             (
                 "choose",

@@ -95,6 +95,9 @@ const WATCH_REALS: u32 = WATCH_R_POTS + GPU_MAX_BALLS;
 const WATCH_U_FIRST: u32 = 1u;
 const WATCH_U_POTS: u32 = 6u;
 const WATCH_UINTS: u32 = WATCH_U_POTS + 3u * GPU_MAX_BALLS;
+// Reals of one parameter block in `sim` (ball 10, resolver 8, max_time) and where max_time is.
+const SIM_REALS: u32 = 19u;
+const SIM_R_MAX_TIME: u32 = 18u;
 // Reals and u32s of one recorded event (t and the two agents' r, v, w, t; kind, ball,
 // other and the two agents' motion states).
 const EVENT_REALS: u32 = 21u;
@@ -124,11 +127,14 @@ struct LoopConfig {
     // where this dispatch's list starts in `live` (0 or n_tables); the next one's is
     // the other half
     live_in: u32,
-    pad: u32,
+    // reals between two tables' parameter blocks in `sim`: 0 where the tables share one
+    // (one block), SIM_REALS with per-table physics
+    sim_stride: u32,
 }
 
 @group(0) @binding(0) var<uniform> cfg: LoopConfig;
-// Ball parameters (10), resolver parameters (8), max_time.
+// Per parameter block (SIM_REALS): ball parameters (10), resolver parameters (8),
+// max_time; one block for every table, or one per table (cfg.sim_stride).
 @group(0) @binding(1) var<storage, read> sim: array<real>;
 // Straight cushions (10 reals each: p1, p2, direction, lx, ly, l0), then jaws (4: centre,
 // radius), then pockets (5: centre, radius, depth).
@@ -201,9 +207,17 @@ fn no_candidate() -> Candidate {
     return Candidate(false, NEVER, 0u, 0.0, 0u, NO_AGENT, NO_AGENT);
 }
 
-fn load_params() -> SimParams {
-    let ball = BallParams(sim[0], sim[1], sim[2], sim[3], sim[4], sim[5], sim[6], sim[7], sim[8], sim[9]);
-    let resolver = ResolverParams(sim[10], sim[11], sim[12], sim[13], sim[14], sim[15], sim[16], sim[17]);
+// Table `table`'s parameters: its block of `sim` (the shared one where cfg.sim_stride is 0).
+fn load_params(table: u32) -> SimParams {
+    let at = table * cfg.sim_stride;
+    let ball = BallParams(
+        sim[at], sim[at + 1u], sim[at + 2u], sim[at + 3u], sim[at + 4u],
+        sim[at + 5u], sim[at + 6u], sim[at + 7u], sim[at + 8u], sim[at + 9u],
+    );
+    let resolver = ResolverParams(
+        sim[at + 10u], sim[at + 11u], sim[at + 12u], sim[at + 13u],
+        sim[at + 14u], sim[at + 15u], sim[at + 16u], sim[at + 17u],
+    );
     return SimParams(ball, resolver);
 }
 
@@ -778,9 +792,9 @@ fn simulate_tables(
         }
         return;
     }
-    let sp = load_params();
+    let sp = load_params(table);
     let p = sp.ball;
-    let max_time = sim[18];
+    let max_time = sim[table * cfg.sim_stride + SIM_R_MAX_TIME];
     load_table(table, lid);
     workgroupBarrier();
     for (var step = 0u; step < cfg.events_per_dispatch; step++) {

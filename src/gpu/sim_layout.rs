@@ -47,6 +47,10 @@ pub const GPU_MAX_BALLS: usize = GPU_BALL_BUCKETS[GPU_BALL_BUCKETS.len() - 1];
 /// kind, ball, other and the two agents' motion states.
 pub(super) const EVENT_REALS: usize = 21;
 pub(super) const EVENT_UINTS: usize = 5;
+/// Reals of one parameter block (`SIM_REALS`): the ball's 10, the resolver's 8, max_time
+/// (at `SIM_R_MAX_TIME`).
+pub(super) const SIM_REALS: usize = 19;
+pub(super) const SIM_R_MAX_TIME: usize = 18;
 
 /// The storage layout of the event loop built for `max_balls` balls a table: every
 /// constant the shader declares with the same name in upper case (a test evaluates the
@@ -151,7 +155,7 @@ impl SimLayout {
             .map(|&b| SimLayout::for_balls(b))
     }
 
-    /// Every constant by its WGSL name (`EVENT_REALS` and `EVENT_UINTS` too), for the test
+    /// Every constant by its WGSL name (`EVENT_*` and `SIM_*` too), for the test
     /// that compares them with the shader's.
     pub fn named(&self) -> Vec<(&'static str, usize)> {
         vec![
@@ -179,6 +183,8 @@ impl SimLayout {
             ("WATCH_U_POTS", self.watch_u_pots),
             ("EVENT_REALS", EVENT_REALS),
             ("EVENT_UINTS", EVENT_UINTS),
+            ("SIM_REALS", SIM_REALS),
+            ("SIM_R_MAX_TIME", SIM_R_MAX_TIME),
         ]
     }
 }

@@ -26,13 +26,13 @@ use super::device::{self, AdapterSummary, Scopes, copy_to_mapped, gpu_error, map
 use super::shader::simulate_source;
 use super::sim_layout::{
     EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, MAX_LAYOUT, NEVER_F32, NEVER_F64,
-    SimLayout, WatchedRun, event_record, final_ball, finish_table, read_watch, start_table,
-    table_outcome,
+    SIM_R_MAX_TIME, SIM_REALS, SimLayout, WatchedRun, event_record, final_ball, finish_table,
+    read_watch, start_table, table_outcome,
 };
 use crate::error::{Error, InputError, SimError};
 use crate::model::Precision;
 use crate::model::ball_state::BallState;
-use crate::model::sim_params::SimParams;
+use crate::model::sim_params::{Physics, SimParams};
 use crate::model::table::Table;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::batch::EventRecord;
@@ -139,6 +139,7 @@ struct LoopBuffers {
     per: usize,
     record: bool,
     geometry_reals: usize,
+    sim_reals: usize,
     cfg: wgpu::Buffer,
     sim: wgpu::Buffer,
     geometry: wgpu::Buffer,
@@ -334,14 +335,15 @@ impl GpuSimulator {
     /// table; a bad strike), as [`Error::Input`] naming the first such table and the
     /// reason; bad parameters; or a device failure ([`Error::Gpu`]: validation, out of
     /// memory, a lost device, a failed readback).
-    pub fn simulate(
+    pub fn simulate<'p>(
         &mut self,
         table: &Table,
-        params: SimParams,
+        physics: impl Into<Physics<'p>>,
         limits: Limits,
         shots: &[GpuShot],
         record_events: bool,
     ) -> Result<Vec<GpuRun>, Error> {
+        let params = physics.into();
         if !record_events {
             return self.simulate_with(table, params, limits, shots, None);
         }
@@ -357,14 +359,15 @@ impl GpuSimulator {
     /// [`GpuSimulator::simulate`] that hands each event, in order within each table, to
     /// `on_event(table, record)` as it is read back (after every dispatch) instead of
     /// keeping it. Without `on_event` no event is read back. The runs' `events` stay empty.
-    pub fn simulate_with(
+    pub fn simulate_with<'p>(
         &mut self,
         table: &Table,
-        params: SimParams,
+        physics: impl Into<Physics<'p>>,
         limits: Limits,
         shots: &[GpuShot],
         on_event: Option<OnEvent<'_>>,
     ) -> Result<Vec<GpuRun>, Error> {
+        let params = physics.into();
         let mode = match on_event {
             Some(f) => Mode::Events(f),
             None => Mode::Finals,
@@ -381,10 +384,10 @@ impl GpuSimulator {
     /// first contact (its final states and outcome are then those at that contact).
     /// Errors as [`GpuSimulator::simulate`], a bad strike naming its table.
     #[allow(clippy::too_many_arguments)]
-    pub fn simulate_strikes_watched(
+    pub fn simulate_strikes_watched<'p>(
         &mut self,
         table: &Table,
-        params: SimParams,
+        physics: impl Into<Physics<'p>>,
         limits: Limits,
         balls: &[BallState],
         cue: usize,
@@ -397,8 +400,13 @@ impl GpuSimulator {
                 balls.len()
             ))));
         }
-        check_layout(table, params.ball.r, balls)
-            .map_err(|e| Error::from(InputError::new(format!("the position: {e}"))))?;
+        let params = physics.into();
+        // the position checked once where the tables share their ball size (else each
+        // table is checked with its own)
+        if let Physics::Shared(p) = params {
+            check_layout(table, p.ball.r, balls)
+                .map_err(|e| Error::from(InputError::new(format!("the position: {e}"))))?;
+        }
         let input = Input::Strikes {
             balls,
             cue,
@@ -415,15 +423,23 @@ impl GpuSimulator {
     fn run(
         &mut self,
         table: &Table,
-        params: SimParams,
+        physics: Physics<'_>,
         limits: Limits,
         input: Input<'_>,
         mut mode: Mode<'_>,
     ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
         self.timings = GpuTimings::default();
         self.dispatches = 0;
-        // the parameters checked as the CPU loop checks them
-        EventLoop::new(table, params, limits, GPU_MAX_BALLS)
+        // the parameters checked as the CPU loop checks them (each table's where per table)
+        physics.check(input.len()).map_err(|(k, e)| {
+            let which = if physics.is_shared() {
+                "the simulation parameters".to_owned()
+            } else {
+                format!("table {k}'s parameters")
+            };
+            Error::from(InputError::new(format!("{which}: {e}")))
+        })?;
+        EventLoop::new(table, physics.first(), limits, GPU_MAX_BALLS)
             .map_err(|e| gpu_error(format!("the simulation parameters: {e}")))?;
         // the call's bucket: the smallest that holds its largest table
         let n = input.len();
@@ -450,8 +466,16 @@ impl GpuSimulator {
             let part = input.part(start..n.min(start + chunk));
             // the buffers fit the largest chunk of this call (they grow for a larger one)
             let capacity = chunk.min(n);
+            let end = n.min(start + chunk);
             let done = self.simulate_chunk(
-                table, params, limits, layout, part, start, capacity, &mut mode,
+                table,
+                physics.part(start..end),
+                limits,
+                layout,
+                part,
+                start,
+                capacity,
+                &mut mode,
             );
             let (r, w) = done.inspect_err(|_| self.total.add(&self.timings))?;
             runs.extend(r);
@@ -469,6 +493,7 @@ impl GpuSimulator {
         tables: usize,
         record: bool,
         geometry_reals: usize,
+        sim_reals: usize,
     ) -> Result<&LoopBuffers, Error> {
         let per = self.events_per_dispatch.max(1) as usize;
         let fits = self.bufs.as_ref().is_some_and(|b| {
@@ -477,6 +502,7 @@ impl GpuSimulator {
                 && b.per == per
                 && b.record == record
                 && b.geometry_reals >= geometry_reals
+                && b.sim_reals >= sim_reals
         });
         if !fits {
             self.bufs = None;
@@ -485,7 +511,7 @@ impl GpuSimulator {
                 return Err(e);
             }
             let scopes = Scopes::push(&self.device);
-            let made = self.make_buffers(layout, tables, per, record, geometry_reals)?;
+            let made = self.make_buffers(layout, tables, per, record, geometry_reals, sim_reals)?;
             map_and_wait(
                 &self.device,
                 scopes,
@@ -498,6 +524,7 @@ impl GpuSimulator {
         Ok(self.bufs.as_ref().expect("made above"))
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn make_buffers(
         &mut self,
         layout: SimLayout,
@@ -505,6 +532,7 @@ impl GpuSimulator {
         per: usize,
         record: bool,
         geometry_reals: usize,
+        sim_reals: usize,
     ) -> Result<LoopBuffers, Error> {
         let l = &layout;
         let bind_layout = self.pipeline(l)?.get_bind_group_layout(0);
@@ -541,7 +569,7 @@ impl GpuSimulator {
             64,
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
-        let sim = make("sim", 19 * real, storage);
+        let sim = make("sim", sim_reals as u64 * real, storage);
         let geometry = make("geometry", geometry_reals as u64 * real, storage);
         let state_r = make("state_r", state_reals * real, rw);
         let state_u = make("state_u", state_uints * 4, rw);
@@ -570,6 +598,7 @@ impl GpuSimulator {
             per,
             record,
             geometry_reals,
+            sim_reals,
             up_r: make("upload reals", n * (l.io_reals as u64) * real, up),
             up_u: make("upload u32s", n * (l.io_uints as u64) * 4, up),
             back_running: make("readback running", 4, back),
@@ -596,7 +625,7 @@ impl GpuSimulator {
     fn simulate_chunk(
         &mut self,
         table: &Table,
-        params: SimParams,
+        physics: Physics<'_>,
         limits: Limits,
         layout: SimLayout,
         input: Input<'_>,
@@ -629,33 +658,28 @@ impl GpuSimulator {
             geometry.extend([p.center.x, p.center.y, p.center.z, p.radius, p.depth]);
         }
         geometry.push(0.0);
-        let b = &params.ball;
-        let r = &params.resolver;
-        let sim = [
-            b.m,
-            b.r,
-            b.u_s,
-            b.u_r,
-            b.u_sp,
-            b.u_b,
-            b.e_b,
-            b.e_c,
-            b.f_c,
-            b.g,
-            r.alciatore_a,
-            r.alciatore_b,
-            r.alciatore_c,
-            r.omega_ratio,
-            r.beta_t,
-            r.beta_n,
-            r.k_n,
-            r.spacer,
-            // `inf` (no time limit) as the largest finite number: the same comparisons,
-            // and no infinity in a uniform (WGSL leaves its handling to the implementation)
-            limits.max_time.min(f64::MAX),
-        ];
+        // one parameter block for all the tables, or one per table (cfg's sim_stride)
+        let sim: Vec<f64> = match physics {
+            Physics::Shared(p) => param_block(&p, limits).to_vec(),
+            Physics::PerTable(all) => all[..n_tables]
+                .iter()
+                .flat_map(|p| param_block(p, limits))
+                .collect(),
+        };
+        let sim_stride = if physics.is_shared() { 0 } else { SIM_REALS };
         let per = self.events_per_dispatch.max(1) as usize;
-        self.buffers(layout, capacity.max(n_tables), record, geometry.len())?;
+        let sim_reals = if physics.is_shared() {
+            SIM_REALS
+        } else {
+            SIM_REALS * capacity.max(n_tables)
+        };
+        self.buffers(
+            layout,
+            capacity.max(n_tables),
+            record,
+            geometry.len(),
+            sim_reals,
+        )?;
         let bufs = self.bufs.as_ref().expect("made by buffers");
         let queue = &self.queue;
         queue.write_buffer(&bufs.sim, 0, &real_bytes(precision, &sim));
@@ -670,7 +694,8 @@ impl GpuSimulator {
         let mut host_u = std::mem::take(&mut self.pack_u);
         host_r.resize(len_r as usize, 0);
         host_u.resize(len_u as usize, 0);
-        let layout_checked = matches!(input, Input::Strikes { .. });
+        // one position struck many ways is checked once, where its tables share a ball size
+        let layout_checked = matches!(input, Input::Strikes { .. }) && physics.is_shared();
         let make_runs = watch_cue == NO_WATCH;
         // a block's strike records (with their tables' places in the chunk) and its runs
         type Block = (Vec<(usize, EventRecord)>, Vec<GpuRun>);
@@ -708,6 +733,7 @@ impl GpuSimulator {
                         strike,
                         layout_checked,
                     };
+                    let params = physics.of(k);
                     let record = pack_table(table, &params, limits, l, shot, record, sr, su)?;
                     if let Some(record) = record {
                         strikes.push((k, record));
@@ -797,7 +823,7 @@ impl GpuSimulator {
                 } else {
                     0
                 },
-                0,
+                sim_stride as u32,
                 0,
             ];
             self.queue
@@ -1107,6 +1133,38 @@ fn unpack(
             })
         })
         .collect()
+}
+
+/// One table's parameter block as the shader reads it (`SIM_REALS`: the ball's, the
+/// resolver's, then max_time).
+fn param_block(params: &SimParams, limits: Limits) -> [f64; SIM_REALS] {
+    let b = &params.ball;
+    let r = &params.resolver;
+    let mut block = [
+        b.m,
+        b.r,
+        b.u_s,
+        b.u_r,
+        b.u_sp,
+        b.u_b,
+        b.e_b,
+        b.e_c,
+        b.f_c,
+        b.g,
+        r.alciatore_a,
+        r.alciatore_b,
+        r.alciatore_c,
+        r.omega_ratio,
+        r.beta_t,
+        r.beta_n,
+        r.k_n,
+        r.spacer,
+        0.0,
+    ];
+    // `inf` (no time limit) as the largest finite number: the same comparisons, and no
+    // infinity in a buffer (WGSL leaves its handling to the implementation)
+    block[SIM_R_MAX_TIME] = limits.max_time.min(f64::MAX);
+    block
 }
 
 /// `v` in the shader's precision, as bytes.

@@ -25,7 +25,7 @@ pub use params::{
     DEFAULT_G, DEFAULT_MU_R, DEFAULT_MU_S, DEFAULT_MU_SP_PER_RADIUS, DEFAULT_RADIUS, Params,
 };
 pub use precision::Precision;
-pub use sim_params::{BallParams, CueParams, ResolverParams, SimParams};
+pub use sim_params::{BallParams, CueParams, Physics, ResolverParams, SimParams};
 pub use table::{CircularCushion, LinearCushion, Pocket, PocketTableSpecs, Table};
 pub use vec2::{Vec2, dot, norm, norm1, perp_dot};
 pub use vec3::Vec3;

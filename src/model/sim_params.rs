@@ -242,6 +242,90 @@ impl SimParams {
     }
 }
 
+/// The physics of a batch of tables: one parameter set for all of them, or one for each
+/// (per-table physics: a study can draw the cloth's and the cushions' parameters per sample
+/// as it draws the cue's noise).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Physics<'a> {
+    /// Every table with these parameters.
+    Shared(SimParams),
+    /// Table `k` with `[k]`; the slice has one entry per table of the batch.
+    PerTable(&'a [SimParams]),
+}
+
+impl Physics<'_> {
+    /// Table `k`'s parameters (for `PerTable`, `k` must be a table of the slice).
+    pub fn of(&self, k: usize) -> SimParams {
+        match self {
+            Physics::Shared(p) => *p,
+            Physics::PerTable(all) => all[k],
+        }
+    }
+
+    /// Checks them for a batch of `n_tables` tables: one set per table where per table, each
+    /// valid ([`SimParams::validate`]); the error names the first bad table's position.
+    pub fn check(&self, n_tables: usize) -> Result<(), (usize, SimError)> {
+        match self {
+            Physics::Shared(p) => p.validate().map_err(|e| (0, e)),
+            Physics::PerTable(all) => {
+                if all.len() < n_tables {
+                    return Err((
+                        all.len(),
+                        SimError::Table(format!(
+                            "no physics for this table: {} parameter sets for {n_tables} tables",
+                            all.len()
+                        )),
+                    ));
+                }
+                for (k, p) in all[..n_tables].iter().enumerate() {
+                    p.validate().map_err(|e| (k, e))?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The physics of tables `range` (for a chunk of the batch).
+    pub fn part(&self, range: std::ops::Range<usize>) -> Self {
+        match *self {
+            Physics::Shared(p) => Physics::Shared(p),
+            Physics::PerTable(all) => Physics::PerTable(&all[range]),
+        }
+    }
+
+    /// The first table's parameters (the defaults for an empty per-table list): what an
+    /// event loop starts with.
+    pub fn first(&self) -> SimParams {
+        match self {
+            Physics::Shared(p) => *p,
+            Physics::PerTable(all) => all.first().copied().unwrap_or_default(),
+        }
+    }
+
+    /// Whether the tables share one set.
+    pub fn is_shared(&self) -> bool {
+        matches!(self, Physics::Shared(_))
+    }
+}
+
+impl From<SimParams> for Physics<'_> {
+    fn from(p: SimParams) -> Self {
+        Physics::Shared(p)
+    }
+}
+
+impl<'a> From<&'a [SimParams]> for Physics<'a> {
+    fn from(all: &'a [SimParams]) -> Self {
+        Physics::PerTable(all)
+    }
+}
+
+impl<'a> From<&'a Vec<SimParams>> for Physics<'a> {
+    fn from(all: &'a Vec<SimParams>) -> Self {
+        Physics::PerTable(all)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -48,7 +48,7 @@ use rayon::prelude::*;
 use crate::error::SimError;
 use crate::model::MotionState;
 use crate::model::ball_state::BallState;
-use crate::model::sim_params::SimParams;
+use crate::model::sim_params::Physics;
 use crate::model::table::Table;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::check::check_layout;
@@ -269,15 +269,20 @@ impl<E: fmt::Debug + fmt::Display> std::error::Error for BatchError<E> {}
 /// Each table is checked ([`check_layout`], if asked, and [`EventLoop::reset`]: at most
 /// [`MAX_BALLS`] balls, finite numbers, a valid strike on an existing ball); the first bad
 /// table stops the run with [`BatchError::Table`] before its chunk reaches the sink.
-pub fn simulate_batch<E>(
+pub fn simulate_batch<'p, E>(
     table: &Table,
-    params: SimParams,
+    physics: impl Into<Physics<'p>>,
     options: &BatchOptions,
     n_tables: usize,
     input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync,
     mut sink: impl FnMut(&Chunk) -> Result<(), E>,
 ) -> Result<BatchStats, BatchError<E>> {
-    // the parameters, checked once
+    let physics = physics.into();
+    // the parameters, checked once (every table's, with per-table physics)
+    physics
+        .check(n_tables)
+        .map_err(|(table, error)| BatchError::Table { table, error })?;
+    let params = physics.first();
     EventLoop::new(table, params, options.limits, 0)
         .map_err(|error| BatchError::Table { table: 0, error })?;
     let per_chunk = options.chunk_tables.max(1);
@@ -301,7 +306,7 @@ pub fn simulate_batch<E>(
                     )
                 },
                 |(lp, buf), tables| match lp {
-                    Some(lp) => run_tables(lp, buf, table, params.ball.r, options, &input, tables),
+                    Some(lp) => run_tables(lp, buf, table, physics, options, &input, tables),
                     None => Err((tables.start, SimError::Table("no event loop".to_owned()))),
                 },
             )
@@ -326,7 +331,7 @@ fn run_tables(
     lp: &mut EventLoop,
     buf: &mut Vec<BallState>,
     table: &Table,
-    radius: f64,
+    physics: Physics<'_>,
     options: &BatchOptions,
     input: &(impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync),
     tables: Range<usize>,
@@ -335,6 +340,10 @@ fn run_tables(
     for k in tables {
         let fail = |e| (k, e);
         let strike = input(k, buf).map_err(fail)?;
+        if !physics.is_shared() {
+            lp.set_params(physics.of(k)).map_err(fail)?;
+        }
+        let radius = lp.params().ball.r;
         check_table(lp, table, radius, options, buf, strike).map_err(fail)?;
         while let Some(ev) = lp.step() {
             if options.record_events {
@@ -401,6 +410,7 @@ mod tests {
     use super::*;
     use crate::batch::Batch;
     use crate::model::Ball;
+    use crate::model::sim_params::SimParams;
     use crate::simulate::events::Cut;
 
     fn rack_batch(n: usize) -> (Batch, Vec<Option<(usize, CueStrike)>>) {

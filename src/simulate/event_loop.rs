@@ -190,6 +190,21 @@ impl<'a> EventLoop<'a> {
         Ok(())
     }
 
+    /// Replaces the parameters (for the next [`EventLoop::reset`]: a batch with per-table
+    /// physics); checked as [`EventLoop::new`] checks them.
+    pub fn set_params(&mut self, params: SimParams) -> Result<(), SimError> {
+        if params != self.params {
+            params.validate()?;
+            self.params = params;
+        }
+        Ok(())
+    }
+
+    /// The parameters in use.
+    pub fn params(&self) -> &SimParams {
+        &self.params
+    }
+
     /// Starts a shot: the balls (in pooltool's ball order, reference time 0) and the cue
     /// strike on ball `strike.0`, if any. The strike happens at t = 0 only if every ball
     /// is at rest (zero energy) and V0 > 0, as in pooltool. Errors on a bad ball or strike

@@ -60,7 +60,9 @@ pub mod event_loop;
 pub mod events;
 
 pub use crate::error::SimError;
-pub use crate::model::{BallParams, BallState, CueParams, ResolverParams, SimParams, Table, Vec3};
+pub use crate::model::{
+    BallParams, BallState, CueParams, Physics, ResolverParams, SimParams, Table, Vec3,
+};
 pub use crate::resolve::stick_ball::CueStrike;
 pub use batch::{
     BatchError, BatchOptions, BatchStats, Chunk, DEFAULT_CHUNK_TABLES, EventRecord, TableRun,
