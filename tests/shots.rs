@@ -622,8 +622,19 @@ fn bad_scenarios_are_input_errors_naming_the_file_key_and_ball() {
     has(&m, &["shot.theta", "90"]);
     let m = bad(&[("a = 0.0 ", "a = 0.8 "), ("b = 0.2 ", "b = 0.7 ")]);
     has(&m, &["shot.a", "shot.b"]);
-    let m = bad(&[("radius = 0.028575", "radius = 0")]);
-    has(&m, &["physics.radius"]);
+    let m = bad(&[("R = 0.028575", "R = 0")]);
+    has(
+        &m,
+        &["physics.R", "greater than 0", &at(&[], "R = 0.028575")],
+    );
+    // kisstime's former names are refused with pooltool's
+    let edits = [("R = 0.028575", "radius = 0.028575")];
+    has(
+        &bad(&edits),
+        &["physics.radius", "`R`", &at(&edits, "radius = ")],
+    );
+    let m = bad(&[("M = 0.567", "mass = 0.567")]);
+    has(&m, &["physics.cue.mass", "`M`"]);
     let m = bad(&[("e_c = 0.85", "e_c = 1.5")]);
     has(&m, &["physics.e_c", "1.5"]);
     let m = bad(&[("phi = 0.125", "phi = -0.125")]);
