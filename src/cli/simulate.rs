@@ -215,7 +215,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         }
     }
     let table = table_by_name(&args.table)?;
-    let params = SimParams::default();
+    let params = kisstime::io::physics::read_physics_or_default(args.physics.as_deref())?;
     let batch = read_input(&args.input)?;
     let plotted = match &args.plot {
         Some(_) => Some(plotted_table(&batch, args.table_id)?),

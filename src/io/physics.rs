@@ -411,6 +411,13 @@ pub fn read_physics(path: &Path) -> Result<SimParams, Error> {
     parse_physics_toml(&text, &path.display().to_string())
 }
 
+/// The parameters of the physics file at `path` ([`read_physics`]), or pooltool's
+/// defaults ([`SimParams::default`]) when there is none: what `kisstime simulate
+/// --physics` resolves to.
+pub fn read_physics_or_default(path: Option<&Path>) -> Result<SimParams, Error> {
+    path.map_or_else(|| Ok(SimParams::default()), read_physics)
+}
+
 /// The parameters of a JSON object's text with the keys of a physics file (the cue's
 /// under `"cue"`): what Python's `physics={...}` passes. Errors name `source` and the key.
 pub fn parse_physics_json(text: &str, source: &str) -> Result<SimParams, Error> {
