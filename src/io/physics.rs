@@ -386,7 +386,25 @@ fn range_error(e: SimError, p: &SimParams, prop: f64, src: &PhysicsSource) -> Er
 /// The parameters of a physics file's TOML `text` (module docs); errors name `source`
 /// as the file, the key and the line.
 pub fn parse_physics_toml(text: &str, source: &str) -> Result<SimParams, Error> {
-    let table: toml::Table = toml::from_str(text).map_err(|e| toml_error(&e, text, source))?;
+    physics_of_toml(text, source, true)
+}
+
+/// The parameters of TOML `text` that a program wrote from a mapping of pooltool's names
+/// (Python's `physics={...}`, the cue's under `cue`): as [`parse_physics_toml`], but the
+/// messages name `source` and the key without a line, which would mean nothing to the
+/// mapping's author.
+pub fn parse_physics_mapping(text: &str, source: &str) -> Result<SimParams, Error> {
+    physics_of_toml(text, source, false)
+}
+
+fn physics_of_toml(text: &str, source: &str, lines: bool) -> Result<SimParams, Error> {
+    let table: toml::Table = toml::from_str(text).map_err(|e| {
+        let mut e = toml_error(&e, text, source);
+        if let (Error::Input(ie), false) = (&mut e, lines) {
+            ie.line = None;
+        }
+        e
+    })?;
     let PhysicsValue::Table(entries) = PhysicsValue::from_toml_table(&table) else {
         unreachable!("a table converts to a table")
     };
@@ -395,7 +413,7 @@ pub fn parse_physics_toml(text: &str, source: &str) -> Result<SimParams, Error> 
         &PhysicsSource {
             file: source,
             prefix: "",
-            toml_text: Some(text),
+            toml_text: lines.then_some(text),
         },
         true,
     )
@@ -702,6 +720,20 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("must be a table"), "{e}");
+    }
+
+    #[test]
+    fn a_mapping_is_named_without_lines() {
+        let e = parse_physics_mapping("u_s = 0.2\nradius = 0.03\n", "physics")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "physics: unknown key `radius`: pooltool's name is `R`");
+        let e = parse_physics_mapping("g = = 1", "physics")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("physics: ") && !e.contains("line"), "{e}");
+        let p = parse_physics_mapping("R = 0.03\ncue = { M = 0.5 }\n", "physics").unwrap();
+        assert_eq!((p.ball.r, p.cue.mass), (0.03, 0.5));
     }
 
     #[test]
