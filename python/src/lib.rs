@@ -733,7 +733,7 @@ fn study_chunk<'py>(
 /// strings.
 #[pyfunction]
 #[pyo3(signature = (kind, text, source, dir, physics, blobs, until))]
-#[allow(clippy::type_complexity)]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn study_merge<'py>(
     py: Python<'py>,
     kind: &str,

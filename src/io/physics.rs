@@ -505,7 +505,8 @@ pub fn ball_params_from_json(
                 format!("key `{prefix}u_sp` is {}, it must be a number", v.kind()),
             ));
         };
-        if !((x - p.u_sp).abs() <= 1e-12 * p.u_sp.abs()) {
+        let agrees = (x - p.u_sp).abs() <= 1e-12 * p.u_sp.abs();
+        if !agrees {
             return Err(src.error(
                 "u_sp",
                 format!(
