@@ -26,7 +26,9 @@
 //!   Rust file: `shaders/query/ball_ball.wgsl` beside `src/query/ball_ball.rs`);
 //! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback, and the defaults;
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
-//! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files;
+//! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files, and the
+//!   simulator's physical parameters in pooltool's names ([`io::physics`]: the one parser
+//!   of `--physics`, a study's `[physics]` and Python's `physics=`);
 //! - [`study`]: Monte Carlo shot studies — one shot under cue noise (or given strikes),
 //!   every sample from the strike to rest on the simulator: configuration, noise, the
 //!   driver, statistics, and `data/studies`' reference format;

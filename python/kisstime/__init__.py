@@ -17,6 +17,10 @@ wx, wy, wz``: int64 ids and motion-state code, float64 numbers in m, m/s, rad/s;
 any order), or a dict of those 1-D columns. Motion-state codes are pooltool's: 0
 stationary, 1 spinning, 2 sliding, 3 rolling, 4 pocketed (:data:`STATES`).
 
+Whole shots run with pooltool's default ball and cue parameters unless ``physics=`` says
+otherwise: a dict with pooltool 0.6.0's names (:data:`PHYSICS_KEYS`, the cue's under
+``"cue"``) or a TOML file, read by the same parser as ``kisstime simulate --physics``.
+
 Past one machine, :mod:`kisstime.dask` spreads a study over a Dask cluster; pooltool users
 convert systems with :mod:`kisstime.pooltool`.
 """
