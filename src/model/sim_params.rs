@@ -254,6 +254,9 @@ mod tests {
     fn defaults_are_pooltools() {
         let p = BallParams::default();
         assert!((p.u_sp - 0.0127).abs() < 1e-15);
+        // the constant is the expression the default has always used, bit for bit
+        assert_eq!(p.u_sp.to_bits(), (10.0 * 2.0 / 5.0 / 9.0 * p.r).to_bits());
+        assert_eq!(p.u_sp, 0.0127);
         assert!((p.spin_decel() - 10.9).abs() < 1e-12);
         let r = ResolverParams::default();
         assert!((r.eta2() - 1.0802469135802468).abs() < 1e-16);
