@@ -28,7 +28,9 @@
 //!   the one whole-shot entry point, [`engine::ShotEngine::simulate_with`], which streams
 //!   either backend's results to a sink (the CLI, Python and every new capability use it);
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
-//! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files;
+//! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files, and the
+//!   simulator's physical parameters in pooltool's names ([`io::physics`]: the one parser
+//!   of `--physics`, a study's `[physics]` and Python's `physics=`);
 //! - [`study`]: Monte Carlo shot studies — one shot under cue noise (or given strikes),
 //!   every sample from the strike to rest on the simulator: configuration, noise, the
 //!   driver, statistics, and `data/studies`' reference format;

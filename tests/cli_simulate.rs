@@ -521,10 +521,25 @@ fn bad_input_exits_2_names_the_place_and_writes_nothing() {
 #[test]
 fn the_reference_set_gives_the_replays_event_sequences() {
     let set = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots"));
-    let params = SimParams::default();
-    let mut shots = read_shots(set, params.ball.r).unwrap();
     // breaks first in the set, then ordinary shots: take some of each
     let picked: Vec<usize> = (0..6).chain(100..110).collect();
+    same_events_as_the_replay(set, &picked, None);
+}
+
+#[test]
+fn the_physics_set_with_physics_gives_the_replays_event_sequences() {
+    let set = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/physics"));
+    // 100 ordinary shots, then 20 breaks: take some of each
+    let picked: Vec<usize> = (0..10).chain(100..103).collect();
+    same_events_as_the_replay(set, &picked, Some(&set.join("physics.toml")));
+}
+
+/// `kisstime simulate` (with `--physics FILE` when given) on the shots `picked` of the
+/// reference set `set` gives, bit for bit, the events of `io::shot_set::replay` with the
+/// parameters the library's parser reads from that file (pooltool's defaults without).
+fn same_events_as_the_replay(set: &Path, picked: &[usize], physics: Option<&Path>) {
+    let params = kisstime::io::physics::read_physics_or_default(physics).unwrap();
+    let mut shots = read_shots(set, params.ball.r).unwrap();
     shots = picked.iter().map(|&k| shots[k].clone()).collect();
     let dir = tempfile::tempdir().unwrap();
     // convert: ball ids are pooltool's ball order (its `ball` column), so that ascending
@@ -575,7 +590,7 @@ fn the_reference_set_gives_the_replays_event_sequences() {
     let strikes = write(dir.path(), "strikes.csv", &strikes);
     let ev = dir.path().join("ev.csv");
     let table_json = set.join("table.json");
-    let r = kisstime(&[
+    let mut args = vec![
         "simulate",
         s(&balls),
         "--strikes",
@@ -584,7 +599,11 @@ fn the_reference_set_gives_the_replays_event_sequences() {
         s(&table_json),
         "-o",
         s(&ev),
-    ]);
+    ];
+    if let Some(p) = physics {
+        args.extend(["--physics", s(p)]);
+    }
+    let r = kisstime(&args);
     assert_eq!(r.code, Some(0), "{}", r.stderr);
     let table = kisstime::io::shot_set::read_table(set).unwrap();
     // ours, as (shot, k, t, type, agents) with pooltool's names, one row per event
@@ -755,4 +774,117 @@ fn the_readme_break_example_runs() {
             .all(|r| r[2] == "stationary" || r[2] == "pocketed")
     );
     assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+}
+
+#[test]
+fn physics_changes_the_result_and_defaults_written_out_do_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let balls = write(dir.path(), "balls.csv", BALLS);
+    let strikes = write(dir.path(), "strikes.csv", STRIKES);
+    let final_with = |physics: Option<&Path>, name: &str| {
+        let out = dir.path().join(name);
+        let mut args = vec![
+            "simulate",
+            s(&balls),
+            "--strikes",
+            s(&strikes),
+            "--final",
+            s(&out),
+        ];
+        if let Some(p) = physics {
+            args.extend(["--physics", s(p)]);
+        }
+        let r = kisstime(&args);
+        assert_eq!(r.code, Some(0), "{}", r.stderr);
+        std::fs::read_to_string(out).unwrap()
+    };
+    let plain = final_with(None, "plain.csv");
+    // pooltool's defaults spelled out (and an empty file) change nothing, bit for bit
+    let defaults = write(
+        dir.path(),
+        "defaults.toml",
+        &kisstime::io::physics::physics_toml(&SimParams::default()),
+    );
+    assert!(defaults.exists());
+    assert_eq!(final_with(Some(&defaults), "defaults.csv"), plain);
+    let empty = write(dir.path(), "empty.toml", "# nothing\n");
+    assert_eq!(final_with(Some(&empty), "empty.csv"), plain);
+    // the reference set's parameters move every struck ball's final position
+    let set = Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/physics/physics.toml"
+    ));
+    let changed = final_with(Some(set), "changed.csv");
+    let rows = |t: &str| csv_rows(t);
+    let (a, b) = (rows(&plain), rows(&changed));
+    assert_eq!(a.len(), b.len());
+    let moved = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert!(moved >= 3, "{moved} balls moved:\n{plain}\n{changed}");
+    // R is the balls' radius everywhere: with R = 0.4 m the balls at x = 0.3 are in the
+    // cushions, refused by the layout check
+    let big = write(dir.path(), "big.toml", "R = 0.4\n");
+    let r = kisstime(&[
+        "simulate",
+        s(&balls),
+        "--strikes",
+        s(&strikes),
+        "--physics",
+        s(&big),
+    ]);
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert!(r.stderr.contains("R = 0.4"), "{}", r.stderr);
+}
+
+#[test]
+fn bad_physics_files_exit_2_naming_the_file_and_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let balls = write(dir.path(), "balls.csv", BALLS);
+    let out = dir.path().join("final.csv");
+    for (text, needles) in [
+        (
+            "u_s = 0.2\nfoo = 1\n",
+            &["line 2", "unknown key `foo`", "u_sp_proportionality"][..],
+        ),
+        (
+            "R = -0.03\n",
+            &["line 1", "key `R` is -0.03", "greater than 0"][..],
+        ),
+        ("e_c = 1.5\n", &["key `e_c` is 1.5", "(0, 1]"][..]),
+        (
+            "u_sp_proportionality = 0\n",
+            &["key `u_sp_proportionality` is 0"][..],
+        ),
+        ("radius = 0.03\n", &["unknown key `radius`", "`R`"][..]),
+        (
+            "mu_sp = 0.0127\n",
+            &["unknown key `mu_sp`", "`u_sp_proportionality`"][..],
+        ),
+        ("[cue]\nM = 0\n", &["line 2", "key `cue.M` is 0"][..]),
+        ("g = \"earth\"\n", &["key `g` is a string"][..]),
+        ("R = = 1\n", &["line 1"][..]),
+    ] {
+        let physics = write(dir.path(), "physics.toml", text);
+        let r = kisstime(&[
+            "simulate",
+            s(&balls),
+            "--physics",
+            s(&physics),
+            "--final",
+            s(&out),
+        ]);
+        assert_eq!(r.code, Some(2), "{text}: {}", r.stderr);
+        let first = r
+            .stderr
+            .lines()
+            .find(|l| l.contains("physics.toml"))
+            .unwrap_or("");
+        for n in needles {
+            assert!(first.contains(n), "{text}: {n:?} missing in {}", r.stderr);
+        }
+        assert!(!out.exists(), "{text}: an output was left");
+    }
+    let missing = dir.path().join("no_such.toml");
+    let r = kisstime(&["simulate", s(&balls), "--physics", s(&missing)]);
+    assert_eq!(r.code, Some(1), "{}", r.stderr);
+    assert!(r.stderr.contains("no_such.toml"), "{}", r.stderr);
 }

@@ -86,11 +86,11 @@ fn decelerations_that_underflow_or_overflow_are_refused() {
     assert!(Params::default().validate().is_ok());
 }
 
-/// scenario: `mu_r = 1e-200`, `g = 1e-200` are each finite and positive, but `μr g`
+/// scenario: `u_r = 1e-200`, `g = 1e-200` are each finite and positive, but `μr g`
 /// underflows to 0 (finding 2 again, through the shot study's reader). Refused, naming it.
 #[test]
 fn scenario_with_underflowing_deceleration_is_refused() {
-    let text = "[physics]\nmu_r = 1e-200\ng = 1e-200\n\
+    let text = "[physics]\nu_r = 1e-200\ng = 1e-200\n\
                 [[balls]]\nid = 0\nx = 0.45\ny = 0.7\n\
                 [[balls]]\nid = 3\nx = 0.78\ny = 1.85\n\
                 [shot]\ncue_ball = 0\nobject_ball = 3\nv0 = 1.6\nphi = 71.42\n\
@@ -99,12 +99,14 @@ fn scenario_with_underflowing_deceleration_is_refused() {
         .unwrap_err()
         .to_string();
     assert!(
-        err.contains("mu_s * g") || err.contains("mu_r * g"),
+        err.contains("`physics.u_r`")
+            && err.contains("`physics.g`")
+            && err.contains("deceleration"),
         "{err}"
     );
     assert!(err.contains("s.toml"), "{err}");
     // the same file with ordinary values is fine
-    let ok = text.replace("mu_r = 1e-200\ng = 1e-200\n", "");
+    let ok = text.replace("u_r = 1e-200\ng = 1e-200\n", "");
     assert!(kisstime::study::StudyConfig::parse(&ok, "s.toml", None).is_ok());
 }
 

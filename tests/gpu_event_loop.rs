@@ -9,6 +9,9 @@
 //!   and lavapipe's f64, which rounds `fma` twice and re-associates sums, differs from the
 //!   CPU's in the last bits, so breaks part from the CPU's sequence late).
 //!
+//! The physics set (`data/physics`, 120 shots under non-default ball parameters) the
+//! same way, with the parameters of its `physics.toml`: all 120 pass the judge.
+//!
 //! How many breaks keep the CPU's sequence, and f32's figures (shots as on the CPU, shots
 //! the judge passes, tables cut at [`F32_MAX_EVENTS`] events), are printed, not asserted.
 //!
@@ -131,7 +134,7 @@ fn gpu_event_loop_replays_the_reference_set_as_the_cpu_does() {
                 Some(w) => problems.push(format!("shot {}: {w}", shots[k].shot)),
             }
         }
-        let judged = judge(&shots, &table, &runs);
+        let judged = judge(&shots, &table, &runs, &dir);
         let (passed, failed) = judged.unwrap_or((0, 0));
         let events: usize = runs.iter().map(|r| r.events.len()).sum();
         println!(
@@ -158,12 +161,13 @@ fn gpu_event_loop_replays_the_reference_set_as_the_cpu_does() {
     }
 }
 
-/// Runs the set's judge on the GPU's replay: `(passed, failed)`, or `None` where python3
-/// is missing (CI has it).
+/// Runs the judge of the set in `reference` on the GPU's replay: `(passed, failed)`, or
+/// `None` where python3 is missing (CI has it).
 fn judge(
     shots: &[kisstime::io::shot_set::Shot],
     table: &kisstime::simulate::Table,
     runs: &[kisstime::gpu::GpuRun],
+    reference: &std::path::Path,
 ) -> Option<(usize, usize)> {
     let out = tempfile::tempdir().unwrap();
     let (ev_path, fin_path) = (out.path().join("events.csv"), out.path().join("final.csv"));
@@ -180,11 +184,76 @@ fn judge(
     }
     events.flush().unwrap();
     fin.flush().unwrap();
-    let (passed, failed, text) = common::check_fullshots(out.path())?;
+    let (passed, failed, text) = common::check_against(out.path(), reference)?;
     for l in text.lines().filter(|l| l.contains("FAIL")) {
         println!("  {l}");
     }
     Some((passed, failed))
+}
+
+/// The physics set (`data/physics`: 120 shots under the ball parameters of its
+/// `physics.toml`, read by the library's parser) on the GPU in f64, its parameters packed
+/// into the shader's uniform: the judge passes every shot, and every ordinary shot gives
+/// the CPU's events under the same parameters (kinds and agents, times within 1e-8 s).
+#[test]
+fn gpu_event_loop_replays_the_physics_set_with_its_parameters() {
+    let Some(mut gpu) = open(Precision::F64, "gpu_event_loop physics set") else {
+        return;
+    };
+    let dir = common::physics_dir();
+    let params = kisstime::io::physics::read_physics(&dir.join("physics.toml")).unwrap();
+    assert_ne!(params, SimParams::default());
+    let table = read_table(&dir).unwrap();
+    let shots = read_shots(&dir, params.ball.r).unwrap();
+    let limits = Limits::default();
+    let inputs: Vec<GpuShot> = shots
+        .iter()
+        .map(|s| GpuShot {
+            balls: s.balls.clone(),
+            strike: Some((s.cue, s.strike)),
+        })
+        .collect();
+    let started = std::time::Instant::now();
+    let runs = gpu.simulate(&table, params, limits, &inputs, true).unwrap();
+    let secs = started.elapsed().as_secs_f64();
+    let (mut problems, mut max_dt) = (Vec::new(), 0.0f64);
+    for (k, s) in shots.iter().enumerate() {
+        // shots 0-99 are ordinary, 100-119 breaks (chaotic: judged by the checker only)
+        if s.shot >= 100 {
+            continue;
+        }
+        let mut events = Vec::new();
+        simulate(
+            &table,
+            params,
+            limits,
+            &s.balls,
+            Some((s.cue, s.strike)),
+            |e, b| {
+                events.push(EventRecord::new(*e, b));
+            },
+        )
+        .unwrap();
+        // kinds and agents the same; times within 1e-8 s (lavapipe's f64, which rounds
+        // `fma` twice and re-associates sums, drifts to ~2e-9 s late in the longest shots)
+        if let Some(w) = first_difference(&runs[k].events, &events, 1e-8) {
+            problems.push(format!("shot {}: {w}", s.shot));
+        }
+        for (g, c) in runs[k].events.iter().zip(&events) {
+            max_dt = max_dt.max((g.event.t - c.event.t).abs());
+        }
+    }
+    let judged = judge(&shots, &table, &runs, &dir);
+    println!(
+        "physics set on the GPU: {} of 100 ordinary shots as on the CPU (event times within \
+         {max_dt:.1e} s); check_fullshots.py: {judged:?} (passed, failed) ({secs:.2} s on {})",
+        100 - problems.len(),
+        gpu.adapter().name
+    );
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    if let Some(judged) = judged {
+        assert_eq!(judged, (120, 0), "check_fullshots.py on the GPU's replay");
+    }
 }
 
 /// The reference set's table and its shots `range` as GPU inputs.

@@ -622,8 +622,19 @@ fn bad_scenarios_are_input_errors_naming_the_file_key_and_ball() {
     has(&m, &["shot.theta", "90"]);
     let m = bad(&[("a = 0.0 ", "a = 0.8 "), ("b = 0.2 ", "b = 0.7 ")]);
     has(&m, &["shot.a", "shot.b"]);
-    let m = bad(&[("radius = 0.028575", "radius = 0")]);
-    has(&m, &["physics.radius"]);
+    let m = bad(&[("R = 0.028575", "R = 0")]);
+    has(
+        &m,
+        &["physics.R", "greater than 0", &at(&[], "R = 0.028575")],
+    );
+    // kisstime's former names are refused with pooltool's
+    let edits = [("R = 0.028575", "radius = 0.028575")];
+    has(
+        &bad(&edits),
+        &["physics.radius", "`R`", &at(&edits, "radius = ")],
+    );
+    let m = bad(&[("M = 0.567", "mass = 0.567")]);
+    has(&m, &["physics.cue.mass", "`M`"]);
     let m = bad(&[("e_c = 0.85", "e_c = 1.5")]);
     has(&m, &["physics.e_c", "1.5"]);
     let m = bad(&[("phi = 0.125", "phi = -0.125")]);
@@ -665,6 +676,8 @@ fn example_file_is_the_builtin_study_and_sections_are_optional() {
         },
         builtin
     );
+    // its [physics] spells out pooltool's defaults in pooltool's names: bit for bit
+    assert_eq!(builtin.params, SimParams::default());
     assert_eq!(builtin.cue_id(), "cue");
     assert_eq!(builtin.intended_id(), "7");
     assert_eq!(builtin.pocket_id(), Some("lb"));
@@ -704,6 +717,81 @@ fn example_file_is_the_builtin_study_and_sections_are_optional() {
             source: "dev_scenario.json".into(),
             ..r
         }
+    );
+}
+
+#[test]
+fn physics_replaces_the_scenarios_and_json_scenarios_take_ball_params() {
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/physics"));
+    let params = kisstime::io::physics::read_physics(&dir.join("physics.toml")).unwrap();
+    // --physics / physics=: the whole parameter set replaced, the rest of the study kept
+    let builtin = StudyConfig::builtin();
+    let with = builtin
+        .clone()
+        .with_physics(params, "physics.toml")
+        .unwrap();
+    assert_eq!(with.params, params);
+    assert_eq!(
+        StudyConfig {
+            params: builtin.params,
+            ..with.clone()
+        },
+        builtin
+    );
+    let a = study(&builtin, &builtin.sigma(), 64, 3, &REST);
+    let b = study(&with, &with.sigma(), 64, 3, &REST);
+    assert_ne!(
+        fingerprint(&a),
+        fingerprint(&b),
+        "the parameters change the samples"
+    );
+    // the same as the scenario's own [physics] in the same names
+    let own = edited(&[("u_s = 0.2", "u_s = 0.17"), ("u_r = 0.01", "u_r = 0.008")]);
+    let own = own
+        .replacen(
+            "u_sp_proportionality = 0.4444444444444444",
+            "u_sp_proportionality = 0.38",
+            1,
+        )
+        .replacen("e_b = 0.95", "e_b = 0.97", 1)
+        .replacen("e_c = 0.85", "e_c = 0.9", 1)
+        .replacen("f_c = 0.2", "f_c = 0.25", 1);
+    assert_eq!(
+        StudyConfig::parse(&own, "own.toml", None).unwrap().params,
+        params
+    );
+    // a radius that puts the balls into one another is refused, naming where R came from
+    let big = SimParams {
+        ball: kisstime::model::BallParams {
+            r: 0.5,
+            ..params.ball
+        },
+        ..params
+    };
+    let e = builtin
+        .with_physics(big, "big.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("key `balls[") && e.contains("R = 0.5 from big.toml"),
+        "{e}"
+    );
+
+    // a .json scenario's ball_params, pooltool's names (a table JSON's, u_sp and note too)
+    let text = std::fs::read_to_string(studies("dev_scenario.json")).unwrap();
+    let table: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("table.json")).unwrap()).unwrap();
+    let mut scenario: serde_json::Value = serde_json::from_str(&text).unwrap();
+    scenario["ball_params"] = table["ball_params"].clone();
+    let r = StudyConfig::parse_reference(&scenario.to_string(), "s.json").unwrap();
+    assert_eq!(r.params.ball, params.ball);
+    scenario["ball_params"] = serde_json::json!({"radius": 0.03});
+    let e = StudyConfig::parse_reference(&scenario.to_string(), "s.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("s.json: unknown key `ball_params.radius`") && e.contains("`R`"),
+        "{e}"
     );
 }
 

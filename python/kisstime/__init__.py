@@ -17,12 +17,17 @@ wx, wy, wz``: int64 ids and motion-state code, float64 numbers in m, m/s, rad/s;
 any order), or a dict of those 1-D columns. Motion-state codes are pooltool's: 0
 stationary, 1 spinning, 2 sliding, 3 rolling, 4 pocketed (:data:`STATES`).
 
+Whole shots run with pooltool's default ball and cue parameters unless ``physics=`` says
+otherwise: a dict with pooltool 0.6.0's names (:data:`PHYSICS_KEYS`, the cue's under
+``"cue"``) or a TOML file, read by the same parser as ``kisstime simulate --physics``.
+
 Past one machine, :mod:`kisstime.dask` spreads a study over a Dask cluster; pooltool users
 convert systems with :mod:`kisstime.pooltool`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import json
 import os
@@ -46,6 +51,7 @@ __all__ = [
     "next_collisions",
     "simulate",
     "SimResult",
+    "PHYSICS_KEYS",
     "table_ids",
     "Scenario",
     "scenario",
@@ -181,6 +187,51 @@ def _params(radius: float, mu_s: float, mu_r: float, mu_sp: Optional[float], g: 
     )
 
 
+#: pooltool 0.6.0's ``BallParams`` names, the keys of ``physics={...}`` (the cue's,
+#: ``M`` and ``end_mass``, go under ``"cue"``).
+PHYSICS_KEYS = ("m", "R", "u_s", "u_r", "u_sp_proportionality", "u_b", "e_b", "e_c", "f_c", "g")
+
+PhysicsLike = Union[None, str, os.PathLike, Mapping[str, Any]]
+
+
+def _toml_value(v: Any) -> str:
+    """One value of a physics mapping as TOML (the Rust parser judges it)."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, Mapping):
+        return "{ " + ", ".join(f"{json.dumps(str(k))} = {_toml_value(x)}" for k, x in v.items()) + " }"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        x = float(v)
+        if x != x:
+            return "nan"
+        if x in (float("inf"), float("-inf")):
+            return "inf" if x > 0 else "-inf"
+        return repr(x)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return json.dumps(str(v))  # anything else: refused as "a string"
+
+
+def _physics(physics: PhysicsLike) -> Optional[tuple]:
+    """``physics=`` as the extension takes it: ``None``; ``("dict", TOML text, "physics")``
+    for a dict of pooltool's names; ``("toml", text, path)`` for a TOML file (read now)."""
+    if physics is None:
+        return None
+    if isinstance(physics, Mapping):
+        lines = [f"{json.dumps(str(k))} = {_toml_value(v)}" for k, v in physics.items()]
+        return ("dict", "\n".join(lines) + "\n", "physics")
+    if isinstance(physics, (str, os.PathLike)):
+        path = os.fspath(physics)
+        with open(path, encoding="utf-8") as f:
+            return ("toml", f.read(), path)
+    raise TypeError(
+        f"physics: expected a dict of pooltool's BallParams names (and \"cue\": {{...}}) or "
+        f"the path of a TOML file, not {type(physics).__name__}"
+    )
+
+
 class Batch:
     """Balls converted once and kept on the Rust side: pass it to :func:`next_collisions`
     again and again (an event loop's question after every event) without converting the
@@ -289,9 +340,21 @@ def simulate(
     events: bool = True,
     backend: str = "cpu",
     precision: Optional[str] = None,
+    physics: PhysicsLike = None,
 ) -> SimResult:
     """Whole shots from the cue strike to rest with pooltool 0.6.0's physics
     (``kisstime simulate``).
+
+    ``physics`` sets the balls' and the cue's parameters (``kisstime simulate
+    --physics``): a dict with pooltool 0.6.0's ``BallParams`` names (:data:`PHYSICS_KEYS`:
+    ``m, R, u_s, u_r, u_sp_proportionality, u_b, e_b, e_c, f_c, g``; as in pooltool, the
+    spinning friction is ``u_sp_proportionality * R``) and the cue's ``CueSpecs`` names
+    under ``"cue"`` (``{"M": ..., "end_mass": ...}``), or the path of a TOML file with those
+    keys (the cue's in a ``[cue]`` table; ``data/physics/physics.toml``). Keys left out keep
+    pooltool's defaults; ``None`` is all defaults. An unknown key (kisstime's former names
+    ``radius``, ``mu_s``, … say which pooltool name to use), a value that is not a number or
+    out of range raises ``ValueError`` with the command line's message (a dict is named
+    ``physics``).
 
     ``backend`` is ``"cpu"`` (Rayon, f64, every core: the reference), ``"gpu"`` (the WGSL
     event loop, one workgroup per table, at most 16 balls a table; ``RuntimeError`` when no
@@ -329,6 +392,7 @@ def simulate(
         bool(events),
         backend,
         precision,
+        _physics(physics),
     )
     return SimResult(_load(ev) if ev is not None else None, _load(fin), _load(oc))
 
@@ -354,9 +418,12 @@ class Scenario:
     text: str = ""
     source: str = "built-in study (examples/study.toml)"
     dir: Optional[str] = None
+    #: Parameters replacing the scenario's ``[physics]`` (what ``shot_study(physics=...)``
+    #: gives), as the extension takes them; ``None``: the scenario's own.
+    physics: Optional[tuple] = None
 
     def _args(self) -> tuple:
-        return (self.kind, self.text, self.source, self.dir)
+        return (self.kind, self.text, self.source, self.dir, self.physics)
 
 
 def scenario(
@@ -368,7 +435,8 @@ def scenario(
     Or, with no ``x``, the sections as keyword arguments: ``scenario(balls=[{"id": "cue",
     "x": 0.6, "y": 0.5}, ...], shot={"cue_ball": "cue", "object_ball": 1, "v0": 1.5,
     "phi": 90, "theta": 5, "a": 0, "b": 0.2}, table={"kind": "9ft"}, target={...},
-    noise={...}, physics={...})``. A file is read now; everything is checked when the
+    noise={...}, physics={...})`` (``physics`` with pooltool's names, as the TOML's
+    ``[physics]`` table and :func:`simulate`'s ``physics``). A file is read now; everything is checked when the
     study runs (:func:`shot_study` raises ``ValueError`` naming the file and key)."""
     if sections:
         if x is not None:
@@ -532,6 +600,7 @@ def shot_study(
     chunk: Optional[int] = None,
     backend: str = "cpu",
     precision: Optional[str] = None,
+    physics: PhysicsLike = None,
 ) -> Study:
     """A Monte Carlo shot study (``kisstime shots``): one table, one intended shot,
     ``samples`` noisy strikes drawn from ``seed`` (sample i's noise depends on (seed, i)
@@ -544,9 +613,14 @@ def shot_study(
     scenario's standard deviations (0 replays the intended shot). ``chunk`` samples run
     between two checks for Ctrl-C (default 16,384); the result does not depend on it.
     ``backend`` and ``precision`` are :func:`simulate`'s (the GPU runs each chunk's samples
-    as one batch of tables).
+    as one batch of tables). ``physics`` (what :func:`simulate` takes: a dict of pooltool's
+    names or a TOML file; ``kisstime shots --physics``) replaces the scenario's own
+    parameters (its ``[physics]`` table, or a ``.json`` scenario's ``ball_params``) as a
+    whole; the layout is checked again with its ``R``.
     """
     sc = _scenario(scenario)
+    if physics is not None:
+        sc = dataclasses.replace(sc, physics=_physics(physics))
     per = 16_384 if chunk is None else int(chunk)
     if per < 1:
         raise ValueError(f"chunk {chunk}: at least 1")

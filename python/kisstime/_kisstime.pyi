@@ -8,6 +8,8 @@ import numpy.typing as npt
 _I = npt.NDArray[np.int64]
 _F = npt.NDArray[np.float64]
 _Params = tuple[float, float, float, float, float]
+# (kind, text, source): kind "toml" (a file's text), "dict" (a dict written as TOML) or "json"
+_Physics = Optional[tuple[str, str, str]]
 
 class Batch:
     def __init__(
@@ -31,16 +33,19 @@ def next_collisions(
 def simulate(
     batch: Batch, strikes: Optional[tuple[_I, _I, list[_F]]], table_name: str,
     max_events: int, max_time: float, events: bool, backend: str, precision: Optional[str],
+    physics: _Physics = None,
 ) -> tuple[Optional[bytes], bytes, bytes]: ...
 def study_chunk(
-    kind: str, text: str, source: str, dir: Optional[str], first: int, n: int, seed: int,
+    kind: str, text: str, source: str, dir: Optional[str], physics: _Physics, first: int,
+    n: int, seed: int,
     strikes: Optional[tuple[_I, list[_F]]], until: str, noise: Optional[float],
     max_events: int, max_time: float, backend: str, precision: Optional[str],
 ) -> bytes: ...
 def study_merge(
-    kind: str, text: str, source: str, dir: Optional[str], blobs: list[bytes], until: str
+    kind: str, text: str, source: str, dir: Optional[str], physics: _Physics, blobs: list[bytes],
+    until: str,
 ) -> tuple[str, dict[str, np.ndarray], list[str]]: ...
 def study_ids(
-    kind: str, text: str, source: str, dir: Optional[str]
+    kind: str, text: str, source: str, dir: Optional[str], physics: _Physics
 ) -> tuple[list[str], list[str], list[str], list[str], int, int]: ...
 def table_ids(name: str) -> tuple[list[str], list[str], list[str]]: ...

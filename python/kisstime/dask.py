@@ -71,6 +71,7 @@ second on one core) and a lost worker's work short.
 
 from __future__ import annotations
 
+import dataclasses
 import operator
 import os
 import uuid
@@ -158,6 +159,7 @@ def shot_study(
     retries: int = 3,
     backend: str = "cpu",
     precision: str | None = None,
+    physics: kisstime.PhysicsLike = None,
 ) -> kisstime.Study:
     """A shot study run on a Dask cluster; the same :class:`~kisstime.Study` as one process gives.
 
@@ -192,6 +194,10 @@ def shot_study(
     until, noise, max_events, max_time, backend, precision
         As for :func:`kisstime.shot_study`; ``backend`` applies on each worker (``"auto"``
         uses a worker's GPU where it has one and its CPU elsewhere).
+    physics
+        As for :func:`kisstime.shot_study`: parameters (a dict of pooltool's names, or a
+        TOML file read here, on the client) replacing the scenario's own; they travel with
+        the scenario to every task.
     npy
         If given, the per-sample rows (``Study.samples``) are written there as ``.npy``
         (``Study.save``).
@@ -220,6 +226,8 @@ def shot_study(
     columns = None if strikes is None else _strike_columns(strikes)
     total = _count("samples", samples, 1) if columns is None else len(columns["sample"])
     sc = kisstime.scenario(scenario)
+    if physics is not None:
+        sc = dataclasses.replace(sc, physics=kisstime._physics(physics))
     options = kisstime._study_options(
         seed, until, noise, max_events, max_time, backend, precision
     )

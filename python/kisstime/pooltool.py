@@ -30,15 +30,18 @@ pooltool's dicts (its detection order); :attr:`Converted.table_ids` keeps their 
 **What is converted, and what kisstime assumes.** Every ball's *current* state
 (``ball.state.rvw`` and ``ball.state.s``: convert a system before ``pt.simulate``, or
 after ``system.reset_balls()``), the cue (``system.cue``: V0, phi, theta, a, b and
-``cue_ball_id``) and the table's geometry (every linear and circular cushion segment and
-every pocket). kisstime's physics has fixed constants: pooltool's default ball
-parameters (``BallParams()``: m, R, friction and restitution), the default cue
-(``CueSpecs.default()``: mass and end mass) and pooltool's default resolver (version 9:
-frictional-inelastic ball-ball with Alciatore friction, Stronge-compliant cushions,
-instantaneous-point stick with throttles 1). :func:`from_system` checks the ball and cue
-parameters and raises if they differ (``check=False`` converts anyway); a non-default
-resolver (``~/.config/pooltool/physics/resolver.yaml`` or an ``engine=`` passed to
-``pt.simulate``) cannot be seen from the ``System`` and is not checked.
+``cue_ball_id``), the table's geometry (every linear and circular cushion segment and
+every pocket) and the physical parameters: the balls' ``BallParams`` (m, R, friction,
+restitution, g; pooltool's names, :data:`kisstime.PHYSICS_KEYS`) and the cue's
+``CueSpecs`` mass and end mass, as :attr:`Converted.physics`, which
+:meth:`Converted.simulate` passes to ``kisstime.simulate(..., physics=...)``. kisstime
+simulates every ball of a table with one set of ``BallParams``: :func:`from_system`
+raises if the balls' differ (pooltool's own ``System`` validator demands one m and R).
+The resolver is pooltool's default (version 9: frictional-inelastic ball-ball with
+Alciatore friction, Stronge-compliant cushions, instantaneous-point stick with throttles
+1); a non-default resolver (``~/.config/pooltool/physics/resolver.yaml`` or an
+``engine=`` passed to ``pt.simulate``) cannot be seen from the ``System`` and is not
+checked.
 
 pooltool is an optional dependency, imported only when a function here needs it.
 Install it with::
@@ -64,6 +67,7 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 
 from . import EVENT_TYPES as _EVENT_TYPES
+from . import PHYSICS_KEYS as _PHYSICS_KEYS
 
 __all__ = [
     "EVENT_TYPES",
@@ -105,21 +109,8 @@ _INSTALL = (
     "(pooltool's wheel pins a panda3d build that PyPI lacks, hence --no-deps.)"
 )
 
-# kisstime's fixed physical constants, as pooltool 0.6.0 names them (BallParams() and
-# CueSpecs.default()). u_sp is derived: u_sp_proportionality * R.
-_BALL_PARAMS = {
-    "m": 0.170097,
-    "R": 0.028575,
-    "u_s": 0.2,
-    "u_r": 0.01,
-    "u_sp_proportionality": 10 * 2 / 5 / 9,
-    "u_b": 0.05,
-    "e_b": 0.95,
-    "e_c": 0.85,
-    "f_c": 0.2,
-    "g": 9.81,
-}
-_CUE_SPECS = {"M": 0.567, "end_mass": 0.170097 / 30}
+# The cue's CueSpecs fields that the physics uses (the "cue" table of ``physics``).
+_CUE_KEYS = ("M", "end_mass")
 
 
 def _require_pooltool():
@@ -158,6 +149,10 @@ class Converted:
         cue_id: pooltool's id of the cue stick (``system.cue.id``, ``"cue_stick"``),
             the first agent of a ``stick_ball`` event.
         table_id: The ``table`` column's value in :attr:`balls` and :attr:`strikes`.
+        physics: The system's physical parameters with pooltool's names, what
+            ``kisstime.simulate(..., physics=...)`` takes: the balls' ``BallParams``
+            (``m, R, u_s, u_r, u_sp_proportionality, u_b, e_b, e_c, f_c, g``) and the cue's
+            ``{"cue": {"M": ..., "end_mass": ...}}``. Empty: pooltool's defaults.
     """
 
     balls: np.ndarray
@@ -167,6 +162,7 @@ class Converted:
     table_ids: dict[str, list[str]]
     cue_id: str = "cue_stick"
     table_id: int = 0
+    physics: dict[str, Any] = field(default_factory=dict)
     _index: dict[str, int] = field(default_factory=dict, init=False, repr=False)
 
     def ball(self, pooltool_id: str) -> int:
@@ -187,15 +183,18 @@ class Converted:
         return path
 
     def simulate(self, **kwargs: Any):
-        """``kisstime.simulate`` on these balls, this strike and this table.
+        """``kisstime.simulate`` on these balls, this strike, this table and these
+        physical parameters (:attr:`physics`).
 
         The table is written to a temporary file for the call. ``kwargs`` go to
-        ``kisstime.simulate`` (``max_events``, ``max_time``, ``events``); ``table`` may
-        be given to simulate on another table (``"9ft"``, ``"rectangle"`` or a path),
-        but then pass the same ``layout`` to :func:`to_events`.
+        ``kisstime.simulate`` (``max_events``, ``max_time``, ``events``, ``backend``);
+        ``table`` may be given to simulate on another table (``"9ft"``, ``"rectangle"`` or
+        a path), but then pass the same ``layout`` to :func:`to_events`; ``physics``
+        replaces :attr:`physics`.
         Returns the ``kisstime.SimResult``.
         """
         kisstime = _kisstime()
+        kwargs.setdefault("physics", self.physics or None)
         strikes = self.strikes if len(self.strikes) else None
         if "table" in kwargs:
             return kisstime.simulate(self.balls, strikes, **kwargs)
@@ -266,20 +265,30 @@ def table_json(table: Any) -> str:
     return json.dumps(doc, indent=1, allow_nan=False)
 
 
-def _param_mismatches(system: Any) -> list[str]:
-    """The ways the system's ball and cue parameters differ from kisstime's constants."""
-    bad = []
-    for bid, ball in system.balls.items():
-        for name, want in _BALL_PARAMS.items():
-            got = getattr(ball.params, name)
-            if float(got) != want:
-                bad.append(f"ball {bid!r} {name} = {got!r} (kisstime: {want!r})")
+def _physics_of(system: Any, check: bool) -> dict[str, Any]:
+    """The system's physical parameters with pooltool's names (:attr:`Converted.physics`):
+    the balls' shared ``BallParams`` and the cue's mass and end mass. With ``check``, every
+    ball must have the first ball's parameters (else ValueError naming the ball and field);
+    without, the first ball's are taken."""
+    balls = list(system.balls.items())
+    first_id, first = balls[0]
+    params = {name: float(getattr(first.params, name)) for name in _PHYSICS_KEYS}
+    if check:
+        bad = []
+        for bid, ball in balls[1:]:
+            for name, want in params.items():
+                got = float(getattr(ball.params, name))
+                if got != want and not (got != got and want != want):
+                    bad.append(f"ball {bid!r} {name} = {got!r} (ball {first_id!r}: {want!r})")
+        if bad:
+            raise ValueError(
+                "kisstime simulates every ball of a table with the same BallParams; this "
+                "system's balls differ (pass check=False to take the first ball's):\n  "
+                + "\n  ".join(bad)
+            )
     specs = system.cue.specs
-    for name, want in _CUE_SPECS.items():
-        got = getattr(specs, name)
-        if float(got) != want:
-            bad.append(f"cue {name} = {got!r} (kisstime: {want!r})")
-    return bad
+    params["cue"] = {name: float(getattr(specs, name)) for name in _CUE_KEYS}
+    return params
 
 
 def from_system(system: Any, table: int = 0, *, check: bool = True) -> Converted:
@@ -294,18 +303,21 @@ def from_system(system: Any, table: int = 0, *, check: bool = True) -> Converted
             V0 > 0 (on ``cue.cue_ball_id``, with its phi, theta, a, b); like pooltool,
             kisstime applies it at t = 0 only if every ball is at rest.
         table: The ``table`` id written in the balls and the strike.
-        check: Raise ValueError if a ball's parameters or the cue's mass differ from
-            pooltool's defaults, which are kisstime's fixed constants (False: convert
-            anyway; kisstime then simulates with its own constants).
+        check: Raise ValueError if the balls' ``BallParams`` differ from one another
+            (kisstime simulates a table with one set; False: take the first ball's).
 
     Returns:
         A :class:`Converted` with ``balls``, ``strikes``, ``table`` (JSON text),
-        ``ball_ids``, ``table_ids``, ``cue_id`` and ``table_id``.
+        ``ball_ids``, ``table_ids``, ``cue_id``, ``table_id`` and ``physics`` (the balls'
+        ``BallParams`` and the cue's ``CueSpecs`` with pooltool's names, which
+        :meth:`Converted.simulate` uses; any values, not only pooltool's defaults).
 
     Raises:
         ImportError: pooltool is not installed.
         ValueError: no balls, a bad motion state or a non-finite number, a cue ball
-            that is not on the table, or (with ``check``) non-default parameters.
+            that is not on the table, or (with ``check``) balls with different
+            ``BallParams``. Parameters out of range are refused when simulating, with the
+            command line's message (``kisstime.simulate``'s ``physics``).
     """
     _require_pooltool()
     kisstime = _kisstime()
@@ -313,14 +325,7 @@ def from_system(system: Any, table: int = 0, *, check: bool = True) -> Converted
     ball_ids = [str(b) for b in system.balls.keys()]
     if not ball_ids:
         raise ValueError("the system has no balls")
-    if check:
-        bad = _param_mismatches(system)
-        if bad:
-            raise ValueError(
-                "kisstime simulates with pooltool's default ball and cue parameters; "
-                "this system differs (pass check=False to convert anyway):\n  "
-                + "\n  ".join(bad)
-            )
+    physics = _physics_of(system, check)
 
     balls = np.zeros(len(ball_ids), dtype=kisstime.BALL_DTYPE)
     for i, (bid, ball) in enumerate(system.balls.items()):
@@ -368,6 +373,7 @@ def from_system(system: Any, table: int = 0, *, check: bool = True) -> Converted
         table_ids=table_ids,
         cue_id=str(cue.id),
         table_id=table,
+        physics=physics,
     )
 
 

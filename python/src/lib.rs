@@ -282,10 +282,35 @@ fn pair_times<'py>(
     Ok(PyBytes::new(py, &out))
 }
 
+/// The physical parameters Python passes: `None`, or `(kind, text, source)` with `kind`
+/// `toml` (a physics file's text, `source` its path), `dict` (a dict of pooltool's names
+/// written as TOML by the Python side, `source` the argument's name: messages without
+/// lines) or `json` (such a dict as JSON text).
+type PhysicsArg = Option<(String, String, String)>;
+
+/// The parameters of a [`PhysicsArg`], read by the library's one parser
+/// (`kisstime::io::physics`: the command line's messages); `None` when not given.
+fn physics_of(physics: &PhysicsArg) -> PyResult<Option<SimParams>> {
+    use kisstime::io::physics::{parse_physics_json, parse_physics_mapping, parse_physics_toml};
+    match physics {
+        None => Ok(None),
+        Some((kind, text, source)) => match kind.as_str() {
+            "toml" => parse_physics_toml(text, source).map(Some).map_err(py_err),
+            "dict" => parse_physics_mapping(text, source)
+                .map(Some)
+                .map_err(py_err),
+            "json" => parse_physics_json(text, source).map(Some).map_err(py_err),
+            other => Err(PyValueError::new_err(format!(
+                "unknown physics kind {other:?}"
+            ))),
+        },
+    }
+}
+
 /// Whole shots from the strike to rest: `(events, final, outcomes)` as the `.npy` bytes of
 /// `kisstime simulate -o … --final … --outcomes …` (`events` is `None` unless asked).
 #[pyfunction]
-#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision))]
+#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -297,6 +322,7 @@ fn simulate<'py>(
     events: bool,
     backend: &str,
     precision: Option<&str>,
+    physics: PhysicsArg,
 ) -> PyResult<(
     Option<Bound<'py, PyBytes>>,
     Bound<'py, PyBytes>,
@@ -305,7 +331,7 @@ fn simulate<'py>(
     let limits = Limits::new(max_events, max_time).map_err(|e| py_err(e.into()))?;
     let batch = &batch.batch;
     let tbl = table_by_name(table_name).map_err(py_err)?;
-    let params = SimParams::default();
+    let params = physics_of(&physics)?.unwrap_or_default();
     let strikes = match &strikes {
         Some((t, b, v)) => {
             let cols = [
@@ -383,8 +409,24 @@ fn simulate<'py>(
 
 /// A study's configuration from its kind and text: `builtin`, `toml` (with the folder
 /// its table file is relative to), `json` (the reference format of `data/studies`),
-/// `dict` (the TOML schema as JSON text).
-fn config_of(kind: &str, text: &str, source: &str, dir: Option<&str>) -> PyResult<StudyConfig> {
+/// `dict` (the TOML schema as JSON text); with `physics` in place of its own parameters
+/// when given ([`StudyConfig::with_physics`]).
+fn config_of(
+    kind: &str,
+    text: &str,
+    source: &str,
+    dir: Option<&str>,
+    physics: &PhysicsArg,
+) -> PyResult<StudyConfig> {
+    let config = scenario_of(kind, text, source, dir)?;
+    match (physics_of(physics)?, physics) {
+        (Some(params), Some((_, _, from))) => config.with_physics(params, from).map_err(py_err),
+        _ => Ok(config),
+    }
+}
+
+/// A study's scenario from its kind and text (see [`config_of`]).
+fn scenario_of(kind: &str, text: &str, source: &str, dir: Option<&str>) -> PyResult<StudyConfig> {
     let dir = dir.map(std::path::Path::new);
     match kind {
         "builtin" => Ok(StudyConfig::builtin()),
@@ -564,7 +606,7 @@ fn decode(blob: &[u8], ids: &mut Vec<i64>, out: &mut Vec<Sample>) -> Option<()> 
 /// One chunk of a study: samples `first .. first + n` (noisy, from `seed`; or rows
 /// `first .. first + n` of the given strikes), as an opaque blob for [`study_merge`].
 #[pyfunction]
-#[pyo3(signature = (kind, text, source, dir, first, n, seed, strikes, until, noise, max_events, max_time, backend, precision))]
+#[pyo3(signature = (kind, text, source, dir, physics, first, n, seed, strikes, until, noise, max_events, max_time, backend, precision))]
 #[allow(clippy::too_many_arguments)]
 fn study_chunk<'py>(
     py: Python<'py>,
@@ -572,6 +614,7 @@ fn study_chunk<'py>(
     text: &str,
     source: &str,
     dir: Option<&str>,
+    physics: PhysicsArg,
     first: usize,
     n: usize,
     seed: u64,
@@ -583,7 +626,7 @@ fn study_chunk<'py>(
     backend: &str,
     precision: Option<&str>,
 ) -> PyResult<Bound<'py, PyBytes>> {
-    let config = config_of(kind, text, source, dir)?;
+    let config = config_of(kind, text, source, dir, &physics)?;
     // checked now; the device is opened only for a chunk that has samples (the Python
     // side checks its arguments with an empty chunk first)
     let (_, precision_kind) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
@@ -644,18 +687,19 @@ fn study_chunk<'py>(
 /// `columns` a dict of 1-D arrays, one row per sample, `potted` the `ball@pocket;…`
 /// strings.
 #[pyfunction]
-#[pyo3(signature = (kind, text, source, dir, blobs, until))]
-#[allow(clippy::type_complexity)]
+#[pyo3(signature = (kind, text, source, dir, physics, blobs, until))]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn study_merge<'py>(
     py: Python<'py>,
     kind: &str,
     text: &str,
     source: &str,
     dir: Option<&str>,
+    physics: PhysicsArg,
     blobs: Vec<Bound<'py, PyBytes>>,
     until: &str,
 ) -> PyResult<(String, Bound<'py, PyDict>, Vec<String>)> {
-    let config = config_of(kind, text, source, dir)?;
+    let config = config_of(kind, text, source, dir, &physics)?;
     let until = until_of(until)?;
     let mut ids = Vec::new();
     let mut samples = Vec::new();
@@ -731,13 +775,14 @@ fn study_merge<'py>(
 /// The ids of a study's balls and of its table's pockets, cushions and jaws:
 /// `(balls, pockets, linear, circular, cue index, intended index)`.
 #[pyfunction]
-#[pyo3(signature = (kind, text, source, dir))]
+#[pyo3(signature = (kind, text, source, dir, physics))]
 #[allow(clippy::type_complexity)]
 fn study_ids(
     kind: &str,
     text: &str,
     source: &str,
     dir: Option<&str>,
+    physics: PhysicsArg,
 ) -> PyResult<(
     Vec<String>,
     Vec<String>,
@@ -746,7 +791,7 @@ fn study_ids(
     usize,
     usize,
 )> {
-    let c = config_of(kind, text, source, dir)?;
+    let c = config_of(kind, text, source, dir, &physics)?;
     Ok((
         c.balls.iter().map(|b| b.id.clone()).collect(),
         c.table.pocket_ids.clone(),

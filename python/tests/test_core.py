@@ -200,6 +200,73 @@ def test_shot_study_scenarios_strikes_and_modes():
     path.unlink()
 
 
+def test_physics_matches_the_cli_and_bad_keys_give_its_message(tmp_path):
+    import tomllib
+
+    balls_csv = ROOT / "examples" / "break.csv"
+    strikes_csv = ROOT / "examples" / "break_strike.csv"
+    physics_toml = DATA / "physics" / "physics.toml"
+    fin = tmp_path / "f.npy"
+    r = run("simulate", str(balls_csv), "--strikes", str(strikes_csv), "--final", str(fin),
+            "--physics", str(physics_toml))
+    assert r.returncode == 0, r.stderr
+    arr, cols = balls_array(balls_csv), strike_columns(strikes_csv)
+    # a TOML file, and the same keys as a dict: the CLI's final states, bit for bit
+    from_file = kisstime.simulate(arr, cols, physics=physics_toml, events=False)
+    assert same(from_file.final, np.load(fin))
+    as_dict = tomllib.loads(physics_toml.read_text())
+    assert set(as_dict) <= set(kisstime.PHYSICS_KEYS)
+    from_dict = kisstime.simulate(arr, cols, physics=as_dict, events=False)
+    assert same(from_dict.final, from_file.final)
+    # the parameters matter; an empty dict is pooltool's defaults, bit for bit
+    default = kisstime.simulate(arr, cols, events=False)
+    assert not same(default.final, from_dict.final)
+    assert same(kisstime.simulate(arr, cols, physics={}, events=False).final, default.final)
+    cue = kisstime.simulate(arr, cols, physics={"cue": {"M": 0.4}}, events=False)
+    assert not same(cue.final, default.final)
+
+    # bad keys and values: the CLI's message (a dict is named "physics", without a line)
+    for text, key, needle in [
+        ("u_s = 0.2\nradius = 0.03\n", "radius", "`R`"),
+        ("u_s = 0.2\nmu_sp = 0.0127\n", "mu_sp", "`u_sp_proportionality`"),
+        ("u_s = 0.2\ne_c = 1.5\n", "e_c", "(0, 1]"),
+        ("u_s = 0.2\nfoo = 1\n", "foo", "u_sp_proportionality"),
+    ]:
+        bad = tmp_path / "bad.toml"
+        bad.write_text(text)
+        r = run("simulate", str(balls_csv), "--physics", str(bad))
+        assert r.returncode == 2, r.stderr
+        cli_msg = r.stderr.strip().removeprefix("kisstime: error: ")
+        assert f"`{key}`" in cli_msg and needle in cli_msg, cli_msg
+        with pytest.raises(ValueError) as e:
+            kisstime.simulate(arr, cols, physics=bad)
+        assert str(e.value) == cli_msg
+        with pytest.raises(ValueError) as e:
+            kisstime.simulate(arr, cols, physics=tomllib.loads(text))
+        assert str(e.value) == cli_msg.replace(f"{bad}, line 2", "physics")
+    with pytest.raises(ValueError, match="key `g` is NaN"):
+        kisstime.simulate(arr, cols, physics={"g": float("nan")})
+    with pytest.raises(ValueError, match="key `cue.M` is a string"):
+        kisstime.simulate(arr, cols, physics={"cue": {"M": "heavy"}})
+    with pytest.raises(TypeError, match="physics"):
+        kisstime.simulate(arr, cols, physics=3)
+
+    # shot studies: physics= replaces the scenario's [physics], as shots --physics does
+    r = run("shots", "--samples", "300", "--json", "--physics", str(physics_toml))
+    assert r.returncode == 0, r.stderr
+    cli_summary = json.loads(r.stdout)
+    study = kisstime.shot_study(samples=300, physics=as_dict)
+    for key in ("seed", "strikes", "noise", "seconds", "samples_per_s", "threads", "backend"):
+        cli_summary.pop(key)
+    assert study.summary == cli_summary
+    builtin = tomllib.loads((ROOT / "examples" / "study.toml").read_text())
+    builtin["physics"] = as_dict
+    assert same(kisstime.shot_study(builtin, samples=300).samples, study.samples)
+    assert not same(kisstime.shot_study(samples=300).samples, study.samples)
+    with pytest.raises(ValueError, match="R = 0.5 from physics"):
+        kisstime.shot_study(samples=3, physics={"R": 0.5})
+
+
 def test_bad_input_raises_with_the_clis_message(workload, tmp_path):
     _, balls = workload
     bad = balls.copy()

@@ -44,6 +44,8 @@ import kisstime.pooltool as kpt  # noqa: E402
 
 # the reference sets live in the repository's data/ (as for the crate's tests: CARGO_MANIFEST_DIR/data).
 FULLSHOTS = Path(__file__).resolve().parents[2] / "data" / "fullshots"
+# 120 shots made with every ball's BallParams changed as physics.toml says
+PHYSICS = Path(__file__).resolve().parents[2] / "data" / "physics"
 
 # Times: 1e-9 relative or absolute (the longest shot here, a 859-event break, is within
 # 8.3e-10 s of pooltool; the ordinary shots within 1e-11 s).
@@ -55,15 +57,15 @@ PT_SIMULATE_SHOTS = [105, 254]
 
 # --------------------------------------------------------------------------- the set
 @lru_cache(maxsize=None)
-def _shots() -> dict[int, dict[str, str]]:
-    with open(FULLSHOTS / "shots.csv", newline="") as f:
+def _shots(ref: Path = FULLSHOTS) -> dict[int, dict[str, str]]:
+    with open(ref / "shots.csv", newline="") as f:
         return {int(r["shot"]): r for r in csv.DictReader(f)}
 
 
 @lru_cache(maxsize=None)
-def _initial() -> dict[int, list[dict[str, str]]]:
+def _initial(ref: Path = FULLSHOTS) -> dict[int, list[dict[str, str]]]:
     out: dict[int, list[dict[str, str]]] = {}
-    with open(FULLSHOTS / "initial.csv", newline="") as f:
+    with open(ref / "initial.csv", newline="") as f:
         for r in csv.DictReader(f):
             out.setdefault(int(r["shot"]), []).append(r)
     for rows in out.values():
@@ -72,9 +74,9 @@ def _initial() -> dict[int, list[dict[str, str]]]:
 
 
 @lru_cache(maxsize=None)
-def _events() -> dict[int, list[dict]]:
+def _events(ref: Path = FULLSHOTS) -> dict[int, list[dict]]:
     out: dict[int, list[dict]] = {}
-    with gzip.open(FULLSHOTS / "events.csv.gz", "rt", newline="") as f:
+    with gzip.open(ref / "events.csv.gz", "rt", newline="") as f:
         for r in csv.DictReader(f):
             out.setdefault(int(r["shot"]), []).append(
                 {"type": r["type"], "time": float(r["t"]), "agents": tuple(r["agents"].split(";"))}
@@ -92,9 +94,9 @@ def _final() -> dict[int, dict[str, dict[str, str]]]:
 
 
 @lru_cache(maxsize=None)
-def _event_bar() -> dict[int, float]:
+def _event_bar(ref: Path = FULLSHOTS) -> dict[int, float]:
     """The set's k_s: events 0..k_s-1 must match (inf: the whole shot)."""
-    with open(FULLSHOTS / "stability.csv", newline="") as f:
+    with open(ref / "stability.csv", newline="") as f:
         return {
             int(r["shot"]): math.inf if r["event_bar"] == "" else int(r["event_bar"])
             for r in csv.DictReader(f)
@@ -106,12 +108,13 @@ def _table_json() -> dict:
         return json.load(f)["table"]
 
 
-def make_system(shot: int) -> "pt.System":
-    """Shot `shot` of the set as a pooltool System before the strike (as it was made)."""
-    s = _shots()[shot]
+def make_system(shot: int, ref: Path = FULLSHOTS, **params: float) -> "pt.System":
+    """Shot `shot` of the set `ref` as a pooltool System before the strike (as it was
+    made: every ball with the BallParams `params`, pooltool's defaults for the rest)."""
+    s = _shots(ref)[shot]
     balls = {
-        r["ball_id"]: pt.Ball.create(r["ball_id"], xy=(float(r["x"]), float(r["y"])))
-        for r in _initial()[shot]
+        r["ball_id"]: pt.Ball.create(r["ball_id"], xy=(float(r["x"]), float(r["y"])), **params)
+        for r in _initial(ref)[shot]
     }
     cue = pt.Cue(cue_ball_id=s["cue_ball_id"])
     cue.set_state(
@@ -246,14 +249,56 @@ def test_write_table_round_trips(tmp_path):
     assert kpt._ids_of_layout(FULLSHOTS / "table.json") == conv.table_ids
 
 
-def test_non_default_parameters_are_refused():
+def _physics_params() -> dict[str, float]:
+    import tomllib
+
+    return tomllib.loads((PHYSICS / "physics.toml").read_text())
+
+
+def test_default_parameters_convert_to_pooltools_defaults():
+    conv = kpt.from_system(make_system(250))
+    d = pt.objects.BallParams()
+    assert conv.physics == {
+        **{k: float(getattr(d, k)) for k in kisstime.PHYSICS_KEYS},
+        "cue": {"M": 0.567, "end_mass": 0.170097 / 30},
+    }
+
+
+@pytest.mark.parametrize("shot", [0, 3, 57, 100])  # ordinary shots and a break
+def test_non_default_ball_params_are_carried_and_replay_the_physics_set(shot):
+    """A System whose balls all have the physics set's BallParams converts with them, and
+    simulating the converted system gives pooltool's recorded events under them."""
+    params = _physics_params()
+    system = make_system(shot, PHYSICS, **params)
+    conv = kpt.from_system(system)
+    for k, v in params.items():
+        assert conv.physics[k] == v, k
+    assert conv.physics["u_s"] != pt.objects.BallParams().u_s
+    result = conv.simulate()
+    assert_same_events(
+        kpt.to_events(result, conv), _events(PHYSICS)[shot], _event_bar(PHYSICS)[shot]
+    )
+    # with pooltool's defaults instead, the same shot goes elsewhere
+    default = conv.simulate(physics=None)
+    assert kpt.first_difference(kpt.to_events(default, conv), _events(PHYSICS)[shot], **TOL) is not None
+
+
+def test_balls_with_different_params_are_refused():
     system = make_system(250)
-    ball = system.balls["cue"]
-    system.balls["cue"] = pt.Ball.create("cue", xy=tuple(ball.state.rvw[0][:2]), u_r=0.011)
-    with pytest.raises(ValueError, match="u_r"):
+    first, last = list(system.balls)[0], list(system.balls)[-1]
+    ball = system.balls[last]
+    system.balls[last] = pt.Ball.create(last, xy=tuple(ball.state.rvw[0][:2]), u_r=0.011)
+    with pytest.raises(ValueError, match=rf"ball '{last}' u_r = 0\.011 \(ball '{first}': 0\.01\)"):
         kpt.from_system(system)
-    conv = kpt.from_system(system, check=False)
-    assert len(conv.balls) == len(system.balls)
+    conv = kpt.from_system(system, check=False)  # the first ball's
+    assert len(conv.balls) == len(system.balls) and conv.physics["u_r"] == 0.01
+
+
+def test_out_of_range_params_are_refused_when_simulating():
+    system = make_system(250, e_c=1.5)
+    conv = kpt.from_system(system)
+    with pytest.raises(ValueError, match=r"^physics: key `e_c` is 1\.5, it must be in \(0, 1\]"):
+        conv.simulate()
 
 
 def test_missing_pooltool_says_how_to_install(monkeypatch):

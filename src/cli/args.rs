@@ -122,6 +122,12 @@ pub struct SimulateArgs {
     /// The table `--plot` draws (its id in the input); needed when the input has several.
     #[arg(long, value_name = "K", requires = "plot")]
     pub table_id: Option<i64>,
+    /// The balls' and the cue's physical parameters: a TOML file with pooltool 0.6.0's
+    /// names (`m`, `R`, `u_s`, `u_r`, `u_sp_proportionality`, `u_b`, `e_b`, `e_c`, `f_c`,
+    /// `g`; the cue's `M`, `end_mass` under `[cue]`), as data/physics/physics.toml. Keys
+    /// left out keep pooltool's defaults; without the flag, all are pooltool's defaults.
+    #[arg(long, value_name = "TOML")]
+    pub physics: Option<PathBuf>,
     /// Where to simulate: `cpu` (Rayon, f64, the reference), `gpu` (the WGSL event loop,
     /// one workgroup per table; up to 64 balls a table; an error when no GPU is usable)
     /// or `auto` (the backend measured faster for the work: never a software adapter; whole shots on a
@@ -263,6 +269,12 @@ pub struct ShotsArgs {
     /// Worker threads (default: one per core). Results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// The balls' and the cue's physical parameters, replacing the scenario's `[physics]`
+    /// (or a .json scenario's `ball_params`) as a whole: a TOML file in the format of
+    /// `simulate --physics` (pooltool 0.6.0's names; keys left out keep pooltool's
+    /// defaults).
+    #[arg(long, value_name = "TOML")]
+    pub physics: Option<PathBuf>,
 }
 
 /// How far a study's samples run.

@@ -4,6 +4,7 @@ use std::path::Path;
 
 use kisstime::Error;
 use kisstime::engine::{Backend, Precision, ShotEngine};
+use kisstime::io::physics::read_physics;
 use kisstime::io::strikes::read_sample_strikes;
 use kisstime::io::{output_error, write_output};
 use kisstime::simulate::{CueStrike, Limits};
@@ -45,8 +46,18 @@ fn shots_sigma(args: &ShotsArgs, scenario: &StudyConfig) -> Result<Noise, Error>
     Ok(sigma)
 }
 
-/// The scenario the arguments name: TOML, a reference-format `.json`, or the built-in one.
-fn read_scenario(path: Option<&Path>) -> Result<StudyConfig, Error> {
+/// The scenario the arguments name: TOML, a reference-format `.json`, or the built-in one;
+/// with the parameters of `physics` in place of its own when given.
+fn read_scenario(path: Option<&Path>, physics: Option<&Path>) -> Result<StudyConfig, Error> {
+    let config = read_scenario_file(path)?;
+    match physics {
+        Some(p) => config.with_physics(read_physics(p)?, &p.display().to_string()),
+        None => Ok(config),
+    }
+}
+
+/// The scenario file the arguments name, or the built-in one.
+fn read_scenario_file(path: Option<&Path>) -> Result<StudyConfig, Error> {
     match path {
         Some(p)
             if p.extension()
@@ -73,7 +84,7 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
         check_output(plot, "--plot", &["png"])?;
     }
     let limits = Limits::new(args.max_events, args.max_time)?;
-    let scenario = read_scenario(args.scenario.as_deref())?;
+    let scenario = read_scenario(args.scenario.as_deref(), args.physics.as_deref())?;
     let sigma = shots_sigma(args, &scenario)?;
     // the given strikes (and their sample ids), or none for a noisy study
     let given: Option<(Vec<i64>, Vec<CueStrike>)> = match &args.strikes {

@@ -11,9 +11,7 @@ use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableI
 use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
 use kisstime::io::table_json::table_by_name;
 use kisstime::io::{output_error, write_output};
-use kisstime::simulate::{
-    BallState, BatchError, BatchOptions, Limits, SimError, SimParams, TableRun,
-};
+use kisstime::simulate::{BallState, BatchError, BatchOptions, Limits, SimError, TableRun};
 use kisstime::{Batch, Error, InputError};
 
 use super::args::SimulateArgs;
@@ -150,7 +148,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         }
     }
     let table = table_by_name(&args.table)?;
-    let params = SimParams::default();
+    let params = kisstime::io::physics::read_physics_or_default(args.physics.as_deref())?;
     let batch = read_input(&args.input)?;
     let plotted = match &args.plot {
         Some(_) => Some(plotted_table(&batch, args.table_id)?),

@@ -1,6 +1,7 @@
 //! Reading and writing batches and answers, in CSV ([`mod@csv`]) or NumPy `.npy`
 //! ([`npy`]), chosen by the file name ([`Format`]); outputs are written atomically
-//! ([`atomic`]). Tables from JSON ([`table_json`]); the full-shot reference set's files
+//! ([`atomic`]). Tables from JSON ([`table_json`]); the simulator's physical parameters in
+//! pooltool's names, from TOML or JSON ([`physics`]); the full-shot reference set's files
 //! ([`shot_set`]); `kisstime simulate`'s strikes ([`strikes`]) and outputs
 //! ([`sim_output`]).
 //!
@@ -29,6 +30,7 @@ pub mod atomic;
 mod columns;
 pub mod csv;
 pub mod npy;
+pub mod physics;
 pub mod shot_set;
 pub mod sim_output;
 pub mod strikes;

@@ -18,6 +18,10 @@ pub const MIN_DIST: f64 = 1e-6;
 /// spec §1.4); here only documented, as the transitions zero the components (Q12).
 pub const TRANSITION_TOL: f64 = 1e-12;
 
+/// pooltool's default `u_sp_proportionality` (`10 * 2 / 5 / 9`): the spinning friction
+/// μ_sp is this times R (spec §1.1).
+pub const DEFAULT_U_SP_PROPORTIONALITY: f64 = 10.0 * 2.0 / 5.0 / 9.0;
+
 /// A ball's physical constants (spec §1.1), in SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BallParams {
@@ -53,7 +57,7 @@ impl Default for BallParams {
             r,
             u_s: 0.2,
             u_r: 0.01,
-            u_sp: 10.0 * 2.0 / 5.0 / 9.0 * r,
+            u_sp: DEFAULT_U_SP_PROPORTIONALITY * r,
             u_b: 0.05,
             e_b: 0.95,
             e_c: 0.85,
@@ -334,6 +338,9 @@ mod tests {
     fn defaults_are_pooltools() {
         let p = BallParams::default();
         assert!((p.u_sp - 0.0127).abs() < 1e-15);
+        // the constant is the expression the default has always used, bit for bit
+        assert_eq!(p.u_sp.to_bits(), (10.0 * 2.0 / 5.0 / 9.0 * p.r).to_bits());
+        assert_eq!(p.u_sp, 0.0127);
         assert!((p.spin_decel() - 10.9).abs() < 1e-12);
         let r = ResolverParams::default();
         assert!((r.eta2() - 1.0802469135802468).abs() < 1e-16);

@@ -13,18 +13,20 @@
 //! kind = "9ft"       #   (the format of data/fullshots/table.json; relative paths are
 //!                    #   taken from the study file's folder)
 //!
-//! [physics]          # optional, each key too: pooltool 0.6.0's defaults
-//! radius = 0.028575
-//! ball_mass = 0.170097
-//! mu_s = 0.2         # sliding friction
-//! mu_r = 0.01        # rolling resistance
-//! mu_sp = 0.0127     # spinning friction, a length (default 0.444 × radius)
+//! [physics]          # optional, each key too: pooltool 0.6.0's BallParams names and
+//! R = 0.028575       #   defaults, read by the one parser of every entry point
+//! m = 0.170097       #   (`crate::io::physics`, whose docs list the keys and ranges)
+//! u_s = 0.2          # sliding friction
+//! u_r = 0.01         # rolling resistance
+//! u_sp_proportionality = 0.4444444444444444   # spinning friction u_sp = this × R
 //! e_b = 0.95         # ball–ball restitution
 //! e_c = 0.85         # cushion restitution
 //! f_c = 0.2          # cushion friction
 //! g = 9.81
-//! cue_mass = 0.567
-//! cue_end_mass = 0.0056699   # squirt (default ball_mass / 30)
+//!
+//! [physics.cue]      # optional: pooltool's CueSpecs names
+//! M = 0.567          # cue mass
+//! end_mass = 0.0056699   # squirt (default 0.170097 / 30)
 //!
 //! [[balls]]          # two or more, in pooltool's ball order (it decides exact ties);
 //! id = "cue"         # ids are names or integers
@@ -57,14 +59,17 @@
 //!
 //! Unknown keys, missing keys, numbers that are not finite, balls that overlap or lie off
 //! the table, a strike off the ball, an unknown pocket … are [`Error::Input`] errors naming
-//! the file, the key and, where it applies, the ball.
+//! the file, the key and, where it applies, the ball. A `[physics]` key under one of
+//! kisstime's former names (`radius`, `mu_s`, `cue_mass`, …) is refused with the pooltool
+//! name to use instead.
 
 use serde::Deserialize;
 
 use crate::error::{Error, InputError, SimError};
+use crate::io::physics::{PhysicsSource, PhysicsValue, physics_from_entries, toml_error};
 use crate::io::table_json::table_by_name;
 use crate::model::ball_state::BallState;
-use crate::model::sim_params::{BallParams, CueParams, SimParams};
+use crate::model::sim_params::SimParams;
 use crate::model::table::Table;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::check::check_layout;
@@ -215,8 +220,7 @@ impl RawId {
 struct RawFile {
     #[serde(default)]
     table: RawTable,
-    #[serde(default)]
-    physics: RawPhysics,
+    physics: Option<toml::Table>,
     balls: Vec<RawBall>,
     shot: RawShot,
     target: Option<RawTarget>,
@@ -228,22 +232,6 @@ struct RawFile {
 #[serde(deny_unknown_fields)]
 struct RawTable {
     kind: Option<String>,
-}
-
-#[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-struct RawPhysics {
-    radius: Option<f64>,
-    ball_mass: Option<f64>,
-    mu_s: Option<f64>,
-    mu_r: Option<f64>,
-    mu_sp: Option<f64>,
-    e_b: Option<f64>,
-    e_c: Option<f64>,
-    f_c: Option<f64>,
-    g: Option<f64>,
-    cue_mass: Option<f64>,
-    cue_end_mass: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -375,7 +363,20 @@ impl StudyConfig {
             }
         };
 
-        let params = physics(&raw.physics).map_err(err)?;
+        let params = match &raw.physics {
+            Some(t) => {
+                let PhysicsValue::Table(entries) = PhysicsValue::from_toml_table(t) else {
+                    unreachable!("a table converts to a table")
+                };
+                let src = PhysicsSource {
+                    file: source,
+                    prefix: "physics.",
+                    toml_text: Some(text),
+                };
+                physics_from_entries(&entries, &src, true)?
+            }
+            None => SimParams::default(),
+        };
 
         let balls = raw
             .balls
@@ -560,6 +561,52 @@ impl StudyConfig {
         })
     }
 
+    /// The study with other physical parameters (`kisstime shots --physics`, Python's
+    /// `shot_study(physics=...)`), which replace the scenario's `[physics]` as a whole.
+    /// The layout is checked again with the new radius R: a ball that now overlaps
+    /// another or a cushion is an [`Error::Input`] naming the scenario's key and ball and
+    /// `physics_source`, where R came from.
+    pub fn with_physics(
+        self,
+        params: SimParams,
+        physics_source: &str,
+    ) -> Result<StudyConfig, Error> {
+        let r = params.ball.r;
+        let states: Vec<BallState> = self
+            .balls
+            .iter()
+            .map(|b| BallState::at_rest(b.x, b.y, r))
+            .collect();
+        check_layout(&self.table, r, &states).map_err(|e| {
+            let (index, what) = match e {
+                SimError::Ball { index, reason } => (index, reason),
+                SimError::Overlap {
+                    first,
+                    second,
+                    depth,
+                } => (
+                    second,
+                    format!(
+                        "it overlaps ball \"{}\" by {depth:.3e} m: their centres are less than \
+                         2R = {} apart",
+                        self.balls[first].id,
+                        2.0 * r
+                    ),
+                ),
+                other => (0, other.to_string()),
+            };
+            Error::from(
+                InputError::new(format!(
+                    "key `balls[{index}]` (ball \"{}\"), with R = {r} from {physics_source}: \
+                     {what}",
+                    self.balls[index.min(self.balls.len() - 1)].id
+                ))
+                .in_file(&self.source),
+            )
+        })?;
+        Ok(StudyConfig { params, ..self })
+    }
+
     /// The balls at rest, in order (the simulator's input).
     pub fn initial(&self) -> Vec<BallState> {
         let r = self.params.ball.r;
@@ -588,99 +635,4 @@ impl StudyConfig {
     pub fn sigma(&self) -> Noise {
         self.noise.scaled(self.noise_factor)
     }
-}
-
-/// The simulator's parameters from `[physics]`: pooltool's defaults for every key left
-/// out; the message names the bad key.
-fn physics(ph: &RawPhysics) -> Result<SimParams, String> {
-    let d = BallParams::default();
-    let c = CueParams::default();
-    let r = ph.radius.unwrap_or(d.r);
-    let m = ph.ball_mass.unwrap_or(d.m);
-    let ball = BallParams {
-        m,
-        r,
-        u_s: ph.mu_s.unwrap_or(d.u_s),
-        u_r: ph.mu_r.unwrap_or(d.u_r),
-        u_sp: ph.mu_sp.unwrap_or(d.u_sp / d.r * r),
-        e_b: ph.e_b.unwrap_or(d.e_b),
-        e_c: ph.e_c.unwrap_or(d.e_c),
-        f_c: ph.f_c.unwrap_or(d.f_c),
-        g: ph.g.unwrap_or(d.g),
-        ..d
-    };
-    let cue = CueParams {
-        mass: ph.cue_mass.unwrap_or(c.mass),
-        end_mass: ph.cue_end_mass.unwrap_or(m / 30.0),
-        ..c
-    };
-    let params = SimParams {
-        ball,
-        cue,
-        ..SimParams::default()
-    };
-    params.validate().map_err(|e| match e {
-        SimError::Param { name, value } => {
-            let key = match name {
-                "m" => "ball_mass",
-                "R" => "radius",
-                "u_s" => "mu_s",
-                "u_r" => "mu_r",
-                "u_sp" => "mu_sp",
-                "cue mass" => "cue_mass",
-                "cue end_mass" => "cue_end_mass",
-                "u_s * g" => "mu_s * g",
-                "u_r * g" => "mu_r * g",
-                "u_sp * g" => "mu_sp * g",
-                other => other,
-            };
-            let range = match name {
-                "e_b" | "e_c" => "in (0, 1]",
-                "f_c" => "finite and not negative",
-                _ => "finite and greater than 0",
-            };
-            if key.contains(" * ") {
-                format!(
-                    "keys of `physics`: {key} = {value}, the deceleration must be finite and \
-                     greater than 0"
-                )
-            } else {
-                format!("key `physics.{key}` is {value}, it must be {range}")
-            }
-        }
-        other => format!("key `physics`: {other}"),
-    })?;
-    Ok(params)
-}
-
-/// A TOML syntax or schema error, located at its line, naming the offending text.
-fn toml_error(e: &toml::de::Error, text: &str, source: &str) -> Error {
-    let mut message = e.message().trim().to_owned();
-    let mut line = None;
-    if let Some(span) = e.span() {
-        let start = span.start.min(text.len());
-        line = Some(text[..start].matches('\n').count() as u64 + 1);
-        // name the offending text when the message does not (e.g. "duplicate key")
-        let at = text
-            .get(start..span.end.min(text.len()))
-            .and_then(|t| t.lines().next())
-            .unwrap_or("")
-            .trim();
-        if !at.is_empty() && at.len() <= 60 && !message.contains(at) {
-            message = format!("{message} (at `{at}`)");
-        }
-        // and the key whose value it is, when the line assigns one
-        let line_text = text[..start].rsplit('\n').next().unwrap_or("");
-        if let Some((key, _)) = line_text.split_once('=') {
-            let key = key.trim();
-            if !key.is_empty() && !key.starts_with('[') && !message.contains(&format!("`{key}`")) {
-                message = format!("key `{key}`: {message}");
-            }
-        }
-    }
-    let mut ie = InputError::new(message).in_file(source);
-    if let Some(line) = line {
-        ie = ie.at_line(line);
-    }
-    Error::from(ie)
 }

@@ -17,9 +17,11 @@
 //!
 //! `table.type` is `pocket` (pooltool's `PocketTableSpecs` with that `l` and `w`, every
 //! other spec at its default) or `rectangle` (that playing surface with four rails and no
-//! pockets). The cue ball is the ball with id `cue`. Other keys (`comment`, …) are ignored.
-//! Physics and noise are pooltool's defaults and the reference's sigmas, which are this
-//! crate's defaults.
+//! pockets). The cue ball is the ball with id `cue`. An optional `ball_params` object sets
+//! the balls' physics with pooltool's `BallParams` names, as a pooltool table JSON's
+//! `ball_params` does ([`crate::io::physics::ball_params_from_json`]; pooltool's defaults
+//! without it). Other keys (`comment`, …) are ignored. The cue and the noise are
+//! pooltool's defaults and the reference's sigmas, which are this crate's defaults.
 
 use serde::Deserialize;
 
@@ -27,6 +29,7 @@ use super::config::{Keys, Noise, Parts, Spot, StudyConfig};
 use super::run::{FirstContact, Sample};
 use crate::error::{Error, InputError};
 use crate::io::csv::format_finite;
+use crate::io::physics::ball_params_from_json;
 use crate::model::sim_params::SimParams;
 use crate::model::table::{PocketTableSpecs, Table};
 use crate::resolve::stick_ball::CueStrike;
@@ -41,6 +44,7 @@ struct RawScenario {
     intended: String,
     target_pocket: Option<String>,
     nominal_shot: RawShot,
+    ball_params: Option<serde_json::Value>,
 }
 
 #[derive(Deserialize)]
@@ -128,11 +132,18 @@ impl StudyConfig {
                 )));
             }
         }
+        let params = match &raw.ball_params {
+            Some(v) => SimParams {
+                ball: ball_params_from_json(v, source, "ball_params.")?,
+                ..SimParams::default()
+            },
+            None => SimParams::default(),
+        };
         StudyConfig::assemble(Parts {
             source: source.to_owned(),
             table_name: format!("{} l={l} w={w}", raw.table.kind),
             table,
-            params: SimParams::default(),
+            params,
             balls: raw
                 .balls
                 .into_iter()

@@ -262,13 +262,30 @@ pub fn fullshots_dir() -> std::path::PathBuf {
     std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/fullshots")).to_path_buf()
 }
 
+/// The physics set: 120 shots under non-default ball parameters (`data/physics`, the
+/// format of `data/fullshots`; its parameters in `physics.toml`).
+pub fn physics_dir() -> std::path::PathBuf {
+    std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/physics")).to_path_buf()
+}
+
 /// Runs the set's judge, `check_fullshots.py`, on a replay in `out` (its `events.csv` and
 /// `final.csv`): `Some((passed, failed, output))`, or `None` where python3 is missing
 /// (after saying so; in CI, which has it, that is a failure).
 pub fn check_fullshots(out: &std::path::Path) -> Option<(usize, usize, String)> {
+    check_against(out, &fullshots_dir())
+}
+
+/// [`check_fullshots`] against the reference set in `reference` (`--ref`): the judge of
+/// `data/fullshots` judges any set in its format, `data/physics` too.
+pub fn check_against(
+    out: &std::path::Path,
+    reference: &std::path::Path,
+) -> Option<(usize, usize, String)> {
     let run = std::process::Command::new("python3")
         .arg(fullshots_dir().join("check_fullshots.py"))
         .arg(out)
+        .arg("--ref")
+        .arg(reference)
         .output();
     let Ok(run) = run else {
         assert!(
