@@ -602,18 +602,33 @@ impl ShotEngine {
         options: &RunOptions,
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Vec<Sample>, Error> {
+        self.run_samples(config, sigma, seed, 0..samples, options, progress)
+    }
+
+    /// [`study::run_samples`] on this backend ([`study::run_samples_gpu`] on the GPU):
+    /// samples `range` of the study `run_study` runs (a Dask task's part).
+    pub fn run_samples(
+        &mut self,
+        config: &StudyConfig,
+        sigma: &Noise,
+        seed: u64,
+        range: std::ops::Range<usize>,
+        options: &RunOptions,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Vec<Sample>, Error> {
         let progress = std::cell::RefCell::new(progress);
+        let r = range.clone();
         self.run(
             "the study",
-            samples,
+            range.len(),
             true,
             |g| {
-                study::run_study_gpu(g, config, sigma, samples, seed, options, &mut |d, n| {
+                study::run_samples_gpu(g, config, sigma, seed, r, options, &mut |d, n| {
                     (progress.borrow_mut())(d, n)
                 })
             },
             || {
-                study::run_study(config, sigma, samples, seed, options, &mut |d, n| {
+                study::run_samples(config, sigma, seed, range, options, &mut |d, n| {
                     (progress.borrow_mut())(d, n)
                 })
             },

@@ -536,6 +536,7 @@ fn zero_noise_replays_the_intended_shot() {
         theta: 0.0,
         a: 0.0,
         b: 0.0,
+        physics: Default::default(),
     };
     assert_eq!(config.sigma().scaled(0.0), zero);
     let nominal = run_strikes(&config, &[config.shot], &REST, &mut |_, _| {}).unwrap();

@@ -421,9 +421,12 @@ class Scenario:
     #: Parameters replacing the scenario's ``[physics]`` (what ``shot_study(physics=...)``
     #: gives), as the extension takes them; ``None``: the scenario's own.
     physics: Optional[tuple] = None
+    #: The physics' spread across samples replacing the scenario's ``[noise.physics]``
+    #: (what ``shot_study(physics_noise=...)`` gives), as that table's TOML body.
+    physics_noise: Optional[str] = None
 
     def _args(self) -> tuple:
-        return (self.kind, self.text, self.source, self.dir, self.physics)
+        return (self.kind, self.text, self.source, self.dir, self.physics, self.physics_noise)
 
 
 def scenario(
@@ -566,6 +569,24 @@ def _study_merge(scenario: Scenario, blobs: Sequence[bytes], *, until: str = "re
 _scenario = scenario
 
 
+def _with_physics(
+    sc: Scenario, physics: PhysicsLike, physics_noise: Optional[Mapping[str, Any]]
+) -> Scenario:
+    """``sc`` with ``shot_study``'s ``physics`` and ``physics_noise`` in place of its own
+    (they travel with the scenario to Dask's workers)."""
+    if physics is not None:
+        sc = dataclasses.replace(sc, physics=_physics(physics))
+    if physics_noise is not None:
+        if not isinstance(physics_noise, Mapping):
+            raise ValueError(
+                "physics_noise: expected a dict of pooltool's ball parameter names, "
+                f"not {type(physics_noise).__name__}"
+            )
+        lines = [f"{json.dumps(str(k))} = {_toml_value(v)}" for k, v in physics_noise.items()]
+        sc = dataclasses.replace(sc, physics_noise="\n".join(lines) + "\n")
+    return sc
+
+
 def _study_options(
     seed: int,
     until: str,
@@ -601,6 +622,7 @@ def shot_study(
     backend: str = "cpu",
     precision: Optional[str] = None,
     physics: PhysicsLike = None,
+    physics_noise: Optional[Mapping[str, Any]] = None,
 ) -> Study:
     """A Monte Carlo shot study (``kisstime shots``): one table, one intended shot,
     ``samples`` noisy strikes drawn from ``seed`` (sample i's noise depends on (seed, i)
@@ -616,11 +638,14 @@ def shot_study(
     as one batch of tables). ``physics`` (what :func:`simulate` takes: a dict of pooltool's
     names or a TOML file; ``kisstime shots --physics``) replaces the scenario's own
     parameters (its ``[physics]`` table, or a ``.json`` scenario's ``ball_params``) as a
-    whole; the layout is checked again with its ``R``.
+    whole; the layout is checked again with its ``R``. ``physics_noise`` varies the
+    physics from sample to sample (the scenario's ``[noise.physics]``, ``kisstime shots
+    --physics-noise``): a dict of pooltool's ball parameter names (not ``R``), each a
+    relative spread (``{"u_r": 0.1}``: u_r drawn uniformly in ±10 % of its value) or a
+    range ``[lo, hi]``; sample i's draw depends on (seed, i) only, and leaves its strike
+    as it would be without it; ``noise`` scales it too.
     """
-    sc = _scenario(scenario)
-    if physics is not None:
-        sc = dataclasses.replace(sc, physics=_physics(physics))
+    sc = _with_physics(_scenario(scenario), physics, physics_noise)
     per = 16_384 if chunk is None else int(chunk)
     if per < 1:
         raise ValueError(f"chunk {chunk}: at least 1")

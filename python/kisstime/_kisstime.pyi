@@ -36,16 +36,19 @@ def simulate(
     physics: _Physics = None,
 ) -> tuple[Optional[bytes], bytes, bytes]: ...
 def study_chunk(
-    kind: str, text: str, source: str, dir: Optional[str], physics: _Physics, first: int,
+    kind: str, text: str, source: str, dir: Optional[str], physics: _Physics,
+    physics_noise: Optional[str], first: int,
     n: int, seed: int,
     strikes: Optional[tuple[_I, list[_F]]], until: str, noise: Optional[float],
     max_events: int, max_time: float, backend: str, precision: Optional[str],
 ) -> bytes: ...
 def study_merge(
-    kind: str, text: str, source: str, dir: Optional[str], physics: _Physics, blobs: list[bytes],
+    kind: str, text: str, source: str, dir: Optional[str], physics: _Physics,
+    physics_noise: Optional[str], blobs: list[bytes],
     until: str,
 ) -> tuple[str, dict[str, np.ndarray], list[str]]: ...
 def study_ids(
-    kind: str, text: str, source: str, dir: Optional[str], physics: _Physics
+    kind: str, text: str, source: str, dir: Optional[str], physics: _Physics,
+    physics_noise: Optional[str],
 ) -> tuple[list[str], list[str], list[str], list[str], int, int]: ...
 def table_ids(name: str) -> tuple[list[str], list[str], list[str]]: ...

@@ -71,7 +71,6 @@ second on one core) and a lost worker's work short.
 
 from __future__ import annotations
 
-import dataclasses
 import operator
 import os
 import uuid
@@ -160,6 +159,7 @@ def shot_study(
     backend: str = "cpu",
     precision: str | None = None,
     physics: kisstime.PhysicsLike = None,
+    physics_noise: Mapping[str, Any] | None = None,
 ) -> kisstime.Study:
     """A shot study run on a Dask cluster; the same :class:`~kisstime.Study` as one process gives.
 
@@ -198,6 +198,9 @@ def shot_study(
         As for :func:`kisstime.shot_study`: parameters (a dict of pooltool's names, or a
         TOML file read here, on the client) replacing the scenario's own; they travel with
         the scenario to every task.
+    physics_noise
+        As for :func:`kisstime.shot_study`: the physics' spread across samples (a dict of
+        pooltool's ball parameter names, each a relative spread or ``[lo, hi]``).
     npy
         If given, the per-sample rows (``Study.samples``) are written there as ``.npy``
         (``Study.save``).
@@ -225,9 +228,7 @@ def shot_study(
     retries = _count("retries", retries, 0)
     columns = None if strikes is None else _strike_columns(strikes)
     total = _count("samples", samples, 1) if columns is None else len(columns["sample"])
-    sc = kisstime.scenario(scenario)
-    if physics is not None:
-        sc = dataclasses.replace(sc, physics=kisstime._physics(physics))
+    sc = kisstime._with_physics(kisstime.scenario(scenario), physics, physics_noise)
     options = kisstime._study_options(
         seed, until, noise, max_events, max_time, backend, precision
     )

@@ -25,7 +25,6 @@ use kisstime::io::{Format, PairsWriter};
 use kisstime::simulate::{BatchError, BatchOptions, Limits, SimParams};
 use kisstime::study::{
     Class, FirstContact, Pot, Result4, RunOptions, Sample, StudyConfig, Summary, Until,
-    noisy_strike,
 };
 use kisstime::{Backend, Engine, Error, Params, Precision};
 
@@ -417,11 +416,19 @@ fn config_of(
     source: &str,
     dir: Option<&str>,
     physics: &PhysicsArg,
+    physics_noise: Option<&str>,
 ) -> PyResult<StudyConfig> {
     let config = scenario_of(kind, text, source, dir)?;
-    match (physics_of(physics)?, physics) {
-        (Some(params), Some((_, _, from))) => config.with_physics(params, from).map_err(py_err),
-        _ => Ok(config),
+    let config = match (physics_of(physics)?, physics) {
+        (Some(params), Some((_, _, from))) => config.with_physics(params, from).map_err(py_err)?,
+        _ => config,
+    };
+    match physics_noise {
+        // the body of a [noise.physics] table, replacing the scenario's
+        Some(text) => config
+            .with_physics_noise(text, "physics_noise")
+            .map_err(py_err),
+        None => Ok(config),
     }
 }
 
@@ -606,7 +613,7 @@ fn decode(blob: &[u8], ids: &mut Vec<i64>, out: &mut Vec<Sample>) -> Option<()> 
 /// One chunk of a study: samples `first .. first + n` (noisy, from `seed`; or rows
 /// `first .. first + n` of the given strikes), as an opaque blob for [`study_merge`].
 #[pyfunction]
-#[pyo3(signature = (kind, text, source, dir, physics, first, n, seed, strikes, until, noise, max_events, max_time, backend, precision))]
+#[pyo3(signature = (kind, text, source, dir, physics, physics_noise, first, n, seed, strikes, until, noise, max_events, max_time, backend, precision))]
 #[allow(clippy::too_many_arguments)]
 fn study_chunk<'py>(
     py: Python<'py>,
@@ -615,6 +622,7 @@ fn study_chunk<'py>(
     source: &str,
     dir: Option<&str>,
     physics: PhysicsArg,
+    physics_noise: Option<&str>,
     first: usize,
     n: usize,
     seed: u64,
@@ -626,7 +634,7 @@ fn study_chunk<'py>(
     backend: &str,
     precision: Option<&str>,
 ) -> PyResult<Bound<'py, PyBytes>> {
-    let config = config_of(kind, text, source, dir, &physics)?;
+    let config = config_of(kind, text, source, dir, &physics, physics_noise)?;
     // checked now; the device is opened only for a chunk that has samples (the Python
     // side checks its arguments with an empty chunk first)
     let (_, precision_kind) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
@@ -636,6 +644,8 @@ fn study_chunk<'py>(
     }
     let until = until_of(until)?;
     let limits = Limits::new(max_events, max_time).map_err(|e| py_err(e.into()))?;
+    // the given strikes, or the noise of the study's samples first .. first + n
+    let mut noisy = None;
     let (ids, strikes): (Vec<i64>, Vec<_>) = match &strikes {
         Some((sample, v)) => {
             let cols = [
@@ -660,19 +670,25 @@ fn study_chunk<'py>(
                     "noise {factor}: it must be finite and not negative"
                 )));
             }
-            let sigma = config.noise.scaled(factor);
-            (first..first.saturating_add(n))
-                .map(|i| (i as i64, noisy_strike(&config, &sigma, seed, i as u64)))
-                .unzip()
+            noisy = Some(config.noise.scaled(factor));
+            let end = first.saturating_add(n);
+            ((first..end).map(|i| i as i64).collect(), Vec::new())
         }
     };
     let options = RunOptions { until, limits };
-    let samples = if strikes.is_empty() {
+    let samples = if ids.is_empty() {
         kisstime::study::run_strikes(&config, &[], &options, &mut |_, _| {}).map_err(py_err)?
     } else {
         let mut engine = shot_engine_of(backend, precision)?;
         warn_notes(py, &mut engine)?;
-        let samples = py.detach(|| engine.run_strikes(&config, &strikes, &options, &mut |_, _| {}));
+        let samples = py.detach(|| match &noisy {
+            // the study's own samples: their strikes and physics drawn by their ids
+            Some(sigma) => {
+                let range = first..first + ids.len();
+                engine.run_samples(&config, sigma, seed, range, &options, &mut |_, _| {})
+            }
+            None => engine.run_strikes(&config, &strikes, &options, &mut |_, _| {}),
+        });
         warn_notes(py, &mut engine)?;
         samples.map_err(py_err)?
     };
@@ -687,7 +703,7 @@ fn study_chunk<'py>(
 /// `columns` a dict of 1-D arrays, one row per sample, `potted` the `ball@pocket;…`
 /// strings.
 #[pyfunction]
-#[pyo3(signature = (kind, text, source, dir, physics, blobs, until))]
+#[pyo3(signature = (kind, text, source, dir, physics, physics_noise, blobs, until))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn study_merge<'py>(
     py: Python<'py>,
@@ -696,10 +712,11 @@ fn study_merge<'py>(
     source: &str,
     dir: Option<&str>,
     physics: PhysicsArg,
+    physics_noise: Option<&str>,
     blobs: Vec<Bound<'py, PyBytes>>,
     until: &str,
 ) -> PyResult<(String, Bound<'py, PyDict>, Vec<String>)> {
-    let config = config_of(kind, text, source, dir, &physics)?;
+    let config = config_of(kind, text, source, dir, &physics, physics_noise)?;
     let until = until_of(until)?;
     let mut ids = Vec::new();
     let mut samples = Vec::new();
@@ -775,7 +792,7 @@ fn study_merge<'py>(
 /// The ids of a study's balls and of its table's pockets, cushions and jaws:
 /// `(balls, pockets, linear, circular, cue index, intended index)`.
 #[pyfunction]
-#[pyo3(signature = (kind, text, source, dir, physics))]
+#[pyo3(signature = (kind, text, source, dir, physics, physics_noise))]
 #[allow(clippy::type_complexity)]
 fn study_ids(
     kind: &str,
@@ -783,6 +800,7 @@ fn study_ids(
     source: &str,
     dir: Option<&str>,
     physics: PhysicsArg,
+    physics_noise: Option<&str>,
 ) -> PyResult<(
     Vec<String>,
     Vec<String>,
@@ -791,7 +809,7 @@ fn study_ids(
     usize,
     usize,
 )> {
-    let c = config_of(kind, text, source, dir, &physics)?;
+    let c = config_of(kind, text, source, dir, &physics, physics_noise)?;
     Ok((
         c.balls.iter().map(|b| b.id.clone()).collect(),
         c.table.pocket_ids.clone(),

@@ -320,3 +320,31 @@ def test_long_calls_release_the_gil_and_stop_on_ctrl_c():
     with pytest.raises(KeyboardInterrupt):
         kisstime.shot_study(samples=5_000_000, chunk=4096)
     assert time.perf_counter() - began < 10
+
+
+def test_physics_noise_matches_the_cli_and_varies_per_sample(tmp_path):
+    """shot_study(physics_noise=...) is `kisstime shots --physics-noise`: the same summary,
+    the same strikes as without it, and other outcomes; a bad key raises the CLI's message."""
+    out = tmp_path / "s.csv"
+    r = run(
+        "shots", "--samples", "2000", "--seed", "5", "--json", "-o", str(out),
+        "--physics-noise", "u_r=0.1", "--physics-noise", "e_c=[0.8,0.9]",
+    )
+    assert r.returncode == 0, r.stderr
+    cli_summary = json.loads(r.stdout)
+    assert cli_summary["noise"]["physics"]["u_r"] == [-0.1, 0.1]
+    study = kisstime.shot_study(
+        samples=2000, seed=5, chunk=700, physics_noise={"u_r": 0.1, "e_c": [0.8, 0.9]}
+    )
+    for key in ("seed", "strikes", "noise", "seconds", "samples_per_s", "threads", "backend"):
+        cli_summary.pop(key)
+    assert study.summary == cli_summary
+    plain = kisstime.shot_study(samples=2000, seed=5, chunk=700)
+    for f in ("V0", "phi", "theta", "a", "b"):
+        assert np.array_equal(study.samples[f], plain.samples[f]), f
+    moved = np.count_nonzero(study.samples["cue_x"] != plain.samples["cue_x"])
+    assert moved > 1000, moved
+    r = run("shots", "--samples", "10", "--physics-noise", "R=0.1")
+    assert r.returncode == 2
+    with pytest.raises(ValueError, match="noise.physics.R"):
+        kisstime.shot_study(samples=10, physics_noise={"R": 0.1})

@@ -275,6 +275,12 @@ pub struct ShotsArgs {
     /// defaults).
     #[arg(long, value_name = "TOML")]
     pub physics: Option<PathBuf>,
+    /// Vary a physical parameter from sample to sample, uniformly (repeatable; replaces
+    /// the scenario's `[noise.physics]`): `u_r=0.1` draws u_r in ±10 % of its value,
+    /// `e_c=[0.8,0.9]` in that range; pooltool's ball parameter names (not R). Scaled by
+    /// --noise like the cue noise.
+    #[arg(long, value_name = "KEY=SPREAD")]
+    pub physics_noise: Vec<String>,
 }
 
 /// How far a study's samples run.

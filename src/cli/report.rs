@@ -162,6 +162,18 @@ fn preamble(run: &Run<'_>, samples: usize) -> String {
                 1e3 * sigma.a,
                 1e3 * sigma.b
             );
+            let varies = sigma.physics.named();
+            if !varies.is_empty() {
+                let parts: Vec<String> = varies
+                    .iter()
+                    .map(|(k, lo, hi)| format!("{k} {:+.1} % to {:+.1} %", 100.0 * lo, 100.0 * hi))
+                    .collect();
+                let _ = writeln!(
+                    s,
+                    "physics drawn per sample (uniform): {}",
+                    parts.join(", ")
+                );
+            }
         }
         (None, Some(path)) => {
             let _ = writeln!(s, "{samples} strikes from {}, no noise", path.display());
@@ -263,9 +275,21 @@ pub fn summary_json(run: &Run<'_>, s: &Summary) -> String {
     let extra = json!({
         "seed": run.sigma.map(|_| run.seed),
         "strikes": run.strikes.map(|p| p.display().to_string()),
-        "noise": run.sigma.map(|g| json!({
-            "V0": g.v0, "phi": g.phi, "theta": g.theta, "a_m": g.a, "b_m": g.b
-        })),
+        "noise": run.sigma.map(|g| {
+            let mut noise = json!({
+                "V0": g.v0, "phi": g.phi, "theta": g.theta, "a_m": g.a, "b_m": g.b
+            });
+            let varies = g.physics.named();
+            if let (false, Value::Object(m)) = (varies.is_empty(), &mut noise) {
+                // each varying parameter's relative range [lo, hi]
+                let ranges: serde_json::Map<String, Value> = varies
+                    .iter()
+                    .map(|(k, lo, hi)| ((*k).to_owned(), json!([lo, hi])))
+                    .collect();
+                m.insert("physics".to_owned(), Value::Object(ranges));
+            }
+            noise
+        }),
         "seconds": run.seconds,
         "samples_per_s": n as f64 / run.seconds.max(1e-9),
         "threads": run.threads,

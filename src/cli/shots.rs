@@ -2,13 +2,13 @@
 
 use std::path::Path;
 
-use kisstime::Error;
 use kisstime::engine::{Backend, Precision, ShotEngine};
 use kisstime::io::physics::read_physics;
 use kisstime::io::strikes::read_sample_strikes;
 use kisstime::io::{output_error, write_output};
 use kisstime::simulate::{CueStrike, Limits};
 use kisstime::study::{Noise, RunOptions, StudyConfig, Summary, Until};
+use kisstime::{Error, InputError};
 
 use super::args::{ShotsArgs, UntilArg};
 use super::commands::check_output;
@@ -56,6 +56,22 @@ fn read_scenario(path: Option<&Path>, physics: Option<&Path>) -> Result<StudyCon
     }
 }
 
+/// `--physics-noise KEY=SPREAD …` as the body of a `[noise.physics]` table.
+fn physics_noise_toml(items: &[String]) -> Result<String, Error> {
+    let mut text = String::new();
+    for item in items {
+        let Some((key, value)) = item.split_once('=') else {
+            return Err(InputError::new(format!(
+                "--physics-noise {item}: expected KEY=SPREAD (u_r=0.1, e_c=[0.8,0.9])"
+            ))
+            .into());
+        };
+        // the key quoted, so that any text is one key (the parser names unknown ones)
+        text.push_str(&format!("{:?} = {}\n", key.trim(), value.trim()));
+    }
+    Ok(text)
+}
+
 /// The scenario file the arguments name, or the built-in one.
 fn read_scenario_file(path: Option<&Path>) -> Result<StudyConfig, Error> {
     match path {
@@ -84,7 +100,11 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
         check_output(plot, "--plot", &["png"])?;
     }
     let limits = Limits::new(args.max_events, args.max_time)?;
-    let scenario = read_scenario(args.scenario.as_deref(), args.physics.as_deref())?;
+    let mut scenario = read_scenario(args.scenario.as_deref(), args.physics.as_deref())?;
+    if !args.physics_noise.is_empty() {
+        scenario = scenario
+            .with_physics_noise(&physics_noise_toml(&args.physics_noise)?, "--physics-noise")?;
+    }
     let sigma = shots_sigma(args, &scenario)?;
     // the given strikes (and their sample ids), or none for a noisy study
     let given: Option<(Vec<i64>, Vec<CueStrike>)> = match &args.strikes {

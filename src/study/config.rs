@@ -89,7 +89,46 @@ pub const DEFAULT_SIGMA_THETA: f64 = 0.1;
 /// Default standard deviation of each tip offset, metres.
 pub const DEFAULT_SIGMA_OFFSET: f64 = 0.0005;
 
-/// The cue noise: standard deviations of independent Gaussians on the strike.
+/// How the physics varies from sample to sample (`[noise.physics]`): for each of
+/// pooltool's ball parameters ([`crate::io::physics::BALL_KEYS`], in that order; never
+/// `R`, which would move the layout) either nothing or a range of relative offsets
+/// `(lo, hi)`: sample `i` has the parameter times `1 + lo + (hi − lo)·u`, `u` uniform in
+/// [0, 1) from its own stream ([`crate::study::noise::sample_physics`]).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct PhysicsSpread {
+    /// The relative range of each parameter, by its index in `BALL_KEYS`.
+    pub ranges: [Option<(f64, f64)>; 10],
+}
+
+impl PhysicsSpread {
+    /// Whether no parameter varies.
+    pub fn is_empty(&self) -> bool {
+        self.ranges
+            .iter()
+            .all(|r| r.is_none_or(|(lo, hi)| lo == 0.0 && hi == 0.0))
+    }
+
+    /// Every range times `factor` (the noise's scale factor).
+    pub fn scaled(&self, factor: f64) -> PhysicsSpread {
+        PhysicsSpread {
+            ranges: self
+                .ranges
+                .map(|r| r.map(|(lo, hi)| (factor * lo, factor * hi))),
+        }
+    }
+
+    /// The varying parameters by pooltool's name, with their relative ranges.
+    pub fn named(&self) -> Vec<(&'static str, f64, f64)> {
+        crate::io::physics::BALL_KEYS
+            .iter()
+            .zip(&self.ranges)
+            .filter_map(|(k, r)| r.map(|(lo, hi)| (*k, lo, hi)))
+            .collect()
+    }
+}
+
+/// The noise of a study: standard deviations of independent Gaussians on the strike, and
+/// the spread of the physics across samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Noise {
     /// Cue speed, m/s.
@@ -102,6 +141,8 @@ pub struct Noise {
     pub a: f64,
     /// Vertical tip offset, metres.
     pub b: f64,
+    /// The physics' spread across samples (none by default).
+    pub physics: PhysicsSpread,
 }
 
 impl Default for Noise {
@@ -112,12 +153,13 @@ impl Default for Noise {
             theta: DEFAULT_SIGMA_THETA,
             a: DEFAULT_SIGMA_OFFSET,
             b: DEFAULT_SIGMA_OFFSET,
+            physics: PhysicsSpread::default(),
         }
     }
 }
 
 impl Noise {
-    /// Every standard deviation times `factor`.
+    /// Every standard deviation, and the physics' every range, times `factor`.
     pub fn scaled(&self, factor: f64) -> Noise {
         Noise {
             v0: factor * self.v0,
@@ -125,6 +167,7 @@ impl Noise {
             theta: factor * self.theta,
             a: factor * self.a,
             b: factor * self.b,
+            physics: self.physics.scaled(factor),
         }
     }
 
@@ -272,6 +315,7 @@ struct RawNoise {
     theta: Option<f64>,
     a: Option<f64>,
     b: Option<f64>,
+    physics: Option<toml::Table>,
 }
 
 /// What [`StudyConfig::assemble`] builds a study from: the parts every scenario format
@@ -411,6 +455,10 @@ impl StudyConfig {
             theta: non_negative("noise.theta", n.theta.unwrap_or(d.theta))?,
             a: non_negative("noise.a", n.a.unwrap_or(d.a))?,
             b: non_negative("noise.b", n.b.unwrap_or(d.b))?,
+            physics: match &n.physics {
+                Some(t) => physics_spread(t, &params, text, source)?,
+                None => PhysicsSpread::default(),
+            },
         };
         let noise_factor = non_negative("noise.factor", n.factor.unwrap_or(1.0))?;
         StudyConfig::assemble(Parts {
@@ -561,6 +609,16 @@ impl StudyConfig {
         })
     }
 
+    /// The study with another physics spread (`kisstime shots --physics-noise`, Python's
+    /// `shot_study(physics_noise=...)`), replacing the scenario's `[noise.physics]`: `text`
+    /// is that table's body as TOML (`u_r = 0.1`, `e_c = [0.8, 0.9]`), checked as the file's
+    /// is, errors naming `source`.
+    pub fn with_physics_noise(mut self, text: &str, source: &str) -> Result<StudyConfig, Error> {
+        let t: toml::Table = toml::from_str(text).map_err(|e| toml_error(&e, text, source))?;
+        self.noise.physics = physics_spread(&t, &self.params, text, source)?;
+        Ok(self)
+    }
+
     /// The study with other physical parameters (`kisstime shots --physics`, Python's
     /// `shot_study(physics=...)`), which replace the scenario's `[physics]` as a whole.
     /// The layout is checked again with the new radius R: a ball that now overlaps
@@ -634,5 +692,121 @@ impl StudyConfig {
     /// The standard deviations in effect: the file's, times its factor.
     pub fn sigma(&self) -> Noise {
         self.noise.scaled(self.noise_factor)
+    }
+}
+
+/// A study's `[noise.physics]`: per pooltool ball parameter, a number `x ≥ 0` (the value
+/// varies by ±x relative: `u_r = 0.1` is ±10 %) or an array `[lo, hi]` of absolute values
+/// around the study's own. Every value a sample can draw must be in range
+/// ([`SimParams::validate`]); `R` cannot vary (it would move the layout). Errors name the
+/// key and its line.
+fn physics_spread(
+    t: &toml::Table,
+    base: &SimParams,
+    text: &str,
+    source: &str,
+) -> Result<PhysicsSpread, Error> {
+    use crate::io::physics::BALL_KEYS;
+    let err = |key: &str, msg: String| {
+        let mut e = InputError::new(format!("key `noise.physics.{key}`: {msg}")).in_file(source);
+        let needle = format!("{key} =");
+        if let Some(at) = text
+            .lines()
+            .position(|l| l.trim_start().starts_with(&needle))
+        {
+            e = e.at_line(at as u64 + 1);
+        }
+        Error::from(e)
+    };
+    let mut spread = PhysicsSpread::default();
+    for (key, value) in t {
+        let Some(k) = BALL_KEYS.iter().position(|b| b == key) else {
+            return Err(err(
+                key,
+                format!(
+                    "not one of pooltool's ball parameters that may vary ({})",
+                    BALL_KEYS
+                        .iter()
+                        .filter(|k| **k != "R")
+                        .copied()
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+        };
+        if key == "R" {
+            return Err(err(
+                key,
+                "the ball size cannot vary per sample (it would move the layout)".to_owned(),
+            ));
+        }
+        let v = base_value(base, k);
+        let number = |x: &toml::Value| match x {
+            toml::Value::Float(f) => Some(*f),
+            toml::Value::Integer(i) => Some(*i as f64),
+            _ => None,
+        };
+        let (lo, hi) = match value {
+            toml::Value::Array(a) if a.len() == 2 => match (number(&a[0]), number(&a[1])) {
+                (Some(lo), Some(hi)) if lo.is_finite() && hi.is_finite() && lo <= hi && v > 0.0 => {
+                    (lo / v - 1.0, hi / v - 1.0)
+                }
+                _ => {
+                    return Err(err(
+                        key,
+                        "an array must be [lo, hi], two finite numbers with lo ≤ hi".to_owned(),
+                    ));
+                }
+            },
+            other => match number(other) {
+                Some(x) if x.is_finite() && x >= 0.0 => (-x, x),
+                _ => {
+                    return Err(err(
+                        key,
+                        "give a relative spread (a number ≥ 0: 0.1 is ±10 %) or [lo, hi]"
+                            .to_owned(),
+                    ));
+                }
+            },
+        };
+        // both ends must be valid parameters
+        for rel in [lo, hi] {
+            let mut p = *base;
+            *ball_field(&mut p, k) *= 1.0 + rel;
+            if let Err(e) = p.validate() {
+                return Err(err(
+                    key,
+                    format!("{} is out of range: {e}", v * (1.0 + rel)),
+                ));
+            }
+        }
+        spread.ranges[k] = Some((lo, hi));
+    }
+    Ok(spread)
+}
+
+/// The study's value of ball parameter `k` (`BALL_KEYS` order; `u_sp_proportionality` as
+/// `u_sp / R`).
+fn base_value(p: &SimParams, k: usize) -> f64 {
+    let mut q = *p;
+    let v = *ball_field(&mut q, k);
+    if k == 4 { v / p.ball.r } else { v }
+}
+
+/// The field of `p` that ball parameter `k` (`BALL_KEYS` order) scales: `u_sp` for
+/// `u_sp_proportionality` (R is fixed, so scaling the proportionality scales `u_sp`).
+pub(crate) fn ball_field(p: &mut SimParams, k: usize) -> &mut f64 {
+    let b = &mut p.ball;
+    match k {
+        0 => &mut b.m,
+        1 => &mut b.r,
+        2 => &mut b.u_s,
+        3 => &mut b.u_r,
+        4 => &mut b.u_sp,
+        5 => &mut b.u_b,
+        6 => &mut b.e_b,
+        7 => &mut b.e_c,
+        8 => &mut b.f_c,
+        _ => &mut b.g,
     }
 }

@@ -17,11 +17,12 @@
 use rayon::prelude::*;
 
 use super::config::{Noise, StudyConfig};
-use super::noise::noisy_strike;
+use super::noise::{noisy_strike, sample_physics};
 use super::run::{RunOptions, Sample, SampleWatch, Until, run_chunks_of, sample_error};
 use crate::error::Error;
 use crate::gpu::{GPU_MAX_BALLS, GpuSimulator, WatchedRun};
 use crate::model::ball_state::BallState;
+use crate::model::sim_params::{BallParams, Physics, SimParams};
 use crate::model::vec3::Vec3;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::EventLoop;
@@ -44,11 +45,30 @@ pub fn run_study_gpu(
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
+    run_samples_gpu(gpu, config, sigma, seed, 0..samples, options, progress)
+}
+
+/// [`super::run_samples`] on the GPU: samples `range` of the study [`run_study_gpu`] runs.
+#[allow(clippy::too_many_arguments)]
+pub fn run_samples_gpu(
+    gpu: &mut GpuSimulator,
+    config: &StudyConfig,
+    sigma: &Noise,
+    seed: u64,
+    range: std::ops::Range<usize>,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<Sample>, Error> {
+    let first = range.start;
+    let physics =
+        |j: usize| sample_physics(&config.params, &sigma.physics, seed, (first + j) as u64);
+    let varies = !sigma.physics.is_empty();
     run_with_gpu(
         gpu,
         config,
-        samples,
-        &|i| noisy_strike(config, sigma, seed, i as u64),
+        range.len(),
+        &|j| noisy_strike(config, sigma, seed, (first + j) as u64),
+        varies.then_some(&physics as &(dyn Fn(usize) -> SimParams + Sync)),
         options,
         progress,
     )
@@ -68,6 +88,7 @@ pub fn run_strikes_gpu(
         config,
         strikes.len(),
         &|i| strikes[i],
+        None,
         options,
         progress,
     )
@@ -78,6 +99,7 @@ fn run_with_gpu(
     config: &StudyConfig,
     samples: usize,
     strike: &(dyn Fn(usize) -> CueStrike + Sync),
+    physics: Option<&(dyn Fn(usize) -> SimParams + Sync)>,
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
@@ -102,9 +124,27 @@ fn run_with_gpu(
                     .map_err(|e| sample_error(i, e))
             })
             .collect::<Result<_, Error>>()?;
+        // each sample's physics where it varies (checked, so that a bad draw is its
+        // sample's error)
+        let drawn: Vec<SimParams> = match physics {
+            Some(f) => part
+                .clone()
+                .into_par_iter()
+                .map(|i| {
+                    let p = f(i);
+                    p.validate().map(|()| p).map_err(|e| sample_error(i, e))
+                })
+                .collect::<Result<_, Error>>()?,
+            None => Vec::new(),
+        };
+        let physics: Physics<'_> = if physics.is_some() {
+            Physics::PerTable(&drawn)
+        } else {
+            Physics::Shared(config.params)
+        };
         let runs = gpu.simulate_strikes_watched(
             &config.table,
-            config.params,
+            physics,
             options.limits,
             &initial,
             cue,
@@ -114,7 +154,11 @@ fn run_with_gpu(
         Ok(strikes
             .par_iter()
             .zip(runs)
-            .map(|(s, run)| judge(config, options, &initial, *s, &run))
+            .enumerate()
+            .map(|(k, (s, run))| {
+                let ball = physics.of(k).ball;
+                judge(config, options, &initial, *s, &run, ball)
+            })
             .collect())
     })
 }
@@ -127,10 +171,12 @@ fn judge(
     initial: &[BallState],
     strike: CueStrike,
     run: &WatchedRun,
+    ball: BallParams,
 ) -> Sample {
     let watch = &run.watch;
     let cue = config.cue;
-    let mut sample = SampleWatch::new(config, initial, strike, options.until);
+    let mut sample =
+        SampleWatch::new(config, initial, strike, options.until).with_ball_params(ball);
     let mut first = watch.first.as_ref();
     let mut pots = watch.pots.iter().peekable();
     loop {

@@ -23,12 +23,12 @@ pub mod reference;
 pub mod run;
 pub mod stats;
 
-pub use config::{BUILTIN_NAME, BUILTIN_TOML, Noise, Spot, StudyConfig, Target};
-pub use gpu::{run_strikes_gpu, run_study_gpu};
-pub use noise::{clamped, noisy_strike};
+pub use config::{BUILTIN_NAME, BUILTIN_TOML, Noise, PhysicsSpread, Spot, StudyConfig, Target};
+pub use gpu::{run_samples_gpu, run_strikes_gpu, run_study_gpu};
+pub use noise::{clamped, noisy_strike, sample_physics};
 pub use reference::{REFERENCE_COLUMNS, write_reference_csv};
 pub use run::{
-    CHUNK, FirstContact, Pot, RunOptions, Sample, SampleWatch, Until, run_strikes, run_study,
-    simulate_sample,
+    CHUNK, FirstContact, Pot, RunOptions, Sample, SampleWatch, Until, run_samples, run_strikes,
+    run_study, simulate_sample,
 };
 pub use stats::{Class, Result4, Stats, Summary, potted_as_called, wilson};

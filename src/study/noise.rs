@@ -6,8 +6,15 @@ use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64Mcg;
 
-use super::config::{Noise, StudyConfig};
+use rand::RngExt;
+
+use super::config::{Noise, PhysicsSpread, StudyConfig, ball_field};
+use crate::model::sim_params::SimParams;
 use crate::resolve::stick_ball::CueStrike;
+
+/// Told apart from the cue noise's: sample `i`'s physics comes from a generator of its own,
+/// so that a study's strikes are the same with or without a physics spread.
+const PHYSICS_STREAM: u64 = 0x7068_7973_6963_7321;
 
 /// The noisy strike of sample `i`: the intended strike plus `sigma` times five standard
 /// normals (drawn in the order `v0, phi, theta, a, b`), with the offsets' σ (metres)
@@ -27,6 +34,25 @@ pub fn noisy_strike(config: &StudyConfig, sigma: &Noise, seed: u64, i: u64) -> C
         a: s.a + sigma.a / r * z[3],
         b: s.b + sigma.b / r * z[4],
     })
+}
+
+/// Sample `i`'s physics: `base` with each parameter that `spread` varies scaled by
+/// `1 + lo + (hi − lo)·u`, `u` uniform in [0, 1) from a PCG generator seeded by
+/// `(seed, i)` on a stream of its own (ten draws, one per parameter in `BALL_KEYS` order,
+/// whichever vary). `base` itself where nothing varies.
+pub fn sample_physics(base: &SimParams, spread: &PhysicsSpread, seed: u64, i: u64) -> SimParams {
+    if spread.is_empty() {
+        return *base;
+    }
+    let mut rng = Pcg64Mcg::seed_from_u64(mix(seed ^ PHYSICS_STREAM, i));
+    let mut p = *base;
+    for (k, range) in spread.ranges.iter().enumerate() {
+        let u: f64 = rng.random();
+        if let Some((lo, hi)) = range {
+            *ball_field(&mut p, k) *= 1.0 + lo + (hi - lo) * u;
+        }
+    }
+    p
 }
 
 /// The strike with V0 ≥ 0, θ in [0°, 90°] and the tip on the ball (a² + b² ≤ 1, scaled

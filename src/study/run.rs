@@ -12,8 +12,9 @@
 use rayon::prelude::*;
 
 use super::config::{Noise, StudyConfig};
-use super::noise::noisy_strike;
+use super::noise::{noisy_strike, sample_physics};
 use crate::error::{Error, InputError, SimError};
+use crate::model::sim_params::{BallParams, SimParams};
 use crate::motion::evolve::evolve;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::event_loop::{EventLoop, Limits};
@@ -136,10 +137,29 @@ pub fn run_study(
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
+    run_samples(config, sigma, seed, 0..samples, options, progress)
+}
+
+/// Samples `range` of the study [`run_study`] runs with `seed` (their strikes and physics
+/// drawn by their own ids): a part of a study, e.g. a Dask task's. Errors name a sample by
+/// its place in `range`.
+pub fn run_samples(
+    config: &StudyConfig,
+    sigma: &Noise,
+    seed: u64,
+    range: std::ops::Range<usize>,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<Sample>, Error> {
+    let first = range.start;
+    let physics =
+        |j: usize| sample_physics(&config.params, &sigma.physics, seed, (first + j) as u64);
+    let varies = !sigma.physics.is_empty();
     run_with(
         config,
-        samples,
-        &|i| noisy_strike(config, sigma, seed, i as u64),
+        range.len(),
+        &|j| noisy_strike(config, sigma, seed, (first + j) as u64),
+        varies.then_some(&physics as &(dyn Fn(usize) -> SimParams + Sync)),
         options,
         progress,
     )
@@ -156,13 +176,23 @@ pub fn run_strikes(
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
-    run_with(config, strikes.len(), &|i| strikes[i], options, progress)
+    run_with(
+        config,
+        strikes.len(),
+        &|i| strikes[i],
+        None,
+        options,
+        progress,
+    )
 }
 
+/// The samples `0..samples`, sample `i` struck `strike(i)` with the physics `physics(i)`
+/// (the study's own where `None`).
 fn run_with(
     config: &StudyConfig,
     samples: usize,
     strike: &(dyn Fn(usize) -> CueStrike + Sync),
+    physics: Option<&(dyn Fn(usize) -> SimParams + Sync)>,
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
@@ -177,6 +207,9 @@ fn run_with(
                         .expect("checked by run_chunks")
                 },
                 |lp, i| {
+                    if let Some(physics) = physics {
+                        lp.set_params(physics(i)).map_err(|e| sample_error(i, e))?;
+                    }
                     simulate_sample(lp, config, &initial, strike(i), options.until)
                         .map_err(|e| sample_error(i, e))
                 },
@@ -272,6 +305,8 @@ fn first_contact_of(ev: &Event, cue: u32) -> Option<FirstContact> {
 pub struct SampleWatch {
     cue: usize,
     until: Until,
+    /// The sample's ball parameters (the study's, or the sample's own draw).
+    ball: BallParams,
     sample: Sample,
     /// Events seen, the strike included.
     seen: usize,
@@ -292,6 +327,7 @@ impl SampleWatch {
         SampleWatch {
             cue,
             until,
+            ball: config.params.ball,
             sample: Sample {
                 strike,
                 first: FirstContact::Nothing,
@@ -309,6 +345,13 @@ impl SampleWatch {
             seen: 0,
             stop: None,
         }
+    }
+
+    /// The watch of a sample simulated with its own ball parameters (a study whose physics
+    /// varies from sample to sample).
+    pub fn with_ball_params(mut self, ball: BallParams) -> SampleWatch {
+        self.ball = ball;
+        self
     }
 
     /// Whether the watch has all it needs ([`Until::FirstContact`] and the first contact
@@ -349,7 +392,7 @@ impl SampleWatch {
             return;
         };
         let at = position(cue);
-        let v = evolve(cue_before, ev.t - t0, &config.params.ball).v;
+        let v = evolve(cue_before, ev.t - t0, &self.ball).v;
         s.first = first;
         s.first_t = ev.t;
         s.contact_cue = (at.x, at.y);
@@ -419,7 +462,8 @@ pub fn simulate_sample(
 ) -> Result<Sample, SimError> {
     let cue = config.cue;
     lp.reset(initial, Some((cue, strike)))?;
-    let mut watch = SampleWatch::new(config, initial, strike, until);
+    let mut watch =
+        SampleWatch::new(config, initial, strike, until).with_ball_params(lp.params().ball);
     loop {
         // the cue ball before the event, for its velocity at the first contact (its state
         // holds at the loop's time, whatever its own time stamp)
