@@ -888,3 +888,112 @@ fn bad_physics_files_exit_2_naming_the_file_and_key() {
     assert_eq!(r.code, Some(1), "{}", r.stderr);
     assert!(r.stderr.contains("no_such.toml"), "{}", r.stderr);
 }
+
+/// `--physics FILE.csv`: one parameter set per table (pooltool's names, the cue's as
+/// `cue.M`); each table's final states are those of the table simulated alone with a TOML
+/// file of its row's values; a table without a row, a row for no table, an unknown column
+/// or a bad number exits 2 naming the file, the line and the table.
+#[test]
+fn per_table_physics_from_a_csv_is_each_table_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let (balls, strikes) = rack_batch(dir.path(), 4);
+    let rows = [
+        (0, 0.008, 0.8, 0.6),
+        (1, 0.010, 0.85, 0.567),
+        (2, 0.012, 0.9, 0.5),
+        (3, 0.011, 0.95, 0.7),
+    ];
+    let mut csv = String::from("table,u_r,e_c,cue.M\n");
+    for (t, u_r, e_c, m) in rows {
+        csv.push_str(&format!("{t},{u_r},{e_c},{m}\n"));
+    }
+    let per_table = write(dir.path(), "physics.csv", &csv);
+    let fin = dir.path().join("final.csv");
+    let r = kisstime(&[
+        "simulate",
+        s(&balls),
+        "--strikes",
+        s(&strikes),
+        "--physics",
+        s(&per_table),
+        "--final",
+        s(&fin),
+    ]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let all = csv_rows(&std::fs::read_to_string(&fin).unwrap());
+    let mut differ = 0;
+    for (t, u_r, e_c, m) in rows {
+        let toml = write(
+            dir.path(),
+            &format!("t{t}.toml"),
+            &format!("u_r = {u_r}\ne_c = {e_c}\n[cue]\nM = {m}\n"),
+        );
+        let one_fin = dir.path().join(format!("f{t}.csv"));
+        let r = kisstime(&[
+            "simulate",
+            s(&balls),
+            "--strikes",
+            s(&strikes),
+            "--physics",
+            s(&toml),
+            "--final",
+            s(&one_fin),
+        ]);
+        assert_eq!(r.code, Some(0), "{}", r.stderr);
+        let alone = csv_rows(&std::fs::read_to_string(&one_fin).unwrap());
+        let mine = |rows: &[Vec<String>]| {
+            rows.iter()
+                .filter(|row| row[0] == t.to_string())
+                .cloned()
+                .collect::<Vec<_>>()
+        };
+        assert!(!mine(&all).is_empty());
+        assert_eq!(mine(&all), mine(&alone), "table {t}");
+        // and the others' rows under this table's physics are not theirs
+        if all != alone {
+            differ += 1;
+        }
+    }
+    assert_eq!(differ, 4, "each table's physics matters");
+    // bad files
+    let bad = |name: &str, text: &str, words: &[&str]| {
+        let f = write(dir.path(), name, text);
+        let r = kisstime(&[
+            "simulate",
+            s(&balls),
+            "--strikes",
+            s(&strikes),
+            "--physics",
+            s(&f),
+        ]);
+        assert_eq!(r.code, Some(2), "{name}: {}", r.stderr);
+        for w in words {
+            assert!(r.stderr.contains(w), "{name}: {w} not in {}", r.stderr);
+        }
+    };
+    bad(
+        "missing.csv",
+        "table,u_r\n0,0.01\n1,0.01\n2,0.01\n",
+        &["missing.csv", "table 3", "no row"],
+    );
+    bad(
+        "extra.csv",
+        "table,u_r\n0,0.01\n1,0.01\n2,0.01\n3,0.01\n9,0.01\n",
+        &["line 6", "table 9", "not in the input"],
+    );
+    bad(
+        "key.csv",
+        "table,mu_r\n0,0.01\n1,0.01\n2,0.01\n3,0.01\n",
+        &["key.csv", "mu_r", "u_r"],
+    );
+    bad(
+        "range.csv",
+        "table,e_c\n0,0.5\n1,1.5\n2,0.5\n3,0.5\n",
+        &["range.csv", "line 3", "table 1", "e_c"],
+    );
+    bad(
+        "number.csv",
+        "table,u_r\n0,x\n",
+        &["number.csv", "line 2", "u_r"],
+    );
+}

@@ -351,13 +351,17 @@ def simulate(
     spinning friction is ``u_sp_proportionality * R``) and the cue's ``CueSpecs`` names
     under ``"cue"`` (``{"M": ..., "end_mass": ...}``), or the path of a TOML file with those
     keys (the cue's in a ``[cue]`` table; ``data/physics/physics.toml``). Keys left out keep
-    pooltool's defaults; ``None`` is all defaults. An unknown key (kisstime's former names
+    pooltool's defaults; ``None`` is all defaults. **Per table**: a dict with a ``"table"``
+    array of table ids (one entry per table of the batch) and arrays for the parameters
+    that vary (``{"table": ids, "u_r": u_r, "e_c": e_c, "R": 0.02619}``; the cue's as
+    ``{"cue": {"M": array}}``): each table gets the single values with its own entries in
+    place (``kisstime simulate --physics FILE.csv``). An unknown key (kisstime's former names
     ``radius``, ``mu_s``, … say which pooltool name to use), a value that is not a number or
     out of range raises ``ValueError`` with the command line's message (a dict is named
     ``physics``).
 
     ``backend`` is ``"cpu"`` (Rayon, f64, every core: the reference), ``"gpu"`` (the WGSL
-    event loop, one workgroup per table, at most 16 balls a table; ``RuntimeError`` when no
+    event loop, one workgroup per table, up to 64 balls a table; ``RuntimeError`` when no
     GPU is usable) or ``"auto"`` (the backend measured faster: never a software adapter, the
     GPU from 512 tables per CPU thread, else the CPU; a ``RuntimeWarning`` says why where a
     GPU could not be used; a GPU failure mid-batch is redone on the CPU).
@@ -392,9 +396,38 @@ def simulate(
         bool(events),
         backend,
         precision,
-        _physics(physics),
+        *_physics_per_table(physics),
     )
     return SimResult(_load(ev) if ev is not None else None, _load(fin), _load(oc))
+
+
+def _physics_per_table(physics: PhysicsLike) -> tuple:
+    """``simulate``'s ``physics`` as the extension takes it: ``(physics, columns)``, where
+    ``columns`` is ``None``, or, for a mapping with a ``"table"`` entry, ``(table ids,
+    [(name, values)])``: its array values, one per table (the cue's named ``cue.M``), the
+    single values staying in ``physics`` as every table's base."""
+    if not (isinstance(physics, Mapping) and "table" in physics):
+        return (_physics(physics), None)
+    ids = np.ascontiguousarray(np.asarray(physics["table"]), dtype="<i8")
+    if ids.ndim != 1:
+        raise ValueError("physics: 'table' must be a 1-D array of table ids")
+    single: dict = {}
+    columns: list = []
+
+    def split(prefix: str, items: Any, into: dict) -> None:
+        for k, v in items:
+            if isinstance(v, Mapping):
+                sub: dict = {}
+                split(f"{prefix}{k}.", v.items(), sub)
+                if sub:
+                    into[k] = sub
+            elif np.ndim(v) == 1:
+                columns.append((f"{prefix}{k}", np.ascontiguousarray(v, dtype="<f8")))
+            else:
+                into[k] = v
+
+    split("", ((k, v) for k, v in physics.items() if k != "table"), single)
+    return (_physics(single), (ids, columns))
 
 
 def table_ids(table: Union[str, os.PathLike] = "9ft") -> dict:

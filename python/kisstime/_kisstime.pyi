@@ -34,6 +34,7 @@ def simulate(
     batch: Batch, strikes: Optional[tuple[_I, _I, list[_F]]], table_name: str,
     max_events: int, max_time: float, events: bool, backend: str, precision: Optional[str],
     physics: _Physics = None,
+    physics_columns: Optional[tuple[_I, list[tuple[str, _F]]]] = None,
 ) -> tuple[Optional[bytes], bytes, bytes]: ...
 def study_chunk(
     kind: str, text: str, source: str, dir: Optional[str], physics: _Physics,

@@ -18,6 +18,7 @@ use pyo3::types::{PyBytes, PyDict};
 use kisstime::batch::Batch;
 use kisstime::engine::ShotEngine;
 use kisstime::io::npy::{batch_from_columns, batch_from_records};
+use kisstime::io::physics::{BatchPhysics, PhysicsColumns, PhysicsValue};
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{match_strikes, sample_strikes_from_columns, strike_rows_from_columns};
 use kisstime::io::table_json::table_by_name;
@@ -306,10 +307,31 @@ fn physics_of(physics: &PhysicsArg) -> PyResult<Option<SimParams>> {
     }
 }
 
+/// The entries of a mapping-kind [`PhysicsArg`] (Python's `physics={...}` single values):
+/// the base of per-table physics. Empty without one.
+fn physics_entries(physics: &PhysicsArg) -> PyResult<Vec<(String, PhysicsValue)>> {
+    match physics {
+        None => Ok(Vec::new()),
+        Some((kind, text, source)) if kind == "dict" || kind == "toml" => {
+            // checked whole first, for the one parser's messages
+            physics_of(physics)?;
+            let table: toml::Table = toml::from_str(text)
+                .map_err(|e| PyValueError::new_err(format!("{source}: {e}")))?;
+            match PhysicsValue::from_toml_table(&table) {
+                PhysicsValue::Table(entries) => Ok(entries),
+                _ => Ok(Vec::new()),
+            }
+        }
+        Some((kind, _, _)) => Err(PyValueError::new_err(format!(
+            "physics of kind {kind:?} cannot be the base of per-table physics"
+        ))),
+    }
+}
+
 /// Whole shots from the strike to rest: `(events, final, outcomes)` as the `.npy` bytes of
 /// `kisstime simulate -o … --final … --outcomes …` (`events` is `None` unless asked).
 #[pyfunction]
-#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None))]
+#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None, physics_columns=None))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -322,6 +344,7 @@ fn simulate<'py>(
     backend: &str,
     precision: Option<&str>,
     physics: PhysicsArg,
+    physics_columns: Option<(I64s<'py>, Vec<(String, F64s<'py>)>)>,
 ) -> PyResult<(
     Option<Bound<'py, PyBytes>>,
     Bound<'py, PyBytes>,
@@ -330,7 +353,31 @@ fn simulate<'py>(
     let limits = Limits::new(max_events, max_time).map_err(|e| py_err(e.into()))?;
     let batch = &batch.batch;
     let tbl = table_by_name(table_name).map_err(py_err)?;
-    let params = physics_of(&physics)?.unwrap_or_default();
+    let batch_physics = match &physics_columns {
+        // one set per table: the mapping's single values with each table's row in place
+        Some((ids, columns)) => {
+            let mut cols = PhysicsColumns {
+                tables: slice(ids, "physics table")?.to_vec(),
+                ..PhysicsColumns::default()
+            };
+            for (name, values) in columns {
+                let v = slice(values, name)?;
+                if v.len() != cols.tables.len() {
+                    return Err(PyValueError::new_err(format!(
+                        "physics: {name} has {} values for {} tables",
+                        v.len(),
+                        cols.tables.len()
+                    )));
+                }
+                cols.columns.push((name.clone(), v.to_vec()));
+            }
+            let base = physics_entries(&physics)?;
+            let ids: Vec<i64> = (0..batch.num_tables()).map(|k| batch.table_id(k)).collect();
+            BatchPhysics::PerTable(cols.for_tables(&base, &ids, "physics").map_err(py_err)?)
+        }
+        None => BatchPhysics::Shared(physics_of(&physics)?.unwrap_or_default()),
+    };
+    let physics = batch_physics.as_physics();
     let strikes = match &strikes {
         Some((t, b, v)) => {
             let cols = [
@@ -358,7 +405,7 @@ fn simulate<'py>(
     let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
     // the one entry point, with the GIL released; each chunk's results are written as it
     // comes, and Ctrl-C is noticed between chunks
-    let input = batch.sim_input(&strikes, params.ball.r);
+    let input = batch.sim_input_for(&strikes, physics);
     let result = py.detach(|| {
         let mut ev_w = if events {
             Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
@@ -368,7 +415,7 @@ fn simulate<'py>(
         let mut fin_w = FinalWriter::new(&mut fin_out, Format::Npy, batch.num_balls() as u64)
             .map_err(mem_err)?;
         let mut oc_w = OutcomesWriter::new(&mut oc_out, Format::Npy, n as u64).map_err(mem_err)?;
-        let done = engine.simulate_with(&tbl, params, &options, n, input, |chunk| {
+        let done = engine.simulate_with(&tbl, physics, &options, n, input, |chunk| {
             for run in chunk.iter() {
                 let ids = TableIds {
                     table: batch.table_id(run.table),

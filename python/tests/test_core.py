@@ -348,3 +348,32 @@ def test_physics_noise_matches_the_cli_and_varies_per_sample(tmp_path):
     assert r.returncode == 2
     with pytest.raises(ValueError, match="noise.physics.R"):
         kisstime.shot_study(samples=10, physics_noise={"R": 0.1})
+
+
+def test_per_table_physics_is_each_table_alone():
+    """physics={"table": ids, "u_r": array, ...}: each table is simulated with its own
+    parameters, as it is alone with a dict of its values; a table without an entry
+    raises naming it."""
+    balls = balls_array(ROOT / "examples" / "break.csv")
+    strikes = strike_columns(ROOT / "examples" / "break_strike.csv")
+    n = 4
+    tables = np.concatenate([np.where(balls["table"] == 0, k, 0) for k in range(n)])
+    many = np.concatenate([balls] * n)
+    many["table"] = tables
+    s = {k: np.concatenate([np.asarray(v)] * n) for k, v in strikes.items()}
+    s["table"] = np.arange(n)
+    u_r = np.array([0.008, 0.01, 0.012, 0.011])
+    m = np.array([0.5, 0.567, 0.6, 0.7])
+    per = kisstime.simulate(
+        many, s, events=False, physics={"table": np.arange(n), "u_r": u_r, "e_c": 0.9, "cue": {"M": m}}
+    )
+    for k in range(n):
+        alone = kisstime.simulate(
+            balls, strikes, events=False, physics={"u_r": u_r[k], "e_c": 0.9, "cue": {"M": m[k]}}
+        )
+        mine = per.final[per.final["table"] == k].copy()
+        mine["table"] = 0
+        assert same(mine, alone.final), k
+    assert not same(per.final[per.final["table"] == 0], per.final[per.final["table"] == 2])
+    with pytest.raises(ValueError, match="table 3"):
+        kisstime.simulate(many, s, physics={"table": np.arange(3), "u_r": u_r[:3]})

@@ -3,6 +3,7 @@
 use super::Batch;
 use crate::error::SimError;
 use crate::model::ball_state::BallState;
+use crate::model::sim_params::Physics;
 use crate::resolve::stick_ball::CueStrike;
 
 impl Batch {
@@ -37,6 +38,26 @@ impl Batch {
     ) -> impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync + 'a
     {
         move |k, balls| {
+            balls.clear();
+            balls.extend(
+                self.balls(k)
+                    .iter()
+                    .map(|b| BallState::from_ball(b, radius)),
+            );
+            Ok(strikes.get(k).copied().flatten())
+        }
+    }
+
+    /// [`Batch::sim_input`] with each table's balls at its own radius (`physics.of(k)`'s
+    /// R): the input of a batch with per-table physics.
+    pub fn sim_input_for<'a>(
+        &'a self,
+        strikes: &'a [Option<(usize, CueStrike)>],
+        physics: Physics<'a>,
+    ) -> impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync + 'a
+    {
+        move |k, balls| {
+            let radius = physics.of(k).ball.r;
             balls.clear();
             balls.extend(
                 self.balls(k)

@@ -126,7 +126,9 @@ pub struct SimulateArgs {
     /// names (`m`, `R`, `u_s`, `u_r`, `u_sp_proportionality`, `u_b`, `e_b`, `e_c`, `f_c`,
     /// `g`; the cue's `M`, `end_mass` under `[cue]`), as data/physics/physics.toml. Keys
     /// left out keep pooltool's defaults; without the flag, all are pooltool's defaults.
-    #[arg(long, value_name = "TOML")]
+    /// Or, per table, a CSV file (`.csv`): a header `table,KEY,...` (the cue's keys as
+    /// `cue.M`, `cue.end_mass`) and one row per table of the input with its values.
+    #[arg(long, value_name = "TOML|CSV")]
     pub physics: Option<PathBuf>,
     /// Where to simulate: `cpu` (Rayon, f64, the reference), `gpu` (the WGSL event loop,
     /// one workgroup per table; up to 64 balls a table; an error when no GPU is usable)

@@ -148,8 +148,14 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         }
     }
     let table = table_by_name(&args.table)?;
-    let params = kisstime::io::physics::read_physics_or_default(args.physics.as_deref())?;
     let batch = read_input(&args.input)?;
+    let batch_physics = kisstime::io::physics::read_batch_physics(
+        args.physics.as_deref(),
+        &(0..batch.num_tables())
+            .map(|k| batch.table_id(k))
+            .collect::<Vec<_>>(),
+    )?;
+    let physics = batch_physics.as_physics();
     let plotted = match &args.plot {
         Some(_) => Some(plotted_table(&batch, args.table_id)?),
         None => None,
@@ -235,8 +241,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                     }
                     Ok(())
                 };
-                let input = batch.sim_input(&strikes, params.ball.r);
-                let result = engine.simulate_with(&table, params, &options, n, input, |chunk| {
+                let input = batch.sim_input_for(&strikes, physics);
+                let result = engine.simulate_with(&table, physics, &options, n, input, |chunk| {
                     for run in chunk.iter() {
                         write_run(&run)?;
                     }
@@ -269,13 +275,13 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         let balls: Vec<BallState> = batch
             .balls(k)
             .iter()
-            .map(|b| BallState::from_ball(b, params.ball.r))
+            .map(|b| BallState::from_ball(b, physics.of(k).ball.r))
             .collect();
         let strike = strikes.get(k).copied().flatten();
         let label = format!("Table {}", batch.table_id(k));
         let png = render_shot_png(
             &table,
-            params,
+            physics.of(k),
             options.limits,
             &balls,
             batch.ball_ids(k),

@@ -429,6 +429,50 @@ pub fn read_physics(path: &Path) -> Result<SimParams, Error> {
     parse_physics_toml(&text, &path.display().to_string())
 }
 
+/// The physics of `--physics PATH` for a batch of tables `table_ids` (in its order): a
+/// TOML file's one set, or a `.csv` file's set per table ([`parse_physics_csv`]: pooltool's
+/// defaults with each table's row in place); pooltool's defaults without a path.
+pub fn read_batch_physics(path: Option<&Path>, table_ids: &[i64]) -> Result<BatchPhysics, Error> {
+    let Some(path) = path else {
+        return Ok(BatchPhysics::Shared(SimParams::default()));
+    };
+    let is_csv = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    if !is_csv {
+        return read_physics(path).map(BatchPhysics::Shared);
+    }
+    let source = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+        path: source.clone(),
+        source: e,
+    })?;
+    let columns = parse_physics_csv(&text, &source)?;
+    columns
+        .for_tables(&[], table_ids, &source)
+        .map(BatchPhysics::PerTable)
+}
+
+/// A batch's physics as read: one set, or one per table (owned; [`BatchPhysics::as_physics`]
+/// lends it to the simulator).
+#[derive(Clone, Debug, PartialEq)]
+pub enum BatchPhysics {
+    /// Every table with these parameters.
+    Shared(SimParams),
+    /// Table `k` (in the batch's order) with `[k]`.
+    PerTable(Vec<SimParams>),
+}
+
+impl BatchPhysics {
+    /// As the simulator takes it.
+    pub fn as_physics(&self) -> crate::model::sim_params::Physics<'_> {
+        match self {
+            BatchPhysics::Shared(p) => crate::model::sim_params::Physics::Shared(*p),
+            BatchPhysics::PerTable(all) => crate::model::sim_params::Physics::PerTable(all),
+        }
+    }
+}
+
 /// The parameters of the physics file at `path` ([`read_physics`]), or pooltool's
 /// defaults ([`SimParams::default`]) when there is none: what `kisstime simulate
 /// --physics` resolves to.
@@ -819,4 +863,178 @@ mod tests {
             assert!((q.ball.u_sp - p.ball.u_sp).abs() <= 1e-18, "{q:?}");
         }
     }
+}
+
+/// Per-table physics as columns: one row per table (its id in `tables`), one column per
+/// parameter (pooltool's names; the cue's as `cue.M`, `cue.end_mass`). Each table's
+/// parameters are the base set's (a physics file, or pooltool's defaults) with its row's
+/// values in place: what `kisstime simulate --physics FILE.csv` and Python's
+/// `physics={"table": ids, "u_r": array, ...}` give.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PhysicsColumns {
+    /// The table id of each row.
+    pub tables: Vec<i64>,
+    /// Each parameter's name and its value per row.
+    pub columns: Vec<(String, Vec<f64>)>,
+    /// Each row's 1-based line in its file (empty where the rows did not come from one).
+    pub lines: Vec<u64>,
+}
+
+impl PhysicsColumns {
+    /// Every table's parameters, in the order of `table_ids` (a batch's tables): the base
+    /// entries (a physics file's or mapping's top level; may be empty) with the table's row
+    /// in place, read by [`physics_from_entries`], so every key and range is checked as in a
+    /// physics file. Errors name `source`, the row's line where known, the table and the
+    /// key: a table of the batch without a row, a row for a table not in it, a repeated
+    /// table, an unknown column.
+    pub fn for_tables(
+        &self,
+        base: &[(String, PhysicsValue)],
+        table_ids: &[i64],
+        source: &str,
+    ) -> Result<Vec<SimParams>, Error> {
+        let at_row = |row: usize, table: i64, msg: String| {
+            let mut e = InputError::new(msg).in_file(source).at_table(table);
+            if let Some(&line) = self.lines.get(row) {
+                e = e.at_line(line);
+            }
+            Error::from(e)
+        };
+        let mut row_of = std::collections::HashMap::with_capacity(self.tables.len());
+        for (row, &t) in self.tables.iter().enumerate() {
+            if row_of.insert(t, row).is_some() {
+                return Err(at_row(row, t, format!("table {t} has a second row")));
+            }
+        }
+        let wanted: std::collections::HashSet<i64> = table_ids.iter().copied().collect();
+        if let Some((row, &t)) = self
+            .tables
+            .iter()
+            .enumerate()
+            .find(|(_, t)| !wanted.contains(t))
+        {
+            return Err(at_row(row, t, format!("table {t} is not in the input")));
+        }
+        table_ids
+            .iter()
+            .map(|&t| {
+                let Some(&row) = row_of.get(&t) else {
+                    return Err(Error::from(
+                        InputError::new(format!("no row for table {t}: every table needs one"))
+                            .in_file(source)
+                            .at_table(t),
+                    ));
+                };
+                let mut entries: Vec<(String, PhysicsValue)> = base.to_vec();
+                let mut cue: Vec<(String, PhysicsValue)> = Vec::new();
+                for (name, values) in &self.columns {
+                    let v = PhysicsValue::Num(values[row]);
+                    match name.strip_prefix("cue.") {
+                        Some(k) => cue.push((k.to_owned(), v)),
+                        None => {
+                            entries.retain(|(k, _)| k != name);
+                            entries.push((name.clone(), v));
+                        }
+                    }
+                }
+                if !cue.is_empty() {
+                    let mut table = match entries.iter().position(|(k, _)| k == CUE_TABLE) {
+                        Some(i) => match entries.remove(i).1 {
+                            PhysicsValue::Table(t) => t,
+                            other => vec![("?".to_owned(), other)],
+                        },
+                        None => Vec::new(),
+                    };
+                    for (k, v) in cue {
+                        table.retain(|(x, _)| *x != k);
+                        table.push((k, v));
+                    }
+                    entries.push((CUE_TABLE.to_owned(), PhysicsValue::Table(table)));
+                }
+                let label = format!("{source} (table {t})");
+                physics_from_entries(
+                    &entries,
+                    &PhysicsSource {
+                        file: &label,
+                        prefix: "",
+                        toml_text: None,
+                    },
+                    true,
+                )
+                .map_err(|e| match e {
+                    Error::Input(mut ie) => {
+                        ie.table = Some(t);
+                        ie.file = Some(source.to_owned());
+                        if let Some(&line) = self.lines.get(row) {
+                            ie.line = Some(line);
+                        }
+                        Error::Input(ie)
+                    }
+                    other => other,
+                })
+            })
+            .collect()
+    }
+}
+
+/// A per-table physics file (`kisstime simulate --physics FILE.csv`): a header `table,KEY,…`
+/// (pooltool's names, the cue's as `cue.M`, `cue.end_mass`), then one row per table, its id
+/// and numbers. Errors name the file, the line and the column.
+pub fn parse_physics_csv(text: &str, source: &str) -> Result<PhysicsColumns, Error> {
+    let err = |line: usize, msg: String| {
+        Error::from(
+            InputError::new(msg)
+                .in_file(source)
+                .at_line(line as u64 + 1),
+        )
+    };
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let Some((h, header)) = lines.next() else {
+        return Err(err(
+            0,
+            "empty: expected a header `table,KEY,...`".to_owned(),
+        ));
+    };
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    if names.first() != Some(&"table") || names.len() < 2 {
+        return Err(err(
+            h,
+            "the header must be `table` then pooltool's parameter names (u_r, e_c, cue.M, ...)"
+                .to_owned(),
+        ));
+    }
+    let mut out = PhysicsColumns {
+        columns: names[1..]
+            .iter()
+            .map(|n| ((*n).to_owned(), Vec::new()))
+            .collect(),
+        ..PhysicsColumns::default()
+    };
+    for (i, line) in lines {
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        if fields.len() != names.len() {
+            return Err(err(
+                i,
+                format!("{} fields, the header has {}", fields.len(), names.len()),
+            ));
+        }
+        let table: i64 = fields[0]
+            .parse()
+            .map_err(|_| err(i, format!("table `{}` is not an integer id", fields[0])))?;
+        for (c, f) in fields[1..].iter().enumerate() {
+            let v: f64 = f.parse().map_err(|_| {
+                err(
+                    i,
+                    format!("column `{}`: `{f}` is not a number", names[c + 1]),
+                )
+            })?;
+            out.columns[c].1.push(v);
+        }
+        out.tables.push(table);
+        out.lines.push(i as u64 + 1);
+    }
+    Ok(out)
 }
