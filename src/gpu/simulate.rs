@@ -40,6 +40,9 @@ use crate::simulate::check::check_layout;
 use crate::simulate::events::Outcome;
 use crate::simulate::{EventLoop, Limits};
 
+mod buffers;
+use buffers::LoopBuffers;
+
 /// Events per table and dispatch, by default. Short dispatches keep a device responsive;
 /// on lavapipe (Mesa 22.3) a 16-ball break's first 256-event dispatch stopped part-way
 /// (after 172 events, with some threads' states not written back), while dispatches of
@@ -131,38 +134,28 @@ enum Mode<'a> {
     Watch { cue: usize, stop: bool },
 }
 
-/// The event loop's buffers, made for up to `tables` tables and reused while a call fits.
-struct LoopBuffers {
-    /// The layout (and so the pipeline) the buffers and the bind group were made for.
+/// What the phases of one chunk share.
+struct ChunkCall<'c> {
+    table: &'c Table,
+    /// The chunk's tables' physics.
+    physics: Physics<'c>,
+    limits: Limits,
     layout: SimLayout,
-    tables: usize,
-    per: usize,
+    /// The chunk's tables.
+    input: Input<'c>,
+    /// The chunk's first table in the batch (for messages and callbacks).
+    first: usize,
+    /// Whether events are recorded and read back.
     record: bool,
-    geometry_reals: usize,
-    sim_reals: usize,
-    cfg: wgpu::Buffer,
-    sim: wgpu::Buffer,
-    geometry: wgpu::Buffer,
-    state_r: wgpu::Buffer,
-    state_u: wgpu::Buffer,
-    events_r: wgpu::Buffer,
-    events_u: wgpu::Buffer,
-    running: wgpu::Buffer,
-    /// Two lists of tables still running, one half a dispatch (the shader's `live`);
-    /// the device alone reads it, through the bind group.
-    #[allow(dead_code)]
-    live: wgpu::Buffer,
-    bind: wgpu::BindGroup,
-    /// Upload buffers for the I/O region (mapped for writing while a chunk is packed).
-    up_r: wgpu::Buffer,
-    up_u: wgpu::Buffer,
-    /// Readback buffers: the running count, the I/O and watch regions, the events.
-    back_running: wgpu::Buffer,
-    back_r: wgpu::Buffer,
-    back_u: wgpu::Buffer,
-    back_events_r: Option<wgpu::Buffer>,
-    back_events_u: Option<wgpu::Buffer>,
+    /// The watched cue ball ([`NO_WATCH`]: none), and whether a table stops at its first
+    /// contact.
+    watch_cue: u32,
+    watch_stop: bool,
 }
+
+/// A packed chunk: the strikes' event records (with their tables' places in the chunk)
+/// and the runs so far.
+type PackedChunk = (Vec<(usize, EventRecord)>, Vec<GpuRun>);
 
 /// The GPU event loop: device, pipeline and buffers, reused across calls.
 pub struct GpuSimulator {
@@ -460,6 +453,11 @@ impl GpuSimulator {
             .max(4 * (1 + per * EVENT_UINTS));
         let fit = (self.max_binding / per_table as u64).max(1) as usize;
         let chunk = self.max_tables_per_chunk.max(1).min(fit);
+        let (record, watch_cue, watch_stop) = match &mode {
+            Mode::Finals => (false, NO_WATCH, false),
+            Mode::Events(_) => (true, NO_WATCH, false),
+            Mode::Watch { cue, stop } => (false, *cue as u32, *stop),
+        };
         let mut runs = Vec::with_capacity(n);
         let mut watches = Vec::new();
         for start in (0..n).step_by(chunk) {
@@ -467,16 +465,18 @@ impl GpuSimulator {
             // the buffers fit the largest chunk of this call (they grow for a larger one)
             let capacity = chunk.min(n);
             let end = n.min(start + chunk);
-            let done = self.simulate_chunk(
+            let call = ChunkCall {
                 table,
-                physics.part(start..end),
+                physics: physics.part(start..end),
                 limits,
                 layout,
-                part,
-                start,
-                capacity,
-                &mut mode,
-            );
+                input: part,
+                first: start,
+                record,
+                watch_cue,
+                watch_stop,
+            };
+            let done = self.simulate_chunk(&call, capacity, &mut mode);
             let (r, w) = done.inspect_err(|_| self.total.add(&self.timings))?;
             runs.extend(r);
             watches.extend(w);
@@ -485,167 +485,43 @@ impl GpuSimulator {
         Ok((runs, watches))
     }
 
-    /// The buffers for chunks of up to `tables` tables: the ones made before where they are
-    /// large enough, else new ones.
-    fn buffers(
-        &mut self,
-        layout: SimLayout,
-        tables: usize,
-        record: bool,
-        geometry_reals: usize,
-        sim_reals: usize,
-    ) -> Result<&LoopBuffers, Error> {
-        let per = self.events_per_dispatch.max(1) as usize;
-        let fits = self.bufs.as_ref().is_some_and(|b| {
-            b.layout == layout
-                && b.tables >= tables
-                && b.per == per
-                && b.record == record
-                && b.geometry_reals >= geometry_reals
-                && b.sim_reals >= sim_reals
-        });
-        if !fits {
-            self.bufs = None;
-            // a device lost before fails here, before any buffer is made
-            if let Some(e) = self.watch.fault() {
-                return Err(e);
-            }
-            let scopes = Scopes::push(&self.device);
-            let made = self.make_buffers(layout, tables, per, record, geometry_reals, sim_reals)?;
-            map_and_wait(
-                &self.device,
-                scopes,
-                &self.watch,
-                &[],
-                &format!("making the event loop's buffers for {tables} tables"),
-            )?;
-            self.bufs = Some(made);
-        }
-        Ok(self.bufs.as_ref().expect("made above"))
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn make_buffers(
-        &mut self,
-        layout: SimLayout,
-        tables: usize,
-        per: usize,
-        record: bool,
-        geometry_reals: usize,
-        sim_reals: usize,
-    ) -> Result<LoopBuffers, Error> {
-        let l = &layout;
-        let bind_layout = self.pipeline(l)?.get_bind_group_layout(0);
-        let real = self.precision.real_size() as u64;
-        let n = tables as u64;
-        let dev = &self.device;
-        let make = |label: &str, size: u64, usage: wgpu::BufferUsages| {
-            dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size.max(4).next_multiple_of(8),
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
-        let rw = storage | wgpu::BufferUsages::COPY_SRC;
-        let back = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
-        let up = wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC;
-        let state_reals = n * (l.io_reals + l.cache_reals + l.watch_reals) as u64;
-        let state_uints = n * (l.io_uints + l.cache_uints + l.watch_uints) as u64;
-        // what comes back at the end: the I/O region, then the watch region, of each kind
-        let back_reals = n * (l.io_reals + l.watch_reals) as u64;
-        let back_uints = n * (l.io_uints + l.watch_uints) as u64;
-        let (events_reals, events_uints) = if record {
-            (
-                n * (per * EVENT_REALS) as u64,
-                n * (1 + per * EVENT_UINTS) as u64,
-            )
-        } else {
-            (1, 1)
-        };
-        let cfg = make(
-            "config",
-            64,
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        );
-        let sim = make("sim", sim_reals as u64 * real, storage);
-        let geometry = make("geometry", geometry_reals as u64 * real, storage);
-        let state_r = make("state_r", state_reals * real, rw);
-        let state_u = make("state_u", state_uints * 4, rw);
-        let events_r = make("events_r", events_reals * real, rw);
-        let events_u = make("events_u", events_uints * 4, rw);
-        let running = make("running", 4, rw);
-        let live = make("live", 2 * n * 4, rw);
-        let entries: Vec<wgpu::BindGroupEntry> = [
-            &cfg, &sim, &geometry, &state_r, &state_u, &events_r, &events_u, &running, &live,
-        ]
-        .iter()
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
-        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("event loop"),
-            layout: &bind_layout,
-            entries: &entries,
-        });
-        Ok(LoopBuffers {
-            layout,
-            tables,
-            per,
-            record,
-            geometry_reals,
-            sim_reals,
-            up_r: make("upload reals", n * (l.io_reals as u64) * real, up),
-            up_u: make("upload u32s", n * (l.io_uints as u64) * 4, up),
-            back_running: make("readback running", 4, back),
-            back_r: make("readback reals", back_reals * real, back),
-            back_u: make("readback u32s", back_uints * 4, back),
-            back_events_r: record.then(|| make("readback events_r", events_r.size(), back)),
-            back_events_u: record.then(|| make("readback events_u", events_u.size(), back)),
-            cfg,
-            sim,
-            geometry,
-            state_r,
-            state_u,
-            events_r,
-            events_u,
-            running,
-            live,
-            bind,
-        })
-    }
-
-    /// One chunk of tables that fits the buffers (made for `capacity` tables); `first` is
-    /// the chunk's first table in the batch (for messages and callbacks).
-    #[allow(clippy::too_many_arguments)]
+    /// One chunk of tables that fits the buffers (made for `capacity` tables), in its
+    /// phases: the buffers and the shared data, the packing, the upload, the dispatches,
+    /// the readback and unpacking (each timed in [`GpuTimings`]).
     fn simulate_chunk(
         &mut self,
-        table: &Table,
-        physics: Physics<'_>,
-        limits: Limits,
-        layout: SimLayout,
-        input: Input<'_>,
-        first: usize,
+        call: &ChunkCall<'_>,
         capacity: usize,
         mode: &mut Mode<'_>,
     ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
-        let l = &layout;
-        let n_tables = input.len();
-        if n_tables == 0 {
+        if call.input.len() == 0 {
             return Ok((Vec::new(), Vec::new()));
         }
         let clock = std::time::Instant::now();
+        self.prepare_chunk(call, capacity)?;
+        let (strikes, mut runs) = self.pack_chunk(call)?;
+        self.timings.pack += clock.elapsed().as_secs_f64();
+        if let Mode::Events(on_event) = mode {
+            for (k, record) in &strikes {
+                on_event(call.first + k, record);
+            }
+        }
+        let clock = std::time::Instant::now();
+        self.upload_chunk(call)?;
+        self.timings.upload += clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
+        self.dispatch_chunk(call, mode)?;
+        self.timings.kernel += clock.elapsed().as_secs_f64();
+        let watched = self.read_back_chunk(call, &mut runs)?;
+        Ok((runs, watched))
+    }
+
+    /// The buffers for the chunk (made or reused), with the table's geometry and the
+    /// parameter blocks written.
+    fn prepare_chunk(&mut self, call: &ChunkCall<'_>, capacity: usize) -> Result<(), Error> {
+        let (table, physics, limits) = (call.table, call.physics, call.limits);
+        let n_tables = call.input.len();
         let precision = self.precision;
-        let real = precision.real_size();
-        let (record, watch_cue, watch_stop) = match mode {
-            Mode::Finals => (false, NO_WATCH, false),
-            Mode::Events(_) => (true, NO_WATCH, false),
-            Mode::Watch { cue, stop } => (false, *cue as u32, *stop),
-        };
         let mut geometry = Vec::new();
         for s in &table.linear {
             geometry.extend([s.p1.x, s.p1.y, s.p1.z, s.p2.x, s.p2.y, s.p2.z]);
@@ -666,17 +542,15 @@ impl GpuSimulator {
                 .flat_map(|p| param_block(p, limits))
                 .collect(),
         };
-        let sim_stride = if physics.is_shared() { 0 } else { SIM_REALS };
-        let per = self.events_per_dispatch.max(1) as usize;
         let sim_reals = if physics.is_shared() {
             SIM_REALS
         } else {
             SIM_REALS * capacity.max(n_tables)
         };
         self.buffers(
-            layout,
+            call.layout,
             capacity.max(n_tables),
-            record,
+            call.record,
             geometry.len(),
             sim_reals,
         )?;
@@ -684,6 +558,26 @@ impl GpuSimulator {
         let queue = &self.queue;
         queue.write_buffer(&bufs.sim, 0, &real_bytes(precision, &sim));
         queue.write_buffer(&bufs.geometry, 0, &real_bytes(precision, &geometry));
+        Ok(())
+    }
+
+    /// Every table of the chunk checked as the CPU loop checks it and its I/O block laid
+    /// out, then copied to the mapped upload buffers: the strikes' event records (with
+    /// their tables' places in the chunk) and the runs so far (none for a watched chunk).
+    fn pack_chunk(&mut self, call: &ChunkCall<'_>) -> Result<PackedChunk, Error> {
+        let (table, physics, limits, input, first) = (
+            call.table,
+            call.physics,
+            call.limits,
+            call.input,
+            call.first,
+        );
+        let l = &call.layout;
+        let (record, watch_cue) = (call.record, call.watch_cue);
+        let n_tables = input.len();
+        let precision = self.precision;
+        let real = precision.real_size();
+        let bufs = self.bufs.as_ref().expect("made by prepare_chunk");
         // every table checked as the CPU loop checks it and laid out in the shader's
         // precision in host arrays kept across calls, Rayon over blocks of tables; then
         // copied to the mapped upload buffers in large blocks (mapped memory may be
@@ -771,14 +665,17 @@ impl GpuSimulator {
         self.pack_r = host_r;
         self.pack_u = host_u;
         copied?;
-        self.timings.pack += clock.elapsed().as_secs_f64();
-        let clock = std::time::Instant::now();
-        if let Mode::Events(on_event) = mode {
-            for (k, record) in &strikes {
-                on_event(first + k, record);
-            }
-        }
-        // the upload buffers copied to the state's I/O region, waited for
+        Ok((strikes, runs))
+    }
+
+    /// The upload buffers copied to the state's I/O region, waited for.
+    fn upload_chunk(&mut self, call: &ChunkCall<'_>) -> Result<(), Error> {
+        let l = &call.layout;
+        let n_tables = call.input.len();
+        let real = self.precision.real_size();
+        let len_r = (n_tables * l.io_reals * real) as u64;
+        let len_u = (n_tables * l.io_uints * 4) as u64;
+        let bufs = self.bufs.as_ref().expect("made by prepare_chunk");
         let scopes = Scopes::push(&self.device);
         let mut encoder = self
             .device
@@ -789,8 +686,23 @@ impl GpuSimulator {
         encoder.copy_buffer_to_buffer(&bufs.up_u, 0, &bufs.state_u, 0, len_u);
         self.queue.submit([encoder.finish()]);
         map_and_wait(&self.device, scopes, &self.watch, &[], "the upload")?;
-        self.timings.upload += clock.elapsed().as_secs_f64();
-        let clock = std::time::Instant::now();
+        Ok(())
+    }
+
+    /// The chunk's dispatches, until every table is done: `events_per_dispatch` events a
+    /// table each, the recorded events handed to `mode`'s callback after each.
+    fn dispatch_chunk(&mut self, call: &ChunkCall<'_>, mode: &mut Mode<'_>) -> Result<(), Error> {
+        let (table, limits, first) = (call.table, call.limits, call.first);
+        let (record, watch_cue, watch_stop) = (call.record, call.watch_cue, call.watch_stop);
+        let n_tables = call.input.len();
+        let precision = self.precision;
+        let real = precision.real_size();
+        let per = self.events_per_dispatch.max(1) as usize;
+        let sim_stride = if call.physics.is_shared() {
+            0
+        } else {
+            SIM_REALS
+        };
         // without events, each dispatch after the first runs only the tables still running
         // (the shader lists them, in the halves of `live` by turns)
         let compact = !record;
@@ -879,9 +791,22 @@ impl GpuSimulator {
                 n_active = running;
             }
         }
-        self.timings.kernel += clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Only the I/O region (and, for a study, the watch region) read back and unpacked into
+    /// `runs` (or the watched runs).
+    fn read_back_chunk(
+        &mut self,
+        call: &ChunkCall<'_>,
+        runs: &mut [GpuRun],
+    ) -> Result<Vec<WatchedRun>, Error> {
         let clock = std::time::Instant::now();
-        // only the I/O region (and the watch region) comes back
+        let l = &call.layout;
+        let watch_cue = call.watch_cue;
+        let n_tables = call.input.len();
+        let precision = self.precision;
+        let real = precision.real_size();
         let bufs = self.bufs.as_ref().expect("made by buffers");
         let watching = watch_cue != NO_WATCH;
         let io_reals = (n_tables * l.io_reals * real) as u64;
@@ -924,9 +849,8 @@ impl GpuSimulator {
         let len_u = io_uints + if watching { watch_uints } else { 0 };
         let watched_cue = watching.then_some(watch_cue as usize);
         let out = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
-            unpack(precision, l, &mut runs, views[0], views[1], watched_cue)
+            unpack(precision, l, runs, views[0], views[1], watched_cue)
         })??;
-        let out = (runs, out);
         self.timings.unpack += clock.elapsed().as_secs_f64();
         Ok(out)
     }
