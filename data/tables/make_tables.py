@@ -8,9 +8,10 @@
 - ``billiard.json``: ``pt.Table.from_game_type(GameType.THREECUSHION)`` (the carom table,
   no pockets).
 
-The files are what ``table_json`` writes (floats with ``repr``: they read back exactly);
-``python/tests/test_bridge.py`` checks that pooltool still gives them and that kisstime's
-built-in ``7ft`` is ``7ft.json`` bit for bit (``cargo test``: ``tests/tables.rs``).
+The files are what ``table_json`` writes (floats with ``repr``: they read back exactly).
+``python/tests/test_bridge.py`` checks that pooltool still gives them, and ``cargo test``
+(``src/io/table_json.rs``) that kisstime's built-in ``7ft`` is ``7ft.json`` bit for bit and
+that the snooker and billiard tables load.
 """
 
 from pathlib import Path

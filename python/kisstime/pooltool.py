@@ -16,10 +16,38 @@ pooltool's terms, so that the two simulators can be run on the same shot and com
     theirs = kpt.from_pooltool_events(pt.simulate(system))
     assert kpt.first_difference(mine, theirs) is None   # same events, times to 1e-9
 
-or, with the pieces spelled out::
+or, with the pieces spelled out (the table as JSON text, a pooltool ``Table`` object or a
+path: no file needed)::
 
-    path = conv.write_table("table.json")
-    result = kisstime.simulate(conv.balls, conv.strikes, table=path)
+    result = kisstime.simulate(conv.balls, conv.strikes, table=system.table,
+                               physics=conv.physics)
+
+**At batch scale.** :func:`simulate_strikes` fans one position out into many strikes in
+one call (no per-strike Python), :func:`simulate_systems` runs several ``System`` objects (each
+with its own table and ``BallParams``), and both return a :class:`BatchResult` of NumPy
+arrays::
+
+    rng = np.random.default_rng(0)
+    n = 10_000
+    noisy = {"V0": 2.0 + rng.normal(0, 0.15, n), "phi": 62.5 + rng.normal(0, 1.0, n)}
+    res = kpt.simulate_strikes(system, noisy)     # columns left out: system.cue's values
+    potted = res.pocketed[:, res.ball_ids.index("1")]        # (n,) bools
+    cue_x = res.final_states["x"][:, res.ball_ids.index("cue")]
+    res.to_events(17), res.to_final(17)           # one shot in from_pooltool_*'s form
+
+    res = kpt.simulate_strikes(system, noisy, on_error="report")
+    res.ok, res.errors                            # bad strikes flagged, the rest simulated
+
+**Tables.** Wherever a table is taken (``kisstime.simulate``, ``table_ids``,
+``Converted.simulate``, the batch form, ``layout=``): a pooltool ``Table`` object (pocket,
+snooker or billiard), JSON text (what :func:`table_json` produces), a path, or a built-in
+name: ``"7ft"`` (pooltool's ``Table.default()``), ``"9ft"`` (``PocketTableSpecs(l=2.54,
+w=1.27)``), ``"rectangle"``.
+
+**Pocketed balls.** :func:`from_pooltool_final` reads a ball's pocket from its own state
+(a pocketed ball lies at its pocket's centre), not from ``pocket.contains``: pooltool's
+pockets keep the balls of every shot simulated on that ``Table`` object, so on a reused
+table a re-spotted cue ball would still show as pocketed there.
 
 **Ids.** kisstime's balls are integers. The i-th ball of ``system.balls`` (pooltool's
 ball order, which decides exact ties in both simulators) gets id i, and
@@ -144,7 +172,8 @@ class Converted:
             else none. As in pooltool, the strike happens only if every ball is at rest.
         table: The system's table as JSON text in the format of ``table.json``
             (``linear_cushion_segments``, ``circular_cushion_segments``, ``pockets``),
-            for ``kisstime.simulate(..., table=PATH)`` after :meth:`write_table`.
+            which ``kisstime.simulate(..., table=...)`` takes as it is (or as a file,
+            :meth:`write_table`, for ``kisstime simulate --table``).
         ball_ids: pooltool's ball ids; ``ball_ids[i]`` is kisstime's ball ``i``.
         table_ids: pooltool's ids of the table's items in index order:
             ``{"linear": [...], "circular": [...], "pockets": [...]}`` (the form of
@@ -221,8 +250,9 @@ def _float(v: Any, what: str) -> float:
 
 
 def table_json(table: Any) -> str:
-    """A pooltool ``Table`` as JSON text in the format of ``table.json`` (the table
-    object itself), which ``kisstime.simulate(..., table=PATH)`` reads.
+    """A pooltool ``Table`` (pocket, snooker or billiard) as JSON text in the format of
+    ``table.json`` (the table object itself), which ``kisstime.simulate(..., table=...)``
+    takes as text or from a file (``kisstime simulate --table FILE``).
 
     ``linear_cushion_segments`` is ``{id: {"p1": [x, y, z], "p2": [x, y, z],
     "direction": 0|1|2}}``, ``circular_cushion_segments`` ``{id: {"center": [x, y, z],
@@ -966,7 +996,7 @@ def simulate_systems(
     precision: str | None = None,
     check: bool = True,
 ) -> BatchResult:
-    """Several pooltool ``System``\\s in one call (each converted by :func:`from_system`
+    """Several pooltool ``System`` objects in one call (each converted by :func:`from_system`
     with its own table, ``BallParams`` and cue), as a :class:`BatchResult`.
 
     Without ``strikes``, shot i is system i with its own cue (no strike when its V0 is

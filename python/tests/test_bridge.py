@@ -396,5 +396,28 @@ def test_to_events_and_to_final_slice_large_results():
     assert rows.tobytes() == shuffled[shuffled["table"] == 7].tobytes()
 
 
+# ------------------------------------------------------------------- on the GPU
+def test_the_batch_form_on_the_gpu_gives_the_cpus_shots():
+    """backend="gpu" (skipped without a GPU; required in CI, on lavapipe): the same shots,
+    the bad ones flagged the same way."""
+    system = position()
+    strikes = {c: v[:64].copy() for c, v in noisy_strikes().items()}
+    strikes["a"][5] = 2.0
+    cpu = kpt.simulate_strikes(system, strikes, events=True, on_error="report")
+    try:
+        gpu = kpt.simulate_strikes(system, strikes, events=True, on_error="report", backend="gpu")
+    except RuntimeError as e:
+        if os.environ.get("KISSTIME_REQUIRE_GPU") == "1":
+            pytest.fail(f"KISSTIME_REQUIRE_GPU=1 but no usable GPU: {e}")
+        pytest.skip(f"no usable GPU: {e}")
+    assert gpu.errors == cpu.errors and list(gpu.errors) == [5]
+    for k in np.flatnonzero(cpu.ok):
+        assert kpt.first_difference(gpu.to_events(k), cpu.to_events(k), **TOL) is None, k
+        g, c = gpu.to_final(k), cpu.to_final(k)
+        for bid in c:
+            assert (g[bid]["state"], g[bid]["pocket"]) == (c[bid]["state"], c[bid]["pocket"])
+            assert math.hypot(g[bid]["x"] - c[bid]["x"], g[bid]["y"] - c[bid]["y"]) < 1e-9
+
+
 if __name__ == "__main__" and sys.argv[1:2] == ["--pt-simulate"]:
     _main_pt_simulate(json.loads(sys.argv[2]))
