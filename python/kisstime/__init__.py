@@ -330,11 +330,38 @@ class SimResult(NamedTuple):
     outcomes: np.ndarray
 
 
+#: What a ``table=`` argument takes: a built-in name (``"9ft"``, ``"7ft"``,
+#: ``"rectangle"``), the path of a JSON table, the JSON text itself, or a pooltool ``Table``.
+TableLike = Union[str, os.PathLike, Any]
+
+
+def _table(table: TableLike) -> tuple:
+    """``table=`` as the extension takes it: ``(name or path, None)`` or ``("table", JSON
+    text)``. A str whose first non-blank character is ``{`` is JSON text (what
+    :func:`kisstime.pooltool.table_json` produces); an object with pooltool's
+    ``cushion_segments`` and ``pockets`` is converted by ``table_json`` (no file is
+    written)."""
+    if isinstance(table, str):
+        if table.lstrip().startswith("{"):
+            return ("table", table)
+        return (table, None)
+    if isinstance(table, os.PathLike):
+        return (os.fspath(table), None)
+    if hasattr(table, "cushion_segments") and hasattr(table, "pockets"):
+        from .pooltool import table_json
+
+        return ("table", table_json(table))
+    raise TypeError(
+        "table: expected a built-in name (\"9ft\", \"7ft\", \"rectangle\"), a path, JSON "
+        f"text or a pooltool Table, not {type(table).__name__}"
+    )
+
+
 def simulate(
     balls: Union[ArrayLike, "Batch"],
     strikes: Optional[ArrayLike] = None,
     *,
-    table: Union[str, os.PathLike] = "9ft",
+    table: TableLike = "9ft",
     max_events: int = 200_000,
     max_time: float = 3600.0,
     events: bool = True,
@@ -371,8 +398,11 @@ def simulate(
 
     ``strikes`` (at most one per table, applied at t = 0) is a structured array of
     :data:`STRIKE_DTYPE` or a dict of its columns. ``table`` is ``"9ft"`` (pooltool's 9-ft
-    pocket table), ``"rectangle"`` (its playing surface, no pockets) or the path of a JSON
-    table in the format of ``data/fullshots/table.json``. A table is cut after
+    pocket table), ``"7ft"`` (pooltool's default table, ``pt.Table.default()``),
+    ``"rectangle"`` (the 9-ft playing surface, no pockets), the path of a JSON table in the
+    format of ``data/fullshots/table.json``, that JSON text itself (a str starting with
+    ``{``), or a pooltool ``Table`` object (pocket, snooker or billiard; converted with
+    :func:`kisstime.pooltool.table_json`, no file written). A table is cut after
     ``max_events`` events or before an event later than ``max_time`` s (see
     ``outcomes['cut']``). The arrays' layouts are those of the command line's ``.npy``
     outputs (``-o``, ``--final``, ``--outcomes``); ``events['type']`` indexes
@@ -387,16 +417,18 @@ def simulate(
             _column(strikes, n, "<f8", "strikes") for n in ("V0", "phi", "theta", "a", "b")
         ]
         strike_cols = (ints[0], ints[1], nums)
+    name, text = _table(table)
     ev, fin, oc = _kisstime.simulate(
         batch._batch,
         strike_cols,
-        os.fspath(table),
+        name,
         int(max_events),
         float(max_time),
         bool(events),
         backend,
         precision,
         *_physics_per_table(physics),
+        text,
     )
     return SimResult(_load(ev) if ev is not None else None, _load(fin), _load(oc))
 
@@ -430,11 +462,12 @@ def _physics_per_table(physics: PhysicsLike) -> tuple:
     return (_physics(single), (ids, columns))
 
 
-def table_ids(table: Union[str, os.PathLike] = "9ft") -> dict:
+def table_ids(table: TableLike = "9ft") -> dict:
     """The ids of a table's items in index order: ``{"linear": [...], "circular": [...],
     "pockets": [...]}`` (pooltool's segment, jaw and pocket ids), to read the indices in
-    :func:`simulate`'s outputs."""
-    linear, circular, pockets = _kisstime.table_ids(os.fspath(table))
+    :func:`simulate`'s outputs. ``table`` as for :func:`simulate`."""
+    name, text = _table(table)
+    linear, circular, pockets = _kisstime.table_ids(name, text)
     return {"linear": list(linear), "circular": list(circular), "pockets": list(pockets)}
 
 

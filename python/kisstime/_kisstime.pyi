@@ -35,7 +35,16 @@ def simulate(
     max_events: int, max_time: float, events: bool, backend: str, precision: Optional[str],
     physics: _Physics = None,
     physics_columns: Optional[tuple[_I, list[tuple[str, _F]]]] = None,
+    table_json: Optional[str] = None,
 ) -> tuple[Optional[bytes], bytes, bytes]: ...
+# positions as tables 0..P-1 (names: their balls' ids); shots (position, cue ball index or
+# -1, [V0, phi, theta, a, b]); physics: one, or one a position; report: check every shot
+# first and return the bad ones as (shot, message) instead of raising
+def simulate_shots(
+    positions: Batch, names: list[list[str]], shots: tuple[_I, _I, list[_F]],
+    table_name: str, table_json: Optional[str], physics: list[_Physics], max_events: int,
+    max_time: float, events: bool, backend: str, precision: Optional[str], report: bool,
+) -> tuple[Optional[bytes], bytes, bytes, list[tuple[int, str]]]: ...
 def study_chunk(
     kind: str, text: str, source: str, dir: Optional[str], physics: _Physics,
     physics_noise: Optional[str], first: int,
@@ -52,4 +61,6 @@ def study_ids(
     kind: str, text: str, source: str, dir: Optional[str], physics: _Physics,
     physics_noise: Optional[str],
 ) -> tuple[list[str], list[str], list[str], list[str], int, int]: ...
-def table_ids(name: str) -> tuple[list[str], list[str], list[str]]: ...
+def table_ids(
+    name: str, json: Optional[str] = None
+) -> tuple[list[str], list[str], list[str]]: ...

@@ -21,9 +21,12 @@ use kisstime::io::npy::{batch_from_columns, batch_from_records};
 use kisstime::io::physics::{BatchPhysics, PhysicsColumns, PhysicsValue};
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{match_strikes, sample_strikes_from_columns, strike_rows_from_columns};
-use kisstime::io::table_json::table_by_name;
+use kisstime::io::table_json::{table_by_name, table_from_json_text};
 use kisstime::io::{Format, PairsWriter};
-use kisstime::simulate::{BatchError, BatchOptions, Limits, SimParams};
+use kisstime::simulate::{
+    BallState, BatchError, BatchOptions, CueStrike, Limits, Physics, SimError, SimParams, Table,
+    check_tables,
+};
 use kisstime::study::{
     Class, FirstContact, Pot, Result4, RunOptions, Sample, StudyConfig, Summary, Until,
 };
@@ -331,7 +334,7 @@ fn physics_entries(physics: &PhysicsArg) -> PyResult<Vec<(String, PhysicsValue)>
 /// Whole shots from the strike to rest: `(events, final, outcomes)` as the `.npy` bytes of
 /// `kisstime simulate -o … --final … --outcomes …` (`events` is `None` unless asked).
 #[pyfunction]
-#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None, physics_columns=None))]
+#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None, physics_columns=None, table_json=None))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -345,6 +348,7 @@ fn simulate<'py>(
     precision: Option<&str>,
     physics: PhysicsArg,
     physics_columns: Option<(I64s<'py>, Vec<(String, F64s<'py>)>)>,
+    table_json: Option<&str>,
 ) -> PyResult<(
     Option<Bound<'py, PyBytes>>,
     Bound<'py, PyBytes>,
@@ -352,7 +356,7 @@ fn simulate<'py>(
 )> {
     let limits = Limits::new(max_events, max_time).map_err(|e| py_err(e.into()))?;
     let batch = &batch.batch;
-    let tbl = table_by_name(table_name).map_err(py_err)?;
+    let tbl = table_of(table_name, table_json)?;
     let batch_physics = match &physics_columns {
         // one set per table: the mapping's single values with each table's row in place
         Some((ids, columns)) => {
@@ -451,6 +455,240 @@ fn simulate<'py>(
     result?;
     let ev = events.then(|| PyBytes::new(py, &ev_out));
     Ok((ev, PyBytes::new(py, &fin_out), PyBytes::new(py, &oc_out)))
+}
+
+/// The table a `table` argument gives: JSON text when `json` is given (named `table` in
+/// errors), else a built-in name or a path ([`table_by_name`]).
+fn table_of(name: &str, json: Option<&str>) -> PyResult<Table> {
+    match json {
+        Some(text) => table_from_json_text(text, "table").map_err(py_err),
+        None => table_by_name(name).map_err(py_err),
+    }
+}
+
+/// A bad shot's error with the balls named by the position's ids (`names[i]` is ball
+/// index `i`'s), e.g. `ball '3': off the table`.
+fn shot_message(error: &SimError, names: &[String]) -> String {
+    let name = |i: usize| {
+        names
+            .get(i)
+            .map_or_else(|| format!("#{i}"), |n| format!("'{n}'"))
+    };
+    match error {
+        SimError::Ball { index, reason } => format!("ball {}: {reason}", name(*index)),
+        SimError::Overlap {
+            first,
+            second,
+            depth,
+        } => format!(
+            "balls {} and {} overlap by {depth:e} m at rest",
+            name(*first),
+            name(*second)
+        ),
+        other => other.to_string(),
+    }
+}
+
+/// The bridge's batch form: shots, each one of a few positions with its own strike, from
+/// the strike to rest on one table, through [`ShotEngine::simulate_with`].
+///
+/// `positions` holds the positions as tables with ids `0..P` (`names[p]` their balls'
+/// names, for messages); shot `k` is position `shots.0[k]` with a strike on ball index
+/// `shots.1[k]` (none where negative) with `V0, phi, theta, a, b = shots.2[..][k]`.
+/// `physics` is one set for all, or one a position. Returns `(events, final, outcomes,
+/// bad)`: the `.npy` bytes of `simulate` with shot `k` as table id `k`, of the simulated
+/// shots only, and `bad` the `(shot, message)` of each shot not simulated. With `report`
+/// every shot is checked first ([`check_tables`]) and the bad ones are left out; without,
+/// the first bad shot raises `ValueError` (`shot k: …`).
+#[pyfunction]
+#[pyo3(signature = (positions, names, shots, table_name, table_json, physics, max_events, max_time, events, backend, precision, report))]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
+fn simulate_shots<'py>(
+    py: Python<'py>,
+    positions: &PyBatch,
+    names: Vec<Vec<String>>,
+    shots: (I64s<'py>, I64s<'py>, [F64s<'py>; 5]),
+    table_name: &str,
+    table_json: Option<&str>,
+    physics: Vec<PhysicsArg>,
+    max_events: u64,
+    max_time: f64,
+    events: bool,
+    backend: &str,
+    precision: Option<&str>,
+    report: bool,
+) -> PyResult<(
+    Option<Bound<'py, PyBytes>>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Vec<(usize, String)>,
+)> {
+    let limits = Limits::new(max_events, max_time).map_err(|e| py_err(e.into()))?;
+    let batch = &positions.batch;
+    let n_pos = batch.num_tables();
+    if (0..n_pos).any(|p| batch.table_id(p) != p as i64) {
+        return Err(PyValueError::new_err(
+            "positions: the table ids must be 0, 1, ..., P - 1",
+        ));
+    }
+    let tbl = table_of(table_name, table_json)?;
+    // one parameter set for all, or one a position
+    let mut sets = Vec::with_capacity(physics.len());
+    for arg in &physics {
+        sets.push(physics_of(arg)?.unwrap_or_default());
+    }
+    if sets.is_empty() {
+        sets.push(SimParams::default());
+    }
+    if sets.len() != 1 && sets.len() != n_pos {
+        return Err(PyValueError::new_err(format!(
+            "physics: {} parameter sets for {n_pos} positions (one, or one a position)",
+            sets.len()
+        )));
+    }
+    let set_of = |p: usize| sets[if sets.len() == 1 { 0 } else { p }];
+    let (pos, cue, v) = &shots;
+    let (pos, cue) = (slice(pos, "position")?, slice(cue, "cue")?);
+    let cols = [
+        slice(&v[0], "V0")?,
+        slice(&v[1], "phi")?,
+        slice(&v[2], "theta")?,
+        slice(&v[3], "a")?,
+        slice(&v[4], "b")?,
+    ];
+    let n = pos.len();
+    if cue.len() != n || cols.iter().any(|c| c.len() != n) {
+        return Err(PyValueError::new_err(
+            "strikes: columns of different lengths",
+        ));
+    }
+    let mut at = Vec::with_capacity(n);
+    for (k, &p) in pos.iter().enumerate() {
+        match usize::try_from(p) {
+            Ok(p) if p < n_pos => at.push(p),
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "shot {k}: position {p}: there are {n_pos}"
+                )));
+            }
+        }
+    }
+    let input = |k: usize, balls: &mut Vec<BallState>| {
+        let p = at[k];
+        let r = set_of(p).ball.r;
+        balls.clear();
+        balls.extend(batch.balls(p).iter().map(|b| BallState::from_ball(b, r)));
+        let strike = CueStrike {
+            v0: cols[0][k],
+            phi: cols[1][k],
+            theta: cols[2][k],
+            a: cols[3][k],
+            b: cols[4][k],
+        };
+        Ok(usize::try_from(cue[k]).ok().map(|i| (i, strike)))
+    };
+    let shared = sets.len() == 1 || sets.iter().all(|s| *s == sets[0]);
+    let per_shot = |shots: &[usize]| -> Vec<SimParams> {
+        if shared {
+            Vec::new()
+        } else {
+            shots.iter().map(|&k| set_of(at[k])).collect()
+        }
+    };
+    fn physics_for(shared: Option<SimParams>, per: &[SimParams]) -> Physics<'_> {
+        match shared {
+            Some(p) => Physics::Shared(p),
+            None => Physics::PerTable(per),
+        }
+    }
+    let one = shared.then_some(sets[0]);
+    let mut options = BatchOptions {
+        limits,
+        record_events: events,
+        ..BatchOptions::default()
+    };
+    let message = |k: usize, e: &SimError| format!("shot {k}: {}", shot_message(e, &names[at[k]]));
+    // with `report`, every shot checked first (as simulate_with would), the bad ones named
+    let mut bad = Vec::new();
+    let good: Vec<usize> = if report {
+        let all: Vec<usize> = (0..n).collect();
+        let per = per_shot(&all);
+        let verdicts = py
+            .detach(|| check_tables(&tbl, physics_for(one, &per), &options, n, input))
+            .map_err(|e| py_err(e.into()))?;
+        let mut good = Vec::with_capacity(n);
+        for (k, v) in verdicts.iter().enumerate() {
+            match v {
+                Ok(()) => good.push(k),
+                Err(e) => bad.push((k, message(k, e))),
+            }
+        }
+        // checked now: not again
+        options.check_layout = false;
+        good
+    } else {
+        (0..n).collect()
+    };
+    let per = per_shot(&good);
+    let n_balls: usize = good.iter().map(|&k| batch.balls(at[k]).len()).sum();
+    let mut engine = shot_engine_of(backend, precision)?;
+    warn_notes(py, &mut engine)?;
+    let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
+    let result = py.detach(|| {
+        let mut ev_w = if events {
+            Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
+        } else {
+            None
+        };
+        let mut fin_w =
+            FinalWriter::new(&mut fin_out, Format::Npy, n_balls as u64).map_err(mem_err)?;
+        let mut oc_w =
+            OutcomesWriter::new(&mut oc_out, Format::Npy, good.len() as u64).map_err(mem_err)?;
+        let sub = |j: usize, balls: &mut Vec<BallState>| input(good[j], balls);
+        let done = engine.simulate_with(
+            &tbl,
+            physics_for(one, &per),
+            &options,
+            good.len(),
+            sub,
+            |chunk| {
+                for run in chunk.iter() {
+                    let k = good[run.table];
+                    let ids = TableIds {
+                        table: k as i64,
+                        balls: batch.ball_ids(at[k]),
+                    };
+                    if let Some(w) = ev_w.as_mut() {
+                        w.write_table(ids, &tbl, &run).map_err(mem_err)?;
+                    }
+                    fin_w.write_table(ids, &tbl, &run).map_err(mem_err)?;
+                    oc_w.write_table(ids, &run).map_err(mem_err)?;
+                }
+                Python::attach(|py| py.check_signals()).map_err(Stop)
+            },
+        );
+        match done {
+            Ok(_) => {}
+            Err(BatchError::Table { table: j, error }) => {
+                return Err(PyValueError::new_err(message(good[j], &error)));
+            }
+            Err(BatchError::Sink(Stop(e))) => return Err(e),
+        }
+        if let Some(w) = ev_w {
+            w.finish().map_err(mem_err)?;
+        }
+        fin_w.finish().map_err(mem_err)?;
+        oc_w.finish().map_err(mem_err)
+    });
+    warn_notes(py, &mut engine)?;
+    result?;
+    let ev = events.then(|| PyBytes::new(py, &ev_out));
+    Ok((
+        ev,
+        PyBytes::new(py, &fin_out),
+        PyBytes::new(py, &oc_out),
+        bad,
+    ))
 }
 
 /// A study's configuration from its kind and text: `builtin`, `toml` (with the folder
@@ -867,10 +1105,12 @@ fn study_ids(
     ))
 }
 
-/// A table's item ids `(linear, circular, pockets)` in index order.
+/// A table's item ids `(linear, circular, pockets)` in index order (of the JSON text
+/// `json` when given, else of the table `name` names).
 #[pyfunction]
-fn table_ids(name: &str) -> PyResult<(Vec<String>, Vec<String>, Vec<String>)> {
-    let t = table_by_name(name).map_err(py_err)?;
+#[pyo3(signature = (name, json=None))]
+fn table_ids(name: &str, json: Option<&str>) -> PyResult<(Vec<String>, Vec<String>, Vec<String>)> {
+    let t = table_of(name, json)?;
     Ok((t.linear_ids, t.circular_ids, t.pocket_ids))
 }
 
@@ -881,6 +1121,7 @@ fn _kisstime(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(next_collisions, m)?)?;
     m.add_class::<PyBatch>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_shots, m)?)?;
     m.add_function(wrap_pyfunction!(study_chunk, m)?)?;
     m.add_function(wrap_pyfunction!(study_merge, m)?)?;
     m.add_function(wrap_pyfunction!(study_ids, m)?)?;

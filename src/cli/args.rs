@@ -91,9 +91,9 @@ pub struct SimulateArgs {
     /// Cue strikes, at most one a table: CSV `table,ball,V0,phi,theta,a,b` or .npy.
     #[arg(long)]
     pub strikes: Option<PathBuf>,
-    /// The table: `9ft` (pooltool's 9-ft pocket table), `rectangle` (its 1.27 × 2.54 m
-    /// playing surface with four rails and no pockets) or a JSON file (the format of
-    /// data/fullshots/table.json).
+    /// The table: `9ft` (pooltool's 9-ft pocket table), `7ft` (pooltool's default table,
+    /// `Table.default()`), `rectangle` (the 9-ft's 1.27 × 2.54 m playing surface with four
+    /// rails and no pockets) or a JSON file (the format of data/fullshots/table.json).
     #[arg(long, default_value = "9ft")]
     pub table: String,
     /// Write every event here (atomically; .npy by name).

@@ -102,13 +102,18 @@ impl<'de> Visitor<'de> for JsonVisitor {
     }
 }
 
+/// The names of the built-in tables ([`table_by_name`]).
+pub const BUILTIN_TABLES: [&str; 3] = ["9ft", "7ft", "rectangle"];
+
 /// The table a name gives, as `kisstime simulate --table` and a study's `[table]` take
-/// it: `9ft` is pooltool's 9-ft pocket table ([`Table::nine_foot`]), `rectangle` its
+/// it: `9ft` is pooltool's 9-ft pocket table ([`Table::nine_foot`]), `7ft` pooltool's
+/// default table, `pt.Table.default()` ([`Table::seven_foot`]), `rectangle` the 9-ft
 /// playing surface with four plain rails and no pockets, and anything else the path of a
 /// JSON table ([`Table::from_json`]). Errors name the file.
 pub fn table_by_name(name: &str) -> Result<Table, Error> {
     match name {
         "9ft" => Ok(Table::nine_foot()),
+        "7ft" => Ok(Table::seven_foot()),
         "rectangle" => {
             let s = PocketTableSpecs::default();
             Table::rectangle(s.w, s.l, s.cushion_height).map_err(Error::from)
@@ -118,9 +123,17 @@ pub fn table_by_name(name: &str) -> Result<Table, Error> {
                 path: path.to_owned(),
                 source,
             })?;
-            Table::from_json(&text).map_err(|e| InputError::new(e.to_string()).in_file(path).into())
+            table_from_json_text(&text, path)
         }
     }
+}
+
+/// A table from JSON text ([`Table::from_json`]: the table object, or a whole
+/// `table.json` with the table under `"table"`) that did not come from a file, e.g. what
+/// `kisstime.pooltool.table_json` produces; errors name it `source` as they would name a
+/// file.
+pub fn table_from_json_text(text: &str, source: &str) -> Result<Table, Error> {
+    Table::from_json(text).map_err(|e| InputError::new(e.to_string()).in_file(source).into())
 }
 
 impl Table {
@@ -298,6 +311,64 @@ mod tests {
         }
         let d = max_diff(&built, &loaded);
         assert_eq!(d, 0.0, "built vs table.json differ by {d}");
+    }
+
+    fn data_table(name: &str) -> Table {
+        let path = format!("{}/data/tables/{name}", env!("CARGO_MANIFEST_DIR"));
+        table_by_name(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
+    }
+
+    #[test]
+    fn seven_foot_table_is_pooltools_default_table() {
+        // data/tables/7ft.json is pooltool's Table.default() (data/tables/make_tables.py)
+        let built = table_by_name("7ft").unwrap();
+        let loaded = data_table("7ft.json");
+        assert_eq!(built.linear_ids, loaded.linear_ids);
+        assert_eq!(built.circular_ids, loaded.circular_ids);
+        assert_eq!(built.pocket_ids, loaded.pocket_ids);
+        for (a, b) in built.linear.iter().zip(&loaded.linear) {
+            assert_eq!(a.direction, b.direction);
+        }
+        for (a, b) in built.pockets.iter().zip(&loaded.pockets) {
+            assert_eq!(a.depth, b.depth);
+        }
+        assert_eq!(max_diff(&built, &loaded), 0.0);
+        assert_eq!(built.linear.len(), 18);
+        // not the 9-ft table
+        assert!(max_diff(&built, &Table::nine_foot()) > 0.1);
+    }
+
+    #[test]
+    fn pooltools_snooker_and_billiard_tables_load() {
+        let snooker = data_table("snooker.json");
+        assert_eq!(
+            (
+                snooker.linear.len(),
+                snooker.circular.len(),
+                snooker.pockets.len()
+            ),
+            (18, 12, 6)
+        );
+        let billiard = data_table("billiard.json");
+        assert_eq!(
+            (
+                billiard.linear.len(),
+                billiard.circular.len(),
+                billiard.pockets.len()
+            ),
+            (4, 0, 0)
+        );
+        assert_eq!(billiard.linear_ids, ["3", "12", "9", "18"]);
+    }
+
+    #[test]
+    fn json_text_is_a_table_and_its_errors_name_the_source() {
+        let text = reference_json();
+        let t = table_from_json_text(&text, "table").unwrap();
+        assert_eq!(max_diff(&t, &Table::nine_foot()), 0.0);
+        let err = table_from_json_text("{\"pockets\": 3}", "table").unwrap_err();
+        let msg = err.to_string();
+        assert!(msg.contains("table") && msg.contains("pockets"), "{msg}");
     }
 
     #[test]

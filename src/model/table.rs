@@ -152,6 +152,21 @@ impl Default for PocketTableSpecs {
     }
 }
 
+impl PocketTableSpecs {
+    /// pooltool's default pocket table, `Table.default()` (its "7 Ft Showood", the table of
+    /// its 8-ball and 9-ball games): the defaults with a 1.9812 × 0.9906 m playing surface,
+    /// written as pooltool writes them (`objects/table/collection.py`).
+    pub fn seven_foot() -> PocketTableSpecs {
+        PocketTableSpecs {
+            l: 1.9812,
+            w: 1.9812 / 2.0,
+            cushion_width: 2.0 * 2.54 / 100.0,
+            cushion_height: 0.64 * 2.0 * 0.028575,
+            ..PocketTableSpecs::default()
+        }
+    }
+}
+
 /// pooltool's `Pocket.depth` default (spec §1.4): the specs' depths only move the centre.
 pub const POCKET_DEPTH: f64 = 0.08;
 
@@ -191,6 +206,7 @@ fn pocket_table_lines(s: &PocketTableSpecs) -> [(&'static str, f64, f64, f64, f6
         d.dc * d.ca.cos(),
     );
     let (sjy, sjx, sjy2) = (cw * d.sa.sin(), d.ds * d.sa.cos(), d.ds * d.sa.sin());
+    let (y7, y7b) = (-d.p + cw * d.ca.tan() + l, -d.p + l + d.dc * d.ca.sin());
     [
         ("3", 0.0, d.p + d.dc, 0.0, d.y_lo - d.ds, 1),
         ("6", 0.0, d.y_hi + d.ds, 0.0, l - d.p - d.dc, 1),
@@ -205,8 +221,10 @@ fn pocket_table_lines(s: &PocketTableSpecs) -> [(&'static str, f64, f64, f64, f6
         ("1", pc, -cw, cjx, -cjy, 1),
         ("2", -cw, pc, -cjy, cjx, 0),
         ("8", pc, l + cw, cjx, l + cjy, 0),
-        ("7", -cw, l - pc, -cjy, l - cjx, 1),
-        ("11", w + cw, l - pc, w + cjy, l - cjx, 1),
+        // in pooltool's order of operations (`-p + cw tan(ca) + l`, `-p + l + dc sin(ca)`),
+        // which the 7-ft table's rounding tells from `l - pc`, `l - cjx`
+        ("7", -cw, y7, -cjy, y7b, 1),
+        ("11", w + cw, y7, w + cjy, y7b, 1),
         (
             "10",
             w - pc,
@@ -290,7 +308,12 @@ impl Table {
         Table::pocket_table(&PocketTableSpecs::default())
     }
 
-    /// A table with nothing on it.
+    /// pooltool's default pocket table, `pt.Table.default()` ([`PocketTableSpecs::seven_foot`];
+    /// bit-identical to `data/tables/7ft.json`, which pooltool's own table gives).
+    pub fn seven_foot() -> Table {
+        Table::pocket_table(&PocketTableSpecs::seven_foot())
+    }
+
     /// A table with no cushions and no pockets (what the readers fill).
     pub fn empty() -> Table {
         Table {

@@ -48,7 +48,7 @@ use rayon::prelude::*;
 use crate::error::SimError;
 use crate::model::MotionState;
 use crate::model::ball_state::BallState;
-use crate::model::sim_params::Physics;
+use crate::model::sim_params::{Physics, SimParams};
 use crate::model::table::Table;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::check::check_layout;
@@ -393,6 +393,58 @@ pub(crate) fn check_table(
     lp.reset(balls, strike)
 }
 
+/// Checks every table of a batch as [`simulate_batch`] (and every backend of
+/// [`crate::engine::ShotEngine::simulate_with`]) checks it before simulating it, without
+/// simulating: one verdict per table, in table order, `Ok` or what is wrong (the
+/// parameters of a table with per-table physics, [`check_layout`] when
+/// `options.check_layout`, the strike, [`EventLoop::reset`]'s checks). Rayon over tables.
+///
+/// For callers that report bad tables instead of stopping at the first: simulate the good
+/// ones afterwards through an index map (their input is then known to pass). The error is
+/// that of the whole batch: shared parameters that are invalid, or a table (cushions,
+/// pockets) the event loop refuses.
+pub fn check_tables<'p>(
+    table: &Table,
+    physics: impl Into<Physics<'p>>,
+    options: &BatchOptions,
+    n_tables: usize,
+    input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync,
+) -> Result<Vec<Result<(), SimError>>, SimError> {
+    let physics = physics.into();
+    if let Physics::PerTable(all) = physics
+        && all.len() < n_tables
+    {
+        return Err(SimError::Table(format!(
+            "no physics for table {}: {} parameter sets for {n_tables} tables",
+            all.len(),
+            all.len()
+        )));
+    }
+    // the shared parameters and the table, once
+    let first = if physics.is_shared() {
+        physics.first()
+    } else {
+        SimParams::default()
+    };
+    EventLoop::new(table, first, options.limits, 0)?;
+    Ok((0..n_tables)
+        .into_par_iter()
+        .map_init(
+            || (EventLoop::new(table, first, options.limits, 16), Vec::new()),
+            |(lp, buf), k| {
+                // cannot fail: the parameters were checked above and 16 <= MAX_BALLS
+                let lp = lp
+                    .as_mut()
+                    .map_err(|_| SimError::Table("no event loop".to_owned()))?;
+                let strike = input(k, buf)?;
+                lp.set_params(physics.of(k))?;
+                let radius = lp.params().ball.r;
+                check_table(lp, table, radius, options, buf, strike)
+            },
+        )
+        .collect())
+}
+
 /// The index of the pocket a pocketed ball sits in (its centre is the pocket's, as the
 /// pocket resolution leaves it), if any.
 pub fn pocket_of(table: &Table, b: &BallState) -> Option<usize> {
@@ -513,6 +565,64 @@ mod tests {
         assert!(d.0.is_empty());
         assert_eq!(a.1, d.1);
         assert_eq!(a.2, d.2);
+    }
+
+    #[test]
+    fn check_tables_flags_each_bad_table_as_simulate_batch_would() {
+        let mut bad = Batch::new();
+        for k in 0..6 {
+            // table 2: a ball off the table; table 4: two balls overlapping
+            let (x, y) = match k {
+                2 => (3.0, 1.0),
+                4 => (0.61, 0.6),
+                _ => (0.5, 1.0),
+            };
+            bad.push_table(k, [(0, Ball::at_rest(0.6, 0.6)), (1, Ball::at_rest(x, y))])
+                .unwrap();
+        }
+        let strike = CueStrike {
+            v0: 1.0,
+            phi: 90.0,
+            theta: 0.0,
+            a: 0.0,
+            b: 0.0,
+        };
+        let mut strikes = vec![Some((0, strike)); 6];
+        strikes[5] = Some((
+            0,
+            CueStrike {
+                a: 0.9,
+                b: 0.9,
+                ..strike
+            },
+        ));
+        let p = SimParams::default();
+        let t = Table::nine_foot();
+        let options = BatchOptions::default();
+        let verdicts = check_tables(&t, p, &options, 6, bad.sim_input(&strikes, p.ball.r)).unwrap();
+        let bad_ones: Vec<usize> = (0..6).filter(|&k| verdicts[k].is_err()).collect();
+        assert_eq!(bad_ones, [2, 4, 5]);
+        // the same errors simulate_batch stops at, table by table
+        for k in bad_ones {
+            let one = |j: usize, balls: &mut Vec<BallState>| {
+                bad.sim_input(&strikes, p.ball.r)(k + j, balls)
+            };
+            let err = simulate_batch(&t, p, &options, 1, one, |_| Ok::<(), ()>(())).unwrap_err();
+            match err {
+                BatchError::Table { table: 0, error } => {
+                    let flagged = verdicts[k].as_ref().unwrap_err().to_string();
+                    assert_eq!(flagged, error.to_string(), "table {k}")
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+        // per-table physics: a bad set flags its table only
+        let mut per = vec![p; 6];
+        per[1].ball.u_s = -1.0;
+        let verdicts =
+            check_tables(&t, &per, &options, 6, bad.sim_input(&strikes, p.ball.r)).unwrap();
+        assert!(verdicts[1].is_err() && verdicts[0].is_ok() && verdicts[3].is_ok());
+        assert!(check_tables(&t, &per[..2], &options, 6, bad.sim_input(&strikes, 0.03)).is_err());
     }
 
     #[test]
