@@ -458,10 +458,10 @@ fn simulate<'py>(
 }
 
 /// The table a `table` argument gives: JSON text when `json` is given (named `table` in
-/// errors), else a built-in name or a path ([`table_by_name`]).
+/// errors `table JSON`), else a built-in name or a path ([`table_by_name`]).
 fn table_of(name: &str, json: Option<&str>) -> PyResult<Table> {
     match json {
-        Some(text) => table_from_json_text(text, "table").map_err(py_err),
+        Some(text) => table_from_json_text(text, "table JSON").map_err(py_err),
         None => table_by_name(name).map_err(py_err),
     }
 }

@@ -264,8 +264,8 @@ def test_table_as_object_json_text_path_or_name_gives_the_same_result(tmp_path):
     a = kisstime.simulate(conv.balls, conv.strikes, table=system.table)
     b = kisstime.simulate(conv.balls, conv.strikes, table=path)
     assert a.events.tobytes() == b.events.tobytes()
-    # bad JSON text is named "table"
-    with pytest.raises(ValueError, match=r"table"):
+    # bad JSON text is named as a file would be
+    with pytest.raises(ValueError, match=r"^table JSON: table: pockets must be an object"):
         kisstime.simulate(conv.balls, conv.strikes, table='{"pockets": 3}')
     with pytest.raises(TypeError, match="table"):
         kisstime.simulate(conv.balls, conv.strikes, table=3.5)
