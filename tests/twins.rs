@@ -159,6 +159,11 @@ const TWINS: &[Twin] = &[
             ("pocket_table_pockets", "tables are built on the host"),
             ("Table::pocket_table", "tables are built on the host"),
             ("Table::nine_foot", "tables are built on the host"),
+            ("Table::seven_foot", "tables are built on the host"),
+            (
+                "PocketTableSpecs::seven_foot",
+                "tables are built on the host",
+            ),
             ("Table::empty", "tables are built on the host"),
             ("Table::rectangle", "tables are built on the host"),
         ],
