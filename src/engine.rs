@@ -24,7 +24,7 @@ use crate::batch::{Batch, NextCollision};
 use crate::cpu;
 use crate::error::Error;
 use crate::error::SimError;
-use crate::gpu::{GpuEngine, GpuRun, GpuShot, GpuSimulator};
+use crate::gpu::{CheckedTables, GpuEngine, GpuOutput, GpuRun, GpuShot, GpuSimulator};
 use crate::model::Params;
 pub use crate::model::Precision;
 use crate::model::ball_state::BallState;
@@ -32,14 +32,13 @@ use crate::model::sim_params::Physics;
 use crate::model::table::Table;
 use crate::query::ball_ball::Contact;
 use crate::resolve::stick_ball::CueStrike;
-use crate::simulate::batch::check_table;
+use crate::simulate::batch::{EventRecord, check_table};
 use crate::simulate::{
     BatchError, BatchOptions, BatchStats, Chunk, EventLoop, Limits, MAX_BALLS, simulate_batch,
 };
 use std::ops::Range;
 use std::time::Instant;
 
-use crate::study::{self, Noise, RunOptions, Sample, StudyConfig};
 use rayon::prelude::*;
 
 /// Whole-shot batches and studies of fewer tables (samples) than this many per CPU
@@ -492,12 +491,21 @@ impl ShotEngine {
     /// error is [`BatchError::Sink`]; a backend error (a GPU failure with `gpu`) is
     /// `BatchError::Sink` too, carried as `E: From<Error>`.
     ///
+    /// With [`BatchOptions::watch`] (a study's run: `study::run`) each table's results are
+    /// its watch ([`crate::simulate::watch`]: the watched ball's first contact and every
+    /// pot), its watched ball's final state and its outcome; no event is recorded, and on
+    /// the GPU no event crosses the bus. `physics` may be drawn per table
+    /// ([`Physics::Drawn`]): nothing is then held per table.
+    ///
     /// Backends: the CPU runs [`simulate_batch`] (chunks of `options.chunk_tables`); the GPU
     /// runs chunks of [`GPU_STREAM_TABLES`] tables ([`GPU_STREAM_TABLES_EVENTS`] when events
-    /// are recorded; [`ShotEngine::set_gpu_chunk_tables`] changes it), each through [`GpuSimulator::simulate`]. `auto` decides for the whole
-    /// call ([`auto_gpu_min_tables`]); a GPU failure redoes that chunk and the rest on the
-    /// CPU, with a note. The results are the same on every backend (bit for bit in f64 on
-    /// the reference sets; see the README).
+    /// are recorded; [`ShotEngine::set_gpu_chunk_tables`] changes it), each checked here
+    /// (Rayon over tables) and then packed straight from `input` by
+    /// [`GpuSimulator::simulate_checked`]. `auto` decides for the whole call
+    /// ([`auto_gpu_min_tables`]; a watched call by the study's rule,
+    /// [`AUTO_STUDY_MAX_CPU_THREADS`]); a GPU failure redoes that chunk and the rest on the
+    /// CPU, with a note. The results are the same on every backend (in f64 the same events,
+    /// their times within ~1e-12 s on the reference sets; see the README).
     ///
     /// [`BatchStats::sim_seconds`] counts the simulation only, not the sink's time.
     #[allow(clippy::too_many_arguments)]
@@ -512,8 +520,10 @@ impl ShotEngine {
         mut sink: impl FnMut(&Chunk) -> Result<(), E>,
     ) -> Result<BatchStats, BatchError<E>> {
         let physics = physics.into();
+        // a watched batch is a study's: `auto` chooses for it by the study's rule
+        let study = options.watch.is_some();
         self.last_on_cpu = false;
-        if self.cpu_for(n_tables, false) {
+        if self.cpu_for(n_tables, study) {
             self.last_on_cpu = self.chosen.gpu.is_some();
             return simulate_batch(table, physics, options, n_tables, input, sink);
         }
@@ -532,25 +542,24 @@ impl ShotEngine {
         for start in (0..n_tables).step_by(per) {
             let end = n_tables.min(start + per);
             let started = Instant::now();
-            let shots = checked_shots(table, physics, options, start..end, &input)
+            let max_balls = check_chunk(table, physics, options, start..end, &input)
                 .map_err(|(table, error)| BatchError::Table { table, error })?;
+            let fill = |k: usize, balls: &mut Vec<BallState>| input(start + k, balls);
+            let tables = CheckedTables {
+                fill: &fill,
+                n_tables: end - start,
+                max_balls,
+            };
             let part = physics.part(start..end);
-            let (limits, record) = (options.limits, options.record_events);
-            let runs = self
+            let chunk = self
                 .run(
-                    "the batch",
+                    if study { "the study" } else { "the batch" },
                     n_tables,
-                    false,
-                    |g| g.simulate(table, part, limits, &shots, record),
-                    || simulate_on_cpu(table, part, limits, &shots, record),
+                    study,
+                    |g| gpu_chunk(g, table, part, options, tables, start),
+                    || cpu_chunk(table, part, options, tables, start),
                 )
                 .map_err(|e| BatchError::Sink(E::from(e)))?;
-            drop(shots);
-            let mut chunk = Chunk::empty(start);
-            for run in &runs {
-                chunk.push(&run.events, &run.balls, run.outcome);
-            }
-            drop(runs);
             stats.sim_seconds += started.elapsed().as_secs_f64();
             stats.tables += chunk.len();
             stats.events += chunk.n_events();
@@ -591,144 +600,122 @@ impl ShotEngine {
         })?;
         Ok(runs)
     }
-
-    /// [`study::run_study`] on this backend ([`study::run_study_gpu`] on the GPU).
-    pub fn run_study(
-        &mut self,
-        config: &StudyConfig,
-        sigma: &Noise,
-        samples: usize,
-        seed: u64,
-        options: &RunOptions,
-        progress: &mut dyn FnMut(usize, usize),
-    ) -> Result<Vec<Sample>, Error> {
-        self.run_samples(config, sigma, seed, 0..samples, options, progress)
-    }
-
-    /// [`study::run_samples`] on this backend ([`study::run_samples_gpu`] on the GPU):
-    /// samples `range` of the study `run_study` runs (a Dask task's part).
-    pub fn run_samples(
-        &mut self,
-        config: &StudyConfig,
-        sigma: &Noise,
-        seed: u64,
-        range: std::ops::Range<usize>,
-        options: &RunOptions,
-        progress: &mut dyn FnMut(usize, usize),
-    ) -> Result<Vec<Sample>, Error> {
-        let progress = std::cell::RefCell::new(progress);
-        let r = range.clone();
-        self.run(
-            "the study",
-            range.len(),
-            true,
-            |g| {
-                study::run_samples_gpu(g, config, sigma, seed, r, options, &mut |d, n| {
-                    (progress.borrow_mut())(d, n)
-                })
-            },
-            || {
-                study::run_samples(config, sigma, seed, range, options, &mut |d, n| {
-                    (progress.borrow_mut())(d, n)
-                })
-            },
-        )
-    }
-
-    /// [`study::run_strikes`] on this backend ([`study::run_strikes_gpu`] on the GPU).
-    pub fn run_strikes(
-        &mut self,
-        config: &StudyConfig,
-        strikes: &[CueStrike],
-        options: &RunOptions,
-        progress: &mut dyn FnMut(usize, usize),
-    ) -> Result<Vec<Sample>, Error> {
-        let progress = std::cell::RefCell::new(progress);
-        self.run(
-            "the study",
-            strikes.len(),
-            true,
-            |g| {
-                study::run_strikes_gpu(g, config, strikes, options, &mut |d, n| {
-                    (progress.borrow_mut())(d, n)
-                })
-            },
-            || {
-                study::run_strikes(config, strikes, options, &mut |d, n| {
-                    (progress.borrow_mut())(d, n)
-                })
-            },
-        )
-    }
 }
 
-/// Tables `tables` from `input`, each checked as [`simulate_batch`] checks it (Rayon over
-/// tables): the shots for the GPU, or the first bad table's position and error.
-fn checked_shots(
+/// Tables `tables` of `input`, each checked as [`simulate_batch`] checks it (Rayon over
+/// tables, nothing kept): the most balls a table has, or the first bad table's position
+/// (in table order) and error.
+fn check_chunk(
     table: &Table,
     physics: Physics<'_>,
     options: &BatchOptions,
     tables: Range<usize>,
     input: &(impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync),
-) -> Result<Vec<GpuShot>, (usize, SimError)> {
+) -> Result<usize, (usize, SimError)> {
     let limits = options.limits;
-    let shots: Vec<Result<GpuShot, (usize, SimError)>> = tables
+    let verdicts: Vec<Result<usize, (usize, SimError)>> = tables
         .into_par_iter()
+        .with_min_len(64)
         .map_init(
-            || EventLoop::new(table, physics.first(), limits, MAX_BALLS),
-            |lp, k| {
+            || {
+                (
+                    EventLoop::new(table, physics.first(), limits, MAX_BALLS),
+                    Vec::new(),
+                )
+            },
+            |(lp, balls), k| {
                 let fail = |e| (k, e);
                 // cannot fail: the parameters were checked before
                 let lp = lp
                     .as_mut()
                     .map_err(|_| fail(SimError::Table("no event loop".to_owned())))?;
-                let mut balls = Vec::new();
-                let strike = input(k, &mut balls).map_err(fail)?;
+                let strike = input(k, balls).map_err(fail)?;
                 lp.set_params(physics.of(k)).map_err(fail)?;
-                let radius = physics.of(k).ball.r;
-                check_table(lp, table, radius, options, &balls, strike).map_err(fail)?;
-                Ok(GpuShot { balls, strike })
+                let radius = lp.params().ball.r;
+                check_table(lp, table, radius, options, balls, strike).map_err(fail)?;
+                Ok(balls.len())
             },
         )
         .collect();
-    shots.into_iter().collect()
+    verdicts
+        .into_iter()
+        .try_fold(0, |most, v| v.map(|n| most.max(n)))
 }
 
-/// [`ShotEngine::simulate_with`]'s chunk on the CPU, where the GPU fell back.
-fn simulate_on_cpu(
+/// One chunk of [`ShotEngine::simulate_with`] on the GPU (tables checked), as a [`Chunk`]
+/// of tables `first..`: the runs, with their events where recorded, or the watched runs.
+fn gpu_chunk(
+    gpu: &mut GpuSimulator,
     table: &Table,
     physics: Physics<'_>,
-    limits: Limits,
-    shots: &[GpuShot],
-    record_events: bool,
-) -> Result<Vec<GpuRun>, Error> {
+    options: &BatchOptions,
+    tables: CheckedTables<'_>,
+    first: usize,
+) -> Result<Chunk, Error> {
+    let limits = options.limits;
+    if let Some(watch) = options.watch {
+        let output = GpuOutput::Watch(watch);
+        let (_, watched) = gpu.simulate_checked(table, physics, limits, tables, output)?;
+        let mut chunk = Chunk::empty_watched(first);
+        for run in &watched {
+            chunk.push_watched(run.cue, run.outcome, run.watch.as_table_watch());
+        }
+        return Ok(chunk);
+    }
+    let mut events: Vec<Vec<EventRecord>> = Vec::new();
+    let runs = if options.record_events {
+        events.resize(tables.n_tables, Vec::new());
+        let mut keep = |k: usize, e: &EventRecord| events[k].push(*e);
+        let output = GpuOutput::Events(&mut keep);
+        gpu.simulate_checked(table, physics, limits, tables, output)?
+            .0
+    } else {
+        let output = GpuOutput::Finals;
+        gpu.simulate_checked(table, physics, limits, tables, output)?
+            .0
+    };
+    let mut chunk = Chunk::empty(first);
+    for (k, run) in runs.iter().enumerate() {
+        let ev = events.get(k).map_or(&[][..], |e| &e[..]);
+        chunk.push(ev, &run.balls, run.outcome);
+    }
+    Ok(chunk)
+}
+
+/// One chunk of [`ShotEngine::simulate_with`] on the CPU (tables checked), where the GPU
+/// fell back: [`simulate_batch`] of its tables in one piece, as tables `first..`.
+fn cpu_chunk(
+    table: &Table,
+    physics: Physics<'_>,
+    options: &BatchOptions,
+    tables: CheckedTables<'_>,
+    first: usize,
+) -> Result<Chunk, Error> {
     let options = BatchOptions {
-        limits,
-        record_events,
         // ShotEngine::simulate_with checked every table already
         check_layout: false,
-        ..BatchOptions::default()
+        chunk_tables: tables.n_tables.max(1),
+        ..*options
     };
-    let mut runs = Vec::with_capacity(shots.len());
-    let input = |k: usize, balls: &mut Vec<BallState>| {
-        balls.clear();
-        balls.extend_from_slice(&shots[k].balls);
-        Ok(shots[k].strike)
-    };
-    simulate_batch(table, physics, &options, shots.len(), input, |chunk| {
-        runs.extend(chunk.iter().map(|run| GpuRun {
-            events: run.events.to_vec(),
-            balls: run.balls.to_vec(),
-            outcome: run.outcome,
-        }));
-        Ok::<(), Error>(())
-    })
+    let mut out = None;
+    simulate_batch(
+        table,
+        physics,
+        &options,
+        tables.n_tables,
+        tables.fill,
+        |chunk| {
+            out = Some(chunk.renumbered(first));
+            Ok::<(), Error>(())
+        },
+    )
     .map_err(|e| match e {
         // the tables were checked before
         BatchError::Table { table, error } => Error::from(crate::error::InputError::new(format!(
-            "table {table}: {error}"
+            "table {}: {error}",
+            first + table
         ))),
         BatchError::Sink(e) => e,
     })?;
-    Ok(runs)
+    Ok(out.unwrap_or_else(|| Chunk::empty(first)))
 }

@@ -18,7 +18,7 @@
 //! - [`resolve`]: what an event does — the cue strike, ball–ball, ball–cushion and
 //!   ball–pocket collisions, the motion transitions;
 //! - [`simulate`]: the event loop — whole shots from the strike to rest, pooltool 0.6.0's
-//!   physics (CPU, f64);
+//!   physics (CPU, f64), many tables at once, and the watch (a study's view of the events);
 //! - [`batch`]: the flat batch layout, the pair order and the next-collision tie rule;
 //! - [`cpu`]: the Rayon drivers [`pair_times`] and [`next_collisions`] (f64, the
 //!   reference);
@@ -26,14 +26,16 @@
 //!   Rust file: `shaders/query/ball_ball.wgsl` beside `src/query/ball_ball.rs`);
 //! - [`engine`]: backend choice (`cpu`, `gpu`, `auto`) with CPU fallback, and the defaults;
 //!   the one whole-shot entry point, [`engine::ShotEngine::simulate_with`], which streams
-//!   either backend's results to a sink (the CLI, Python and every new capability use it);
+//!   either backend's results to a sink (the CLI, Python, the study and every new
+//!   capability use it);
 //! - [`compare`]: two backends' answers against each other under the corpus's tiers;
 //! - [`io`]: CSV and NumPy `.npy` input and output, atomic output files, and the
 //!   simulator's physical parameters in pooltool's names ([`io::physics`]: the one parser
 //!   of `--physics`, a study's `[physics]` and Python's `physics=`);
 //! - [`study`]: Monte Carlo shot studies — one shot under cue noise (or given strikes),
-//!   every sample from the strike to rest on the simulator: configuration, noise, the
-//!   driver, statistics, and `data/studies`' reference format;
+//!   every sample from the strike to rest through the engine's one entry point
+//!   ([`study::run()`]): configuration, noise, the driver, statistics, and `data/studies`'
+//!   reference format;
 //! - [`workload`]: reproducible built-in workloads; [`limits`], [`error`].
 //!
 //! The `kisstime` command line (`src/main.rs`, `src/cli/`) is a thin layer over these,

@@ -13,7 +13,7 @@ use kisstime::gpu::{Fault, GpuShot};
 use kisstime::io::shot_set::{read_shots, read_table};
 use kisstime::io::strikes::read_sample_strikes;
 use kisstime::simulate::{BatchError, Limits, SimParams};
-use kisstime::study::{RunOptions, StudyConfig, run_strikes};
+use kisstime::study::{self, RunOptions, Samples, StudyConfig, run_strikes};
 use kisstime::{Error, Precision};
 
 /// Ordinary shots of the reference set (they run for several short dispatches).
@@ -105,6 +105,7 @@ fn a_fault_mid_study_is_redone_on_the_cpu_in_auto() {
         .collect();
     let options = RunOptions::default();
     let want = run_strikes(&config, &strikes, &options, &mut |_, _| {}).unwrap();
+    let given = Samples::Given(&strikes);
     for fault in [Fault::FailedDispatchAfter(2), Fault::DeviceLostAfter(1)] {
         let Some(mut gpu) = engine(Backend::Gpu, "study_fault") else {
             return;
@@ -112,17 +113,14 @@ fn a_fault_mid_study_is_redone_on_the_cpu_in_auto() {
         // 2 events a dispatch: each batch of samples runs for several dispatches
         gpu.gpu().unwrap().events_per_dispatch = 2;
         gpu.gpu().unwrap().inject_fault(fault);
-        let err = gpu
-            .run_strikes(&config, &strikes, &options, &mut |_, _| {})
-            .unwrap_err();
+        let err =
+            study::run(&mut gpu, &config, given.clone(), &options, &mut |_, _| {}).unwrap_err();
         assert!(matches!(err, Error::Gpu(_)), "{fault:?}: {err}");
 
         let mut auto = engine(Backend::Auto, "study_fault").unwrap();
         auto.gpu().unwrap().events_per_dispatch = 2;
         auto.gpu().unwrap().inject_fault(fault);
-        let got = auto
-            .run_strikes(&config, &strikes, &options, &mut |_, _| {})
-            .unwrap();
+        let got = study::run(&mut auto, &config, given.clone(), &options, &mut |_, _| {}).unwrap();
         assert_eq!(got, want, "{fault:?}: the CPU's samples");
         assert!(
             auto.take_notes()

@@ -1,9 +1,9 @@
-//! Shot studies on the GPU event loop (`kisstime::study::run_strikes_gpu`) against the CPU
-//! f64 study on the reference's 2,000 strikes (`data/studies`):
-//! - in f64 and in f32, every outcome fraction (the intended ball potted, the scratch,
-//!   each first-contact class) lies within the 95 % Wilson interval of the CPU's fraction;
-//! - in f64, every sample has the CPU's first contact and potted balls and ends within
-//!   1e-6 m of it (its printed counts say how many agree exactly);
+//! Shot studies on the GPU event loop (`kisstime::study::run` on a `gpu` [`ShotEngine`])
+//! against the CPU f64 study on the reference's 2,000 strikes (`data/studies`):
+//! - every outcome fraction (the intended ball potted, the scratch, each first-contact
+//!   class) lies within the 95 % Wilson interval of the CPU's fraction;
+//! - every sample has the CPU's first contact and potted balls and ends within 1e-6 m of
+//!   it (its printed counts say how many agree exactly);
 //! - the first-contact study ends each sample at its first contact as the CPU's does.
 //!
 //! Without a GPU the tests print why they skip (`common::gpu_or_skip`'s convention: with
@@ -14,11 +14,11 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use kisstime::Precision;
-use kisstime::gpu::GpuSimulator;
+use kisstime::engine::{Backend, ShotEngine};
 use kisstime::io::strikes::read_sample_strikes;
 use kisstime::simulate::CueStrike;
 use kisstime::study::{
-    Class, RunOptions, Sample, StudyConfig, Summary, Until, run_strikes, run_strikes_gpu, wilson,
+    Class, RunOptions, Sample, Samples, StudyConfig, Summary, Until, run, run_strikes, wilson,
 };
 
 fn dir() -> PathBuf {
@@ -31,9 +31,20 @@ fn reference() -> (StudyConfig, Vec<CueStrike>) {
     (config, strikes.iter().map(|s| s.strike).collect())
 }
 
-fn open(precision: Precision, test: &str) -> Option<GpuSimulator> {
-    common::gpu_or_skip(precision, test)?;
-    Some(GpuSimulator::new(precision).expect("the event loop builds"))
+fn open(test: &str) -> Option<ShotEngine> {
+    common::gpu_or_skip(Precision::F64, test)?;
+    Some(ShotEngine::new(Backend::Gpu, Precision::F64).expect("the event loop builds"))
+}
+
+/// `strikes` on `gpu`, with `progress`.
+fn run_strikes_gpu(
+    gpu: &mut ShotEngine,
+    config: &StudyConfig,
+    strikes: &[CueStrike],
+    options: &RunOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<Sample>, kisstime::Error> {
+    run(gpu, config, Samples::Given(strikes), options, progress)
 }
 
 /// The study's fractions, each as (name, count): the intended ball potted, the scratch,
@@ -61,8 +72,9 @@ fn gpu_studies_lie_within_the_cpu_f64_studys_wilson_intervals() {
     let cpu = run_strikes(&config, &strikes, &options, &mut |_, _| {}).unwrap();
     let n = cpu.len();
     let cpu_counts = counts(&config, &cpu);
-    for precision in [Precision::F64, Precision::F32] {
-        let Some(mut gpu) = open(precision, "gpu_study") else {
+    // whole shots and studies are f64 only (the engine refuses f32: F32_WHOLE_SHOTS)
+    for precision in [Precision::F64] {
+        let Some(mut gpu) = open("gpu_study") else {
             return;
         };
         let started = std::time::Instant::now();
@@ -105,9 +117,7 @@ fn gpu_studies_lie_within_the_cpu_f64_studys_wilson_intervals() {
              potted balls {potted}, cue ball within 1e-6 m {near} (farthest {worst:.2e} m)",
             precision.name()
         );
-        if precision == Precision::F64 {
-            assert_eq!((first, potted, near), (n, n, n), "f64 samples differ");
-        }
+        assert_eq!((first, potted, near), (n, n, n), "f64 samples differ");
     }
 }
 
@@ -120,7 +130,7 @@ fn the_first_contact_study_ends_each_sample_at_its_first_contact_as_on_the_cpu()
         ..RunOptions::default()
     };
     let cpu = run_strikes(&config, strikes, &options, &mut |_, _| {}).unwrap();
-    let Some(mut gpu) = open(Precision::F64, "gpu_study_first_contact") else {
+    let Some(mut gpu) = open("gpu_study_first_contact") else {
         return;
     };
     let mut progress = Vec::new();
@@ -169,7 +179,7 @@ fn a_refused_strike_is_the_error_of_its_sample() {
     let mut strikes = strikes[..5].to_vec();
     strikes[3].a = 0.9;
     strikes[3].b = 0.9;
-    let Some(mut gpu) = open(Precision::F64, "gpu_study_bad_strike") else {
+    let Some(mut gpu) = open("gpu_study_bad_strike") else {
         return;
     };
     let err = run_strikes_gpu(
@@ -184,4 +194,91 @@ fn a_refused_strike_is_the_error_of_its_sample() {
         matches!(err, kisstime::Error::Input(_)) && err.to_string().contains("sample 3"),
         "{err}"
     );
+}
+
+/// The watch itself (`ShotEngine::simulate_with` with `BatchOptions::watch`) is the same on
+/// both backends: every first contact (its number and event, the cue ball's state and the
+/// clock before it, the centres after it), every pot, the watched ball's final state and
+/// the outcome, to rest and stopping at the first contact; the counts and agents exactly,
+/// the numbers within 1e-9 (lavapipe's f64 rounds a few of them differently after many
+/// events).
+#[test]
+fn the_watch_is_the_same_on_both_backends() {
+    use kisstime::simulate::{BallState, BatchOptions, Watch, WatchOptions};
+    let (config, strikes) = reference();
+    let strikes = &strikes[..300];
+    let Some(mut gpu) = open("gpu_watch") else {
+        return;
+    };
+    let mut cpu = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let initial = config.initial();
+    for stop in [false, true] {
+        let options = BatchOptions {
+            check_layout: false,
+            watch: Some(WatchOptions {
+                cue: config.cue,
+                stop_at_first_contact: stop,
+            }),
+            ..BatchOptions::default()
+        };
+        let input = |k: usize, balls: &mut Vec<BallState>| {
+            balls.clear();
+            balls.extend_from_slice(&initial);
+            Ok(Some((config.cue, strikes[k])))
+        };
+        let mut both = Vec::new();
+        for engine in [&mut cpu, &mut gpu] {
+            let mut runs = Vec::new();
+            engine
+                .simulate_with(
+                    &config.table,
+                    config.params,
+                    &options,
+                    300,
+                    input,
+                    |chunk| {
+                        for t in chunk.iter() {
+                            let w = t.watch.expect("watched");
+                            let watch = Watch {
+                                first: w.first,
+                                pots: w.pots.to_vec(),
+                            };
+                            runs.push((watch, t.balls.to_vec(), t.outcome));
+                        }
+                        Ok::<(), kisstime::Error>(())
+                    },
+                )
+                .unwrap();
+            both.push(runs);
+        }
+        let (c, g) = (&both[0], &both[1]);
+        assert_eq!(c.len(), 300);
+        let contacts = c.iter().filter(|r| r.0.first.is_some()).count();
+        assert!(contacts > 250, "{contacts} first contacts");
+        for (k, (a, b)) in c.iter().zip(g).enumerate() {
+            let at = format!("stop {stop}: table {k}");
+            let agents = |w: &Watch| {
+                let first = w
+                    .first
+                    .map(|f| (f.number, f.event.kind, f.event.ball, f.event.other));
+                let pots: Vec<_> = w.pots.iter().map(|(n, e)| (*n, e.ball, e.other)).collect();
+                (first, pots)
+            };
+            assert_eq!(agents(&a.0), agents(&b.0), "{at}");
+            assert_eq!((a.2.n_events, a.2.cut), (b.2.n_events, b.2.cut), "{at}");
+            let reals = |r: &(Watch, Vec<BallState>, kisstime::simulate::Outcome)| {
+                let mut v = vec![r.2.t_end, r.1[0].r.x, r.1[0].r.y];
+                if let Some(f) = r.0.first {
+                    let before = f.cue_before;
+                    v.extend([f.event.t, f.t0, f.cue_after.x, f.cue_after.y]);
+                    v.extend([f.other_after.x, f.other_after.y, before.r.x, before.v.y]);
+                }
+                v.extend(r.0.pots.iter().map(|(_, e)| e.t));
+                v
+            };
+            for (x, y) in reals(a).into_iter().zip(reals(b)) {
+                assert!((x - y).abs() <= 1e-9, "{at}: CPU {x}, GPU {y}");
+            }
+        }
+    }
 }

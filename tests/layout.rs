@@ -7,10 +7,11 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The library's top-level modules, lowest first. `engine` chooses the backend for the
-/// kernels and for whole shots and studies, so it sits on top.
+/// kernels and for whole shots; the study is its client (it runs through
+/// `ShotEngine::simulate_with`), so it sits on top.
 const LAYERS: &[&str] = &[
     "error", "model", "motion", "query", "resolve", "limits", "simulate", "batch", "cpu", "gpu",
-    "compare", "io", "workload", "study", "engine",
+    "compare", "io", "workload", "engine", "study",
 ];
 
 /// Every `.rs` file under `dir`.

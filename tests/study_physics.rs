@@ -11,9 +11,9 @@
 mod common;
 
 use kisstime::Precision;
-use kisstime::gpu::GpuSimulator;
+use kisstime::engine::{Backend, ShotEngine};
 use kisstime::study::noise::sample_physics;
-use kisstime::study::{RunOptions, Sample, StudyConfig, run_strikes, run_study, run_study_gpu};
+use kisstime::study::{self, RunOptions, Sample, Samples, StudyConfig, run_strikes, run_study};
 
 fn builtin_with(spread: &str) -> StudyConfig {
     let text = format!(
@@ -108,13 +108,16 @@ fn the_gpu_study_with_a_physics_spread_has_the_cpus_contacts_and_pots() {
     let config = builtin_with("u_r = 0.1\ne_c = 0.05\nf_c = 0.2");
     let n = 300;
     let cpu = run(&config, n);
-    let mut gpu = GpuSimulator::new(Precision::F64).unwrap();
-    let on_gpu = run_study_gpu(
+    let mut gpu = ShotEngine::new(Backend::Gpu, Precision::F64).unwrap();
+    let samples = Samples::Drawn {
+        sigma: &config.sigma(),
+        seed: 7,
+        range: 0..n,
+    };
+    let on_gpu = study::run(
         &mut gpu,
         &config,
-        &config.sigma(),
-        n,
-        7,
+        samples,
         &RunOptions::default(),
         &mut |_, _| {},
     )

@@ -133,6 +133,8 @@ const TWINS: &[Twin] = &[
             ("Physics<'_>::part", HOST_ONLY),
             ("Physics<'_>::first", HOST_ONLY),
             ("Physics<'_>::is_shared", HOST_ONLY),
+            ("drawn", HOST_ONLY),
+            ("fmt", HOST_ONLY),
             ("from", HOST_ONLY),
         ],
         wgsl_only: &[],
@@ -439,11 +441,11 @@ const TWINS: &[Twin] = &[
             ("record", "writes an event record for the host"),
             (
                 "first_contact_of",
-                "the study's watch on the device: study::run's first_contact_of",
+                "the watch on the device: simulate::watch's first_contact_of (its CPU twin)",
             ),
             (
                 "watch_event",
-                "the study's watch on the device: what study::run's SampleWatch takes",
+                "the watch on the device: simulate::watch's Watcher::watch_event (its CPU twin)",
             ),
             ("simulate_tables", "the entry point"),
         ],

@@ -966,14 +966,17 @@ fn study_chunk<'py>(
     } else {
         let mut engine = shot_engine_of(backend, precision)?;
         warn_notes(py, &mut engine)?;
-        let samples = py.detach(|| match &noisy {
+        let which = match &noisy {
             // the study's own samples: their strikes and physics drawn by their ids
-            Some(sigma) => {
-                let range = first..first + ids.len();
-                engine.run_samples(&config, sigma, seed, range, &options, &mut |_, _| {})
-            }
-            None => engine.run_strikes(&config, &strikes, &options, &mut |_, _| {}),
-        });
+            Some(sigma) => kisstime::study::Samples::Drawn {
+                sigma,
+                seed,
+                range: first..first + ids.len(),
+            },
+            None => kisstime::study::Samples::Given(&strikes),
+        };
+        let samples = py
+            .detach(|| kisstime::study::run(&mut engine, &config, which, &options, &mut |_, _| {}));
         warn_notes(py, &mut engine)?;
         samples.map_err(py_err)?
     };

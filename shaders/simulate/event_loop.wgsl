@@ -699,7 +699,7 @@ fn record(table: u32) {
 }
 
 // Whether event (kind, ball, other) is the cue ball's first contact, if none came before
-// (Rust: study::run's first_contact_of(..).is_some()): ball–ball with the cue ball, a
+// (Rust: simulate::watch::first_contact_of): ball–ball with the cue ball, a
 // cushion or jaw, a pocket, or the cue ball stopping; not the strike, nor the cue ball's
 // own sliding → rolling.
 fn first_contact_of(kind: u32, ball: u32, other: u32, cue: u32) -> bool {
@@ -707,10 +707,10 @@ fn first_contact_of(kind: u32, ball: u32, other: u32, cue: u32) -> bool {
     return involves && kind != EVENT_STICK_BALL && kind != EVENT_SLIDING_ROLLING;
 }
 
-// The watch's record of the event just resolved (Rust: what study::run's SampleWatch
-// takes from it): the cue ball's first contact with its state and the clock before it and
-// both balls' centres after it, and every pot. With watch_stop the table ends at the
-// first contact, as the CPU's study stops its loop there.
+// The watch's record of the event just resolved (Rust: simulate::watch's
+// Watcher::watch_event): the cue ball's first contact with its state and the clock before
+// it and both balls' centres after it, and every pot. With watch_stop the table ends at
+// the first contact, as the CPU's watched loop stops there.
 fn watch_event(table: u32) {
     let cue = cfg.watch_cue;
     let w_r = watch_r(table);

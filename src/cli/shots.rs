@@ -7,7 +7,7 @@ use kisstime::io::physics::read_physics;
 use kisstime::io::strikes::read_sample_strikes;
 use kisstime::io::{output_error, write_output};
 use kisstime::simulate::{CueStrike, Limits};
-use kisstime::study::{Noise, RunOptions, StudyConfig, Summary, Until};
+use kisstime::study::{self, Noise, RunOptions, StudyConfig, Summary, Until};
 use kisstime::{Error, InputError};
 
 use super::args::{ShotsArgs, UntilArg};
@@ -140,10 +140,15 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
     let started = std::time::Instant::now();
     let bar = Progress::new("shots", n as u64, "samples", n >= SHOW_SAMPLES);
     let mut progress = |done: usize, _: usize| bar.set(done as u64);
-    let samples = match &given {
-        Some((_, strikes)) => engine.run_strikes(&scenario, strikes, &options, &mut progress),
-        None => engine.run_study(&scenario, &sigma, n, args.seed, &options, &mut progress),
+    let which = match &given {
+        Some((_, strikes)) => study::Samples::Given(strikes),
+        None => study::Samples::Drawn {
+            sigma: &sigma,
+            seed: args.seed,
+            range: 0..n,
+        },
     };
+    let samples = study::run(&mut engine, &scenario, which, &options, &mut progress);
     bar.done();
     for note in engine.take_notes() {
         eprintln!("kisstime: {note}");

@@ -49,12 +49,10 @@ pub use dispatch::Kernel;
 pub use fault::{Fault, adapter as test_adapter};
 pub use shader::{GPU_MAX_BALLS_LINE, shader_source};
 #[doc(hidden)]
-pub use sim_layout::{
-    GPU_BALL_BUCKETS, GPU_MAX_BALLS, GpuRun, GpuShot, GpuWatch, SimLayout, WatchedContact,
-    WatchedRun,
-};
+pub use sim_layout::{GPU_BALL_BUCKETS, GPU_MAX_BALLS, GpuRun, GpuShot, SimLayout, WatchedRun};
 pub use simulate::{
-    EVENT_LOOP_THREADS, EVENTS_PER_DISPATCH, GpuSimulator, MAX_TABLES_PER_CHUNK, OnEvent,
+    CheckedTables, EVENT_LOOP_THREADS, EVENTS_PER_DISPATCH, FillTable, GpuOutput, GpuSimulator,
+    MAX_TABLES_PER_CHUNK, OnEvent,
 };
 
 /// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the

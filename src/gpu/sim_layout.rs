@@ -28,6 +28,7 @@ use crate::resolve::stick_ball::{CueStrike, cue_strike};
 use crate::simulate::Limits;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
+use crate::simulate::watch::{Watch, WatchedContact};
 
 use super::device::gpu_error;
 
@@ -233,23 +234,6 @@ pub struct GpuRun {
     pub outcome: Outcome,
 }
 
-/// The cue ball's first contact as the device's watch saw it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WatchedContact {
-    /// Its event number (the strike is 1).
-    pub number: usize,
-    /// The event.
-    pub event: Event,
-    /// The cue ball's state before it, and the clock then.
-    pub cue_before: BallState,
-    /// The clock before the event.
-    pub t0: f64,
-    /// The cue ball's centre right after it.
-    pub cue_after: Vec3,
-    /// For a ball–ball contact, the other ball's centre right after it.
-    pub other_after: Vec3,
-}
-
 /// One table of a watched batch: its cue ball at the end, how it ended, and the watch.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WatchedRun {
@@ -258,16 +242,7 @@ pub struct WatchedRun {
     /// Events, end time, and whether a limit cut the run.
     pub outcome: Outcome,
     /// What the watch saw.
-    pub watch: GpuWatch,
-}
-
-/// What the device's watch of a table saw: what a study takes from its events.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct GpuWatch {
-    /// The cue ball's first contact, if there was one.
-    pub first: Option<WatchedContact>,
-    /// Every pot in order: its event number and the `ball_pocket` event.
-    pub pots: Vec<(usize, Event)>,
+    pub watch: Watch,
 }
 
 /// The shader's "never" as the CPU's ∞.
@@ -446,7 +421,7 @@ pub(super) fn read_watch(
     sr: &[f64],
     su: &[u32],
     n_balls: usize,
-) -> Result<GpuWatch, Error> {
+) -> Result<Watch, Error> {
     let l = layout;
     let v3 = |at: usize| Vec3::new(sr[at], sr[at + 1], sr[at + 2]);
     let first = match su[l.watch_u_first] {
@@ -486,5 +461,5 @@ pub(super) fn read_watch(
             )
         })
         .collect();
-    Ok(GpuWatch { first, pots })
+    Ok(Watch { first, pots })
 }

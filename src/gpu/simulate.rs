@@ -38,6 +38,7 @@ use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::check::check_layout;
 use crate::simulate::events::Outcome;
+use crate::simulate::watch::WatchOptions;
 use crate::simulate::{EventLoop, Limits};
 
 mod buffers;
@@ -75,15 +76,36 @@ pub type OnEvent<'a> = &'a mut dyn FnMut(usize, &EventRecord);
 /// No agent (the shader's `NO_AGENT`): the watch is off.
 const NO_WATCH: u32 = u32::MAX;
 
-/// The tables of a call: shots of their own, or one position struck many ways (its
-/// layout checked once).
+/// Fills table `k`'s balls (the callee clears the vector first) and returns its strike:
+/// [`crate::simulate::simulate_batch`]'s input. Called from worker threads, more than once
+/// a table.
+pub type FillTable<'a> =
+    &'a (dyn Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync);
+
+/// Tables given by a [`FillTable`] that the caller has checked as
+/// [`crate::simulate::simulate_batch`] checks them (layout, strike, parameters):
+/// [`crate::engine::ShotEngine::simulate_with`]'s chunks. Nothing is held per table.
+#[derive(Clone, Copy)]
+pub struct CheckedTables<'a> {
+    /// The tables' balls and strikes.
+    pub fill: FillTable<'a>,
+    /// Tables `0..n_tables` of `fill`.
+    pub n_tables: usize,
+    /// The most balls any of them has (it chooses the pipeline's bucket).
+    pub max_balls: usize,
+}
+
+/// A table's strike: the struck ball's index and the strike, if any.
+type Strike = Option<(usize, CueStrike)>;
+
+/// The tables of a call: shots of their own, or checked tables from a source.
 #[derive(Clone, Copy)]
 enum Input<'a> {
     Shots(&'a [GpuShot]),
-    Strikes {
-        balls: &'a [BallState],
-        cue: usize,
-        strikes: &'a [CueStrike],
+    Checked {
+        tables: CheckedTables<'a>,
+        /// The first table's number in `fill`.
+        offset: usize,
     },
 }
 
@@ -91,7 +113,15 @@ impl<'a> Input<'a> {
     fn len(&self) -> usize {
         match self {
             Input::Shots(s) => s.len(),
-            Input::Strikes { strikes, .. } => strikes.len(),
+            Input::Checked { tables, .. } => tables.n_tables,
+        }
+    }
+
+    /// The most balls a table has.
+    fn max_balls(&self) -> usize {
+        match self {
+            Input::Shots(s) => s.iter().map(|s| s.balls.len()).max().unwrap_or(0),
+            Input::Checked { tables, .. } => tables.max_balls,
         }
     }
 
@@ -99,39 +129,41 @@ impl<'a> Input<'a> {
     fn part(&self, range: std::ops::Range<usize>) -> Input<'a> {
         match *self {
             Input::Shots(s) => Input::Shots(&s[range]),
-            Input::Strikes {
-                balls,
-                cue,
-                strikes,
-            } => Input::Strikes {
-                balls,
-                cue,
-                strikes: &strikes[range],
+            Input::Checked { tables, offset } => Input::Checked {
+                tables: CheckedTables {
+                    n_tables: range.len(),
+                    ..tables
+                },
+                offset: offset + range.start,
             },
         }
     }
 
-    /// Table `k`'s balls and strike.
-    fn shot(&self, k: usize) -> (&'a [BallState], Option<(usize, CueStrike)>) {
+    /// Table `k`'s balls (in `buf` for checked tables) and strike.
+    fn shot<'b>(
+        &'b self,
+        k: usize,
+        buf: &'b mut Vec<BallState>,
+    ) -> Result<(&'b [BallState], Strike), SimError> {
         match *self {
-            Input::Shots(s) => (&s[k].balls, s[k].strike),
-            Input::Strikes {
-                balls,
-                cue,
-                strikes,
-            } => (balls, Some((cue, strikes[k]))),
+            Input::Shots(s) => Ok((&s[k].balls, s[k].strike)),
+            Input::Checked { tables, offset } => {
+                let strike = (tables.fill)(offset + k, buf)?;
+                Ok((&buf[..], strike))
+            }
         }
     }
 }
 
 /// What a call reads back besides the final states.
-enum Mode<'a> {
+pub enum GpuOutput<'a> {
     /// Final states only.
     Finals,
     /// Every event, handed to the callback after each dispatch.
-    Events(&'a mut dyn FnMut(usize, &EventRecord)),
-    /// The watch of cue ball `cue` (a table stops at its first contact with `stop`).
-    Watch { cue: usize, stop: bool },
+    Events(OnEvent<'a>),
+    /// The watch of one ball ([`crate::simulate::watch`]) instead of any event: the call
+    /// returns [`WatchedRun`]s.
+    Watch(WatchOptions),
 }
 
 /// What the phases of one chunk share.
@@ -362,54 +394,37 @@ impl GpuSimulator {
     ) -> Result<Vec<GpuRun>, Error> {
         let params = physics.into();
         let mode = match on_event {
-            Some(f) => Mode::Events(f),
-            None => Mode::Finals,
+            Some(f) => GpuOutput::Events(f),
+            None => GpuOutput::Finals,
         };
         Ok(self
             .run(table, params, limits, Input::Shots(shots), mode)?
             .0)
     }
 
-    /// One position, `balls`, struck each of the ways `strikes` on ball `cue` (one table
-    /// per strike; the layout is checked once), with the device watching the cue ball (a
-    /// study's view of the events: its first contact and every pot, [`super::GpuWatch`]) instead
-    /// of reading any event back; with `stop_at_first` a table stops at the cue ball's
-    /// first contact (its final states and outcome are then those at that contact).
-    /// Errors as [`GpuSimulator::simulate`], a bad strike naming its table.
-    #[allow(clippy::too_many_arguments)]
-    pub fn simulate_strikes_watched<'p>(
+    /// Tables the caller has checked ([`CheckedTables`]: the engine's chunks), read back
+    /// as `output` asks: the runs (final states, events through the callback), or with
+    /// [`GpuOutput::Watch`] the watched runs (the watched ball's final state, the outcome,
+    /// the watch), no event crossing the bus; a table then stops at its first contact where
+    /// the watch asks for it. Errors as [`GpuSimulator::simulate`].
+    pub fn simulate_checked(
         &mut self,
         table: &Table,
-        physics: impl Into<Physics<'p>>,
+        physics: Physics<'_>,
         limits: Limits,
-        balls: &[BallState],
-        cue: usize,
-        strikes: &[CueStrike],
-        stop_at_first: bool,
-    ) -> Result<Vec<WatchedRun>, Error> {
-        if cue >= balls.len() {
+        tables: CheckedTables<'_>,
+        output: GpuOutput<'_>,
+    ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
+        if let GpuOutput::Watch(w) = output
+            && w.cue >= tables.max_balls.max(1)
+        {
             return Err(Error::from(InputError::new(format!(
-                "cue ball index {cue} out of range ({} balls)",
-                balls.len()
+                "the watched ball {} is not on the tables: they have at most {} balls",
+                w.cue, tables.max_balls
             ))));
         }
-        let params = physics.into();
-        // the position checked once where the tables share their ball size (else each
-        // table is checked with its own)
-        if let Physics::Shared(p) = params {
-            check_layout(table, p.ball.r, balls)
-                .map_err(|e| Error::from(InputError::new(format!("the position: {e}"))))?;
-        }
-        let input = Input::Strikes {
-            balls,
-            cue,
-            strikes,
-        };
-        let mode = Mode::Watch {
-            cue,
-            stop: stop_at_first,
-        };
-        Ok(self.run(table, params, limits, input, mode)?.1)
+        let input = Input::Checked { tables, offset: 0 };
+        self.run(table, physics, limits, input, output)
     }
 
     /// The batch in chunks that fit the device's bindings.
@@ -419,7 +434,7 @@ impl GpuSimulator {
         physics: Physics<'_>,
         limits: Limits,
         input: Input<'_>,
-        mut mode: Mode<'_>,
+        mut mode: GpuOutput<'_>,
     ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
         self.timings = GpuTimings::default();
         self.dispatches = 0;
@@ -436,11 +451,10 @@ impl GpuSimulator {
             .map_err(|e| gpu_error(format!("the simulation parameters: {e}")))?;
         // the call's bucket: the smallest that holds its largest table
         let n = input.len();
-        let most = (0..n).map(|k| input.shot(k).0.len()).max().unwrap_or(0);
+        let most = input.max_balls();
         let Some(layout) = SimLayout::bucket(most) else {
-            let at = (0..n).find(|&k| input.shot(k).0.len() == most).unwrap_or(0);
             return Err(Error::Unsupported(format!(
-                "table {at}: {most} balls, the GPU event loop takes at most {GPU_MAX_BALLS}"
+                "a table of {most} balls: the GPU event loop takes at most {GPU_MAX_BALLS}"
             )));
         };
         self.pipeline(&layout)?;
@@ -454,9 +468,9 @@ impl GpuSimulator {
         let fit = (self.max_binding / per_table as u64).max(1) as usize;
         let chunk = self.max_tables_per_chunk.max(1).min(fit);
         let (record, watch_cue, watch_stop) = match &mode {
-            Mode::Finals => (false, NO_WATCH, false),
-            Mode::Events(_) => (true, NO_WATCH, false),
-            Mode::Watch { cue, stop } => (false, *cue as u32, *stop),
+            GpuOutput::Finals => (false, NO_WATCH, false),
+            GpuOutput::Events(_) => (true, NO_WATCH, false),
+            GpuOutput::Watch(w) => (false, w.cue as u32, w.stop_at_first_contact),
         };
         let mut runs = Vec::with_capacity(n);
         let mut watches = Vec::new();
@@ -492,7 +506,7 @@ impl GpuSimulator {
         &mut self,
         call: &ChunkCall<'_>,
         capacity: usize,
-        mode: &mut Mode<'_>,
+        mode: &mut GpuOutput<'_>,
     ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
         if call.input.len() == 0 {
             return Ok((Vec::new(), Vec::new()));
@@ -501,7 +515,7 @@ impl GpuSimulator {
         self.prepare_chunk(call, capacity)?;
         let (strikes, mut runs) = self.pack_chunk(call)?;
         self.timings.pack += clock.elapsed().as_secs_f64();
-        if let Mode::Events(on_event) = mode {
+        if let GpuOutput::Events(on_event) = mode {
             for (k, record) in &strikes {
                 on_event(call.first + k, record);
             }
@@ -537,9 +551,8 @@ impl GpuSimulator {
         // one parameter block for all the tables, or one per table (cfg's sim_stride)
         let sim: Vec<f64> = match physics {
             Physics::Shared(p) => param_block(&p, limits).to_vec(),
-            Physics::PerTable(all) => all[..n_tables]
-                .iter()
-                .flat_map(|p| param_block(p, limits))
+            _ => (0..n_tables)
+                .flat_map(|k| param_block(&physics.of(k), limits))
                 .collect(),
         };
         let sim_reals = if physics.is_shared() {
@@ -588,8 +601,8 @@ impl GpuSimulator {
         let mut host_u = std::mem::take(&mut self.pack_u);
         host_r.resize(len_r as usize, 0);
         host_u.resize(len_u as usize, 0);
-        // one position struck many ways is checked once, where its tables share a ball size
-        let layout_checked = matches!(input, Input::Strikes { .. }) && physics.is_shared();
+        // checked tables were checked by the caller
+        let layout_checked = matches!(input, Input::Checked { .. });
         let make_runs = watch_cue == NO_WATCH;
         // a block's strike records (with their tables' places in the chunk) and its runs
         type Block = (Vec<(usize, EventRecord)>, Vec<GpuRun>);
@@ -605,8 +618,11 @@ impl GpuSimulator {
                 // layout: made in the unpack instead, the memory's first touch cost the
                 // H200's host twice as much
                 let mut runs = Vec::with_capacity(if make_runs { end - start } else { 0 });
+                let mut buf = Vec::new();
                 for (j, k) in (start..end).enumerate() {
-                    let (balls, strike) = input.shot(k);
+                    let (balls, strike) = input
+                        .shot(k, &mut buf)
+                        .map_err(|e| InputError::new(format!("table {}: {e}", first + k)))?;
                     if make_runs {
                         runs.push(GpuRun {
                             events: Vec::new(),
@@ -691,7 +707,11 @@ impl GpuSimulator {
 
     /// The chunk's dispatches, until every table is done: `events_per_dispatch` events a
     /// table each, the recorded events handed to `mode`'s callback after each.
-    fn dispatch_chunk(&mut self, call: &ChunkCall<'_>, mode: &mut Mode<'_>) -> Result<(), Error> {
+    fn dispatch_chunk(
+        &mut self,
+        call: &ChunkCall<'_>,
+        mode: &mut GpuOutput<'_>,
+    ) -> Result<(), Error> {
         let (table, limits, first) = (call.table, call.limits, call.first);
         let (record, watch_cue, watch_stop) = (call.record, call.watch_cue, call.watch_stop);
         let n_tables = call.input.len();
@@ -774,7 +794,7 @@ impl GpuSimulator {
                 });
                 (running, events)
             })?;
-            if let (Mode::Events(on_event), Some((eu, er))) = (&mut *mode, events) {
+            if let (GpuOutput::Events(on_event), Some((eu, er))) = (&mut *mode, events) {
                 for k in 0..n_tables {
                     let base = k * (1 + per * EVENT_UINTS);
                     for e in 0..(eu[base] as usize).min(per) {
@@ -1018,13 +1038,12 @@ fn unpack(
             .zip(io_r.par_chunks(l.io_reals * real))
             .zip(io_u.par_chunks(l.io_uints * 4))
             .try_for_each(|((run, r), u)| {
-                let mut sr = [0.0; MAX_LAYOUT.io_reals];
-                let sr = &mut sr[..l.io_reals];
-                reals_into(precision, r, sr);
-                let mut su = [0u32; MAX_LAYOUT.io_uints];
-                let su = &mut su[..l.io_uints];
-                uints_into(u, su);
-                finish_table(l, run, sr, su)
+                let (sr, su) = block::<{ MAX_LAYOUT.io_reals }, { MAX_LAYOUT.io_uints }>(
+                    precision,
+                    (r, l.io_reals),
+                    (u, l.io_uints),
+                );
+                finish_table(l, run, &sr[..l.io_reals], &su[..l.io_uints])
             })?;
         return Ok(Vec::new());
     };
@@ -1037,26 +1056,39 @@ fn unpack(
         .zip(watch_r.par_chunks(l.watch_reals * real))
         .zip(watch_u.par_chunks(l.watch_uints * 4))
         .map(|(((r, u), wr), wu)| {
-            let mut sr = [0.0; MAX_LAYOUT.io_reals];
-            let sr = &mut sr[..l.io_reals];
-            reals_into(precision, r, sr);
-            let mut su = [0u32; MAX_LAYOUT.io_uints];
-            let su = &mut su[..l.io_uints];
-            uints_into(u, su);
-            let mut wsr = [0.0; MAX_LAYOUT.watch_reals];
-            let wsr = &mut wsr[..l.watch_reals];
-            reals_into(precision, wr, wsr);
-            let mut wsu = [0u32; MAX_LAYOUT.watch_uints];
-            let wsu = &mut wsu[..l.watch_uints];
-            uints_into(wu, wsu);
+            let (sr, su) = block::<{ MAX_LAYOUT.io_reals }, { MAX_LAYOUT.io_uints }>(
+                precision,
+                (r, l.io_reals),
+                (u, l.io_uints),
+            );
+            let (sr, su) = (&sr[..l.io_reals], &su[..l.io_uints]);
+            let (wsr, wsu) = block::<{ MAX_LAYOUT.watch_reals }, { MAX_LAYOUT.watch_uints }>(
+                precision,
+                (wr, l.watch_reals),
+                (wu, l.watch_uints),
+            );
             let n_balls = su[l.io_u_n] as usize;
             Ok(WatchedRun {
                 cue: final_ball(sr, su, cue)?,
                 outcome: table_outcome(l, sr, su),
-                watch: read_watch(l, wsr, wsu, n_balls)?,
+                watch: read_watch(l, &wsr[..l.watch_reals], &wsu[..l.watch_uints], n_balls)?,
             })
         })
         .collect()
+}
+
+/// One table's block read back (`reals` reals in the shader's precision and `uints` u32s,
+/// each with its count) into stack arrays as f64 and u32 (their first counts filled).
+fn block<const R: usize, const U: usize>(
+    precision: Precision,
+    (reals, n_reals): (&[u8], usize),
+    (uints, n_uints): (&[u8], usize),
+) -> ([f64; R], [u32; U]) {
+    let mut sr = [0.0; R];
+    reals_into(precision, reals, &mut sr[..n_reals]);
+    let mut su = [0u32; U];
+    uints_into(uints, &mut su[..n_uints]);
+    (sr, su)
 }
 
 /// One table's parameter block as the shader reads it (`SIM_REALS`: the ball's, the

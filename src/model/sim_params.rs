@@ -248,13 +248,42 @@ impl SimParams {
 
 /// The physics of a batch of tables: one parameter set for all of them, or one for each
 /// (per-table physics: a study can draw the cloth's and the cushions' parameters per sample
-/// as it draws the cue's noise).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// as it draws the cue's noise), given as a slice or drawn on demand.
+#[derive(Clone, Copy)]
 pub enum Physics<'a> {
     /// Every table with these parameters.
     Shared(SimParams),
     /// Table `k` with `[k]`; the slice has one entry per table of the batch.
     PerTable(&'a [SimParams]),
+    /// Table `k` with `draw(offset + k)`: parameters made per table when needed (a study's
+    /// draws), never held for the whole batch. `draw` must return the same set for the same
+    /// table every time it is called (it is called more than once a table).
+    Drawn {
+        /// Table `offset + k`'s parameters.
+        draw: &'a (dyn Fn(usize) -> SimParams + Sync),
+        /// The batch's first table in `draw`'s numbering.
+        offset: usize,
+    },
+}
+
+impl std::fmt::Debug for Physics<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Physics::Shared(p) => f.debug_tuple("Shared").field(p).finish(),
+            Physics::PerTable(all) => f.debug_tuple("PerTable").field(all).finish(),
+            Physics::Drawn { offset, .. } => f
+                .debug_struct("Drawn")
+                .field("offset", offset)
+                .finish_non_exhaustive(),
+        }
+    }
+}
+
+impl<'a> Physics<'a> {
+    /// Parameters drawn per table by `draw(k)` ([`Physics::Drawn`]).
+    pub fn drawn(draw: &'a (dyn Fn(usize) -> SimParams + Sync)) -> Physics<'a> {
+        Physics::Drawn { draw, offset: 0 }
+    }
 }
 
 impl Physics<'_> {
@@ -263,11 +292,13 @@ impl Physics<'_> {
         match self {
             Physics::Shared(p) => *p,
             Physics::PerTable(all) => all[k],
+            Physics::Drawn { draw, offset } => draw(offset + k),
         }
     }
 
     /// Checks them for a batch of `n_tables` tables: one set per table where per table, each
     /// valid ([`SimParams::validate`]); the error names the first bad table's position.
+    /// Drawn sets are drawn and checked here (Rayon over tables).
     pub fn check(&self, n_tables: usize) -> Result<(), (usize, SimError)> {
         match self {
             Physics::Shared(p) => p.validate().map_err(|e| (0, e)),
@@ -286,6 +317,17 @@ impl Physics<'_> {
                 }
                 Ok(())
             }
+            Physics::Drawn { .. } => {
+                use rayon::prelude::*;
+                let bad = (0..n_tables)
+                    .into_par_iter()
+                    .with_min_len(1024)
+                    .find_first(|&k| self.of(k).validate().is_err());
+                match bad {
+                    Some(k) => self.of(k).validate().map_err(|e| (k, e)),
+                    None => Ok(()),
+                }
+            }
         }
     }
 
@@ -294,6 +336,10 @@ impl Physics<'_> {
         match *self {
             Physics::Shared(p) => Physics::Shared(p),
             Physics::PerTable(all) => Physics::PerTable(&all[range]),
+            Physics::Drawn { draw, offset } => Physics::Drawn {
+                draw,
+                offset: offset + range.start,
+            },
         }
     }
 
@@ -303,6 +349,7 @@ impl Physics<'_> {
         match self {
             Physics::Shared(p) => *p,
             Physics::PerTable(all) => all.first().copied().unwrap_or_default(),
+            Physics::Drawn { .. } => self.of(0),
         }
     }
 

@@ -54,6 +54,7 @@ use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::check::check_layout;
 use crate::simulate::event_loop::{EventLoop, Limits, MAX_BALLS};
 use crate::simulate::events::{Event, EventKind, Outcome};
+use crate::simulate::watch::{TableWatch, WatchOptions, WatchedContact, WatchedPot, Watcher};
 
 /// Tables per chunk by default: enough to keep every core busy (128 tasks of 8 tables),
 /// few enough that a chunk of breaks (~200 events each, ~200 bytes an event kept) holds
@@ -75,6 +76,11 @@ pub struct BatchOptions {
     pub chunk_tables: usize,
     /// Run [`check_layout`] on every table before simulating it.
     pub check_layout: bool,
+    /// Watch one ball of every table ([`crate::simulate::watch`]: a study's view of the
+    /// events): each [`TableRun`] then has its [`TableRun::watch`], its
+    /// [`TableRun::balls`] hold the watched ball's final state alone, and no event is
+    /// recorded (whatever `record_events` says).
+    pub watch: Option<WatchOptions>,
 }
 
 impl Default for BatchOptions {
@@ -84,6 +90,7 @@ impl Default for BatchOptions {
             record_events: true,
             chunk_tables: DEFAULT_CHUNK_TABLES,
             check_layout: true,
+            watch: None,
         }
     }
 }
@@ -133,10 +140,13 @@ pub struct TableRun<'a> {
     pub table: usize,
     /// Its events in order (empty unless [`BatchOptions::record_events`]).
     pub events: &'a [EventRecord],
-    /// Every ball's state at the end, in the input's ball order.
+    /// Every ball's state at the end, in the input's ball order; with
+    /// [`BatchOptions::watch`], the watched ball's alone.
     pub balls: &'a [BallState],
     /// How the simulation ended (events, end time, cut or not).
     pub outcome: Outcome,
+    /// What the watch saw, with [`BatchOptions::watch`].
+    pub watch: Option<TableWatch<'a>>,
 }
 
 /// The results of consecutive tables, flat: what the sink of [`simulate_batch`] receives.
@@ -148,6 +158,12 @@ pub struct Chunk {
     balls: Vec<BallState>,
     ball_start: Vec<usize>,
     outcomes: Vec<Outcome>,
+    /// Whether its tables were watched ([`BatchOptions::watch`]): then one first contact
+    /// per table, and the pots flat.
+    watched: bool,
+    firsts: Vec<Option<WatchedContact>>,
+    pots: Vec<WatchedPot>,
+    pot_start: Vec<usize>,
 }
 
 impl Chunk {
@@ -157,7 +173,16 @@ impl Chunk {
             first,
             event_start: vec![0],
             ball_start: vec![0],
+            pot_start: vec![0],
             ..Chunk::default()
+        }
+    }
+
+    /// A chunk of no watched tables whose first table will be `first`.
+    pub(crate) fn empty_watched(first: usize) -> Chunk {
+        Chunk {
+            watched: true,
+            ..Chunk::empty(first)
         }
     }
 
@@ -189,6 +214,10 @@ impl Chunk {
             events: &self.events[self.event_start[i]..self.event_start[i + 1]],
             balls: &self.balls[self.ball_start[i]..self.ball_start[i + 1]],
             outcome,
+            watch: self.watched.then(|| TableWatch {
+                first: self.firsts[i],
+                pots: &self.pots[self.pot_start[i]..self.pot_start[i + 1]],
+            }),
         })
     }
 
@@ -202,20 +231,48 @@ impl Chunk {
         self.events.extend_from_slice(events);
         self.balls.extend_from_slice(balls);
         self.outcomes.push(outcome);
+        self.end_table();
+    }
+
+    /// Appends the next watched table's results: the watched ball's final state, the
+    /// outcome and the watch (a chunk made by [`Chunk::empty_watched`]).
+    pub(crate) fn push_watched(&mut self, cue: BallState, outcome: Outcome, watch: TableWatch) {
+        self.balls.push(cue);
+        self.outcomes.push(outcome);
+        self.firsts.push(watch.first);
+        self.pots.extend_from_slice(watch.pots);
+        self.end_table();
+    }
+
+    /// The same tables numbered from `first` (a chunk simulated on its own).
+    pub(crate) fn renumbered(&self, first: usize) -> Chunk {
+        Chunk {
+            first,
+            ..self.clone()
+        }
+    }
+
+    /// Closes the table just appended (its events, balls and pots end here).
+    fn end_table(&mut self) {
         self.event_start.push(self.events.len());
         self.ball_start.push(self.balls.len());
+        self.pot_start.push(self.pots.len());
     }
 
     /// Appends `other`, which holds the tables right after this chunk's.
     fn append(&mut self, other: Chunk) {
-        let (e0, b0) = (self.events.len(), self.balls.len());
+        let (e0, b0, p0) = (self.events.len(), self.balls.len(), self.pots.len());
         self.events.extend(other.events);
         self.balls.extend(other.balls);
         self.outcomes.extend(other.outcomes);
+        self.firsts.extend(other.firsts);
+        self.pots.extend(other.pots);
         self.event_start
             .extend(other.event_start[1..].iter().map(|s| s + e0));
         self.ball_start
             .extend(other.ball_start[1..].iter().map(|s| s + b0));
+        self.pot_start
+            .extend(other.pot_start[1..].iter().map(|s| s + p0));
     }
 }
 
@@ -312,6 +369,7 @@ pub fn simulate_batch<'p, E>(
             )
             .collect();
         let mut chunk = Chunk::empty(first);
+        chunk.watched = options.watch.is_some();
         for part in parts {
             chunk.append(part.map_err(|(table, error)| BatchError::Table { table, error })?);
         }
@@ -337,6 +395,8 @@ fn run_tables(
     tables: Range<usize>,
 ) -> Result<Chunk, (usize, SimError)> {
     let mut out = Chunk::empty(tables.start);
+    out.watched = options.watch.is_some();
+    let mut watcher = options.watch.map(Watcher::new);
     for k in tables {
         let fail = |e| (k, e);
         let strike = input(k, buf).map_err(fail)?;
@@ -345,15 +405,31 @@ fn run_tables(
         }
         let radius = lp.params().ball.r;
         check_table(lp, table, radius, options, buf, strike).map_err(fail)?;
-        while let Some(ev) = lp.step() {
-            if options.record_events {
-                out.events.push(EventRecord::new(ev, lp.balls()));
+        let Some(watcher) = watcher.as_mut() else {
+            while let Some(ev) = lp.step() {
+                if options.record_events {
+                    out.events.push(EventRecord::new(ev, lp.balls()));
+                }
+            }
+            out.balls.extend_from_slice(lp.balls());
+            out.outcomes.push(lp.outcome());
+            out.end_table();
+            continue;
+        };
+        watcher.start();
+        loop {
+            watcher.before(lp.balls(), lp.time());
+            let Some(ev) = lp.step() else { break };
+            let number = lp.outcome().n_events;
+            if watcher.watch_event(number, &ev, lp.balls(), &mut out.pots) {
+                break;
             }
         }
-        out.balls.extend_from_slice(lp.balls());
+        let cue = options.watch.map_or(0, |w| w.cue);
+        out.balls.push(lp.balls()[cue]);
         out.outcomes.push(lp.outcome());
-        out.event_start.push(out.events.len());
-        out.ball_start.push(out.balls.len());
+        out.firsts.push(watcher.first());
+        out.end_table();
     }
     Ok(out)
 }
@@ -378,6 +454,15 @@ pub(crate) fn check_table(
                 balls.len()
             ),
         });
+    }
+    if let Some(w) = options.watch
+        && w.cue >= balls.len()
+    {
+        return Err(SimError::Table(format!(
+            "the watched ball {} is not on the table: it has {} balls",
+            w.cue,
+            balls.len()
+        )));
     }
     if options.check_layout {
         check_layout(table, radius, balls)?;
@@ -565,6 +650,126 @@ mod tests {
         assert!(d.0.is_empty());
         assert_eq!(a.1, d.1);
         assert_eq!(a.2, d.2);
+    }
+
+    /// Every table's runs with and without the watch: (events, watch, watched final
+    /// state, outcome) of each.
+    type Watched = Vec<(Vec<EventRecord>, crate::simulate::Watch, BallState, Outcome)>;
+
+    fn watched(stop: bool) -> (Watched, Vec<Outcome>) {
+        let (batch, strikes) = rack_batch(40);
+        let (events, balls, outcomes, _) = run(&batch, &strikes, &BatchOptions::default());
+        let n_balls = 6;
+        let options = BatchOptions {
+            watch: Some(WatchOptions {
+                cue: 0,
+                stop_at_first_contact: stop,
+            }),
+            chunk_tables: 7,
+            ..BatchOptions::default()
+        };
+        let p = SimParams::default();
+        let mut seen = Vec::new();
+        let input = batch.sim_input(&strikes, p.ball.r);
+        simulate_batch(&Table::nine_foot(), p, &options, 40, input, |c: &Chunk| {
+            for t in c.iter() {
+                assert!(t.events.is_empty(), "a watch records no event");
+                assert_eq!(t.balls.len(), 1, "the watched ball alone");
+                let w = t.watch.expect("watched");
+                let watch = crate::simulate::Watch {
+                    first: w.first,
+                    pots: w.pots.to_vec(),
+                };
+                seen.push((watch, t.balls[0], t.outcome));
+            }
+            Ok::<(), ()>(())
+        })
+        .unwrap();
+        let mut out = Vec::new();
+        let mut at = 0;
+        for (k, (watch, cue, outcome)) in seen.into_iter().enumerate() {
+            let n = outcomes[k].n_events;
+            out.push((events[at..at + n].to_vec(), watch, cue, outcome));
+            if !stop {
+                assert_eq!(
+                    cue,
+                    balls[k * n_balls],
+                    "table {k}: the cue ball's final state"
+                );
+            }
+            at += n;
+        }
+        (out, outcomes)
+    }
+
+    #[test]
+    fn the_watch_keeps_the_cue_balls_first_contact_and_every_pot() {
+        let (runs, outcomes) = watched(false);
+        let mut contacts = 0;
+        for (k, (events, watch, _, outcome)) in runs.iter().enumerate() {
+            assert_eq!(*outcome, outcomes[k], "table {k}: the same run");
+            // the pots: every ball_pocket event, numbered from the strike (1)
+            let pots: Vec<(usize, Event)> = (1..)
+                .zip(events)
+                .filter(|(_, r)| r.event.kind == EventKind::BallPocket)
+                .map(|(n, r)| (n, r.event))
+                .collect();
+            assert_eq!(watch.pots, pots, "table {k}");
+            // the first contact: the first event that involves the cue ball, other than
+            // the strike and its sliding → rolling
+            let first = (1..).zip(events).find(|(_, r)| {
+                let e = r.event;
+                (e.ball == 0 || (e.kind == EventKind::BallBall && e.other == 0))
+                    && !matches!(e.kind, EventKind::StickBall | EventKind::SlidingRolling)
+            });
+            match (first, watch.first) {
+                (None, None) => {}
+                (Some((n, r)), Some(f)) => {
+                    contacts += 1;
+                    assert_eq!((f.number, f.event), (n, r.event), "table {k}");
+                    let cue_after = r.balls().find(|(i, _)| *i == 0).unwrap().1.r;
+                    assert_eq!(f.cue_after, cue_after, "table {k}");
+                    // the cue ball's last recorded state before the contact, evolved to
+                    // the contact, is where the watch's state before it goes
+                    let (t_last, last) = events[..n - 1]
+                        .iter()
+                        .rev()
+                        .find_map(|r| {
+                            r.balls()
+                                .find(|(i, _)| *i == 0)
+                                .map(|(_, s)| (r.event.t, *s))
+                        })
+                        .unwrap();
+                    assert!(f.t0 >= t_last && f.t0 <= f.event.t, "table {k}");
+                    let ball = SimParams::default().ball;
+                    let dt = f.event.t;
+                    let a = crate::motion::evolve::evolve(&last, dt - t_last, &ball).r;
+                    let b = crate::motion::evolve::evolve(&f.cue_before, dt - f.t0, &ball).r;
+                    assert!((a.x - b.x).abs() + (a.y - b.y).abs() < 1e-9, "table {k}");
+                }
+                other => panic!("table {k}: {other:?}"),
+            }
+        }
+        assert!(contacts > 30, "{contacts} first contacts");
+        assert!(runs.iter().any(|r| !r.1.pots.is_empty()), "no pot at all");
+    }
+
+    #[test]
+    fn a_watch_that_stops_at_the_first_contact_ends_the_table_there() {
+        let (full, _) = watched(false);
+        let (stopped, _) = watched(true);
+        for (k, (a, b)) in full.iter().zip(&stopped).enumerate() {
+            assert_eq!(a.1.first, b.1.first, "table {k}");
+            match b.1.first {
+                Some(f) => {
+                    assert_eq!(b.3.n_events, f.number, "table {k}");
+                    assert_eq!(b.3.t_end, f.event.t, "table {k}");
+                    assert_eq!(b.2.r, f.cue_after, "table {k}");
+                    assert!(b.1.pots.iter().all(|(n, _)| *n <= f.number), "table {k}");
+                }
+                None => assert_eq!(a.3, b.3, "table {k}"),
+            }
+        }
     }
 
     #[test]

@@ -16,6 +16,7 @@
 //! | resolution | [`crate::resolve`]: `stick_ball`, `ball_ball`, `ball_cushion`, `stronge`, `ball_pocket`, `transition` |
 //! | the loop | here: [`cache`], [`event_loop`], [`events`] |
 //! | layout checks, many tables at once | here: [`check`], [`batch`] ([`simulate_batch`]) |
+//! | a study's view of the events (first contact, pots) | here: [`watch`] |
 //!
 //! Agreement: on `data/fullshots` (300 pooltool shots, 26,936 events) every event
 //! sequence is identical to pooltool's and `check_fullshots.py` passes 300 of 300
@@ -58,6 +59,7 @@ pub mod cache;
 pub mod check;
 pub mod event_loop;
 pub mod events;
+pub mod watch;
 
 pub use crate::error::SimError;
 pub use crate::model::{
@@ -71,3 +73,4 @@ pub use batch::{
 pub use check::{LAYOUT_TOLERANCE, check_layout};
 pub use event_loop::{EventLoop, Limits, MAX_BALLS, simulate};
 pub use events::{Cut, Event, EventKind, NO_AGENT, Outcome};
+pub use watch::{TableWatch, Watch, WatchOptions, WatchedContact, WatchedPot};

@@ -6,10 +6,10 @@
 //! - [`reference`](mod@reference): the reference format of `data/studies` (pooltool's scenario JSON,
 //!   its outcome columns);
 //! - [`noise`]: each sample's noisy strike;
-//! - [`run`]: the driver over samples on the event loop ([`crate::simulate`]), to rest or
-//!   to the first contact, and the [`SampleWatch`] that turns a sample's events into its
-//!   outcome;
-//! - [`gpu`](mod@gpu): the same driver on the GPU event loop ([`crate::gpu::GpuSimulator`]);
+//! - [`mod@run`]: the driver over samples, through the one whole-shot entry point
+//!   ([`crate::engine::ShotEngine::simulate_with`], either backend) watching the cue ball,
+//!   to rest or to the first contact, and [`sample_of`], which turns a sample's watch into
+//!   its outcome;
 //! - [`stats`]: counts, Wilson intervals and summary statistics.
 //!
 //! The strike is pooltool 0.6.0's (`instantaneous_point` with squirt,
@@ -17,18 +17,16 @@
 //! per-sample CSV and the picture — is the command line's (`src/cli/`).
 
 pub mod config;
-pub mod gpu;
 pub mod noise;
 pub mod reference;
 pub mod run;
 pub mod stats;
 
 pub use config::{BUILTIN_NAME, BUILTIN_TOML, Noise, PhysicsSpread, Spot, StudyConfig, Target};
-pub use gpu::{run_samples_gpu, run_strikes_gpu, run_study_gpu};
 pub use noise::{clamped, noisy_strike, sample_physics};
 pub use reference::{REFERENCE_COLUMNS, write_reference_csv};
 pub use run::{
-    CHUNK, FirstContact, Pot, RunOptions, Sample, SampleWatch, Until, run_samples, run_strikes,
-    run_study, simulate_sample,
+    CHUNK, FirstContact, Pot, RunOptions, Sample, Samples, Until, run, run_samples, run_strikes,
+    run_study, sample_of,
 };
 pub use stats::{Class, Result4, Stats, Summary, potted_as_called, wilson};

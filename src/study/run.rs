@@ -1,26 +1,33 @@
 //! The study's driver: every sample from its strike to rest (or to the cue ball's first
-//! contact) on the simulator's event loop ([`EventLoop`], pooltool 0.6.0's physics), Rayon
-//! over samples, one loop per worker, and what each sample came to ([`Sample`]).
+//! contact) through the one whole-shot entry point, [`ShotEngine::simulate_with`] (on the
+//! engine's backend, pooltool 0.6.0's physics), with the engine watching the cue ball
+//! ([`crate::simulate::watch`]), and what each sample came to ([`Sample`]).
 //!
-//! Per sample the loop runs as `kisstime simulate` runs a table; the driver only watches
-//! the events go by: the cue ball's first contact (the first event after the strike that
-//! involves it, other than its own sliding → rolling), every `ball_pocket` in order, and
-//! the end (the cue ball's final position, the event count, the last event's time, a cut
-//! by the event or time cap). With [`Until::FirstContact`] the loop stops at that first
-//! contact: the cheaper study of what the cue ball meets first, on the same code.
+//! The watch keeps what a study needs of a sample's events as they go by — the cue ball's
+//! first contact (the first event after the strike that involves it, other than its own
+//! sliding → rolling), every `ball_pocket` in order — on the CPU and the GPU alike, and
+//! [`sample_of`] turns it, with the cue ball's final state and how the run ended, into the
+//! sample: the same samples on every backend. With [`Until::FirstContact`] a sample stops
+//! at that first contact: the cheaper study of what the cue ball meets first, on the same
+//! code.
 
 use rayon::prelude::*;
 
 use super::config::{Noise, StudyConfig};
 use super::noise::{noisy_strike, sample_physics};
+use crate::engine::{Backend, Precision, ShotEngine};
 use crate::error::{Error, InputError, SimError};
-use crate::model::sim_params::{BallParams, SimParams};
+use crate::model::ball_state::BallState;
+use crate::model::sim_params::{BallParams, Physics, SimParams};
 use crate::motion::evolve::evolve;
 use crate::resolve::stick_ball::CueStrike;
-use crate::simulate::event_loop::{EventLoop, Limits};
 use crate::simulate::events::{Cut, Event, EventKind, Outcome};
+use crate::simulate::watch::{TableWatch, WatchOptions};
+use crate::simulate::{BatchError, BatchOptions, Limits};
 
-/// Samples simulated between two progress reports (memory stays bounded by the results).
+/// Samples simulated on the CPU between two progress reports (memory stays bounded by
+/// the results); the GPU's chunks are the engine's
+/// ([`crate::engine::GPU_STREAM_TABLES`]).
 pub const CHUNK: usize = 16_384;
 
 /// How far each sample runs.
@@ -127,8 +134,149 @@ pub struct RunOptions {
     pub limits: Limits,
 }
 
-/// Runs the study: `samples` noisy strikes drawn from `seed` ([`noisy_strike`]). See
-/// [`run_strikes`].
+/// Which samples a study runs.
+#[derive(Clone, Debug)]
+pub enum Samples<'a> {
+    /// Samples `range` of the study drawn from `sigma` with `seed`: sample `i`'s strike is
+    /// [`noisy_strike`]`(…, i)` and its physics [`sample_physics`]`(…, i)`, so any part of a
+    /// study (a Dask task's) gives the samples of the whole.
+    Drawn {
+        /// The noise.
+        sigma: &'a Noise,
+        /// The study's seed.
+        seed: u64,
+        /// The samples' ids.
+        range: std::ops::Range<usize>,
+    },
+    /// These strikes, in order, without noise.
+    Given(&'a [CueStrike]),
+}
+
+impl Samples<'_> {
+    /// How many.
+    pub fn len(&self) -> usize {
+        match self {
+            Samples::Drawn { range, .. } => range.len(),
+            Samples::Given(strikes) => strikes.len(),
+        }
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The `j`th sample's strike.
+    fn strike(&self, config: &StudyConfig, j: usize) -> CueStrike {
+        match self {
+            Samples::Drawn { sigma, seed, range } => {
+                noisy_strike(config, sigma, *seed, (range.start + j) as u64)
+            }
+            Samples::Given(strikes) => strikes[j],
+        }
+    }
+
+    /// The `j`th sample's physics, where it varies from sample to sample.
+    fn physics(&self, config: &StudyConfig, j: usize) -> Option<SimParams> {
+        match self {
+            Samples::Drawn { sigma, seed, range } if !sigma.physics.is_empty() => {
+                Some(sample_physics(
+                    &config.params,
+                    &sigma.physics,
+                    *seed,
+                    (range.start + j) as u64,
+                ))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Runs `samples` of `config`'s study on `engine`'s backend: every sample through
+/// [`ShotEngine::simulate_with`], watched, in chunks; `progress(done, total)` after each
+/// chunk. The samples come back in order, the same on every backend and whatever the
+/// thread count.
+///
+/// Errors: a study whose results would not fit the available memory, refused before it
+/// starts ([`Error::TooLarge`]); a strike or a physics draw the simulator refuses (not
+/// finite, V0 < 0, a² + b² > 1), an [`Error::Input`] naming the sample by its place in
+/// `samples`; a backend failure (a GPU failure on `gpu`; `auto` redoes it on the CPU).
+pub fn run(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    samples: Samples<'_>,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<Sample>, Error> {
+    let n = samples.len();
+    crate::limits::check_memory(
+        &format!("a study of {n} samples"),
+        (n as u64).saturating_mul(std::mem::size_of::<Sample>() as u64),
+    )?;
+    let initial = config.initial();
+    let cue = config.cue;
+    let batch = BatchOptions {
+        limits: options.limits,
+        record_events: false,
+        chunk_tables: CHUNK,
+        // the position was checked when the study was read
+        check_layout: false,
+        watch: Some(WatchOptions {
+            cue,
+            stop_at_first_contact: options.until == Until::FirstContact,
+        }),
+    };
+    let draw = |j: usize| samples.physics(config, j).unwrap_or(config.params);
+    let physics = if samples.physics(config, 0).is_some() {
+        Physics::drawn(&draw)
+    } else {
+        Physics::Shared(config.params)
+    };
+    let input = |j: usize, balls: &mut Vec<BallState>| {
+        balls.clear();
+        balls.extend_from_slice(&initial);
+        Ok(Some((cue, samples.strike(config, j))))
+    };
+    let mut out = Vec::with_capacity(n);
+    let sink = |chunk: &crate::simulate::Chunk| {
+        let first = chunk.tables().start;
+        let judged: Vec<Sample> = (0..chunk.len())
+            .into_par_iter()
+            .with_min_len(64)
+            .filter_map(|i| chunk.get(i))
+            .map(|run| {
+                let j = run.table;
+                let watch = run.watch.expect("a watched batch");
+                let ball = physics.of(j).ball;
+                let end = run.balls[0].r;
+                let strike = samples.strike(config, j);
+                sample_of(
+                    config,
+                    options.until,
+                    strike,
+                    ball,
+                    watch,
+                    (end.x, end.y),
+                    run.outcome,
+                )
+            })
+            .collect();
+        debug_assert_eq!(judged.len(), chunk.len(), "chunk from {first}");
+        out.extend(judged);
+        progress(out.len(), n);
+        Ok::<(), Error>(())
+    };
+    engine
+        .simulate_with(&config.table, physics, &batch, n, input, sink)
+        .map_err(|e| match e {
+            BatchError::Table { table, error } => sample_error(table, error),
+            BatchError::Sink(e) => e,
+        })?;
+    Ok(out)
+}
+
+/// Runs the study on the CPU: `samples` noisy strikes drawn from `seed` ([`noisy_strike`]).
+/// See [`run`].
 pub fn run_study(
     config: &StudyConfig,
     sigma: &Noise,
@@ -140,9 +288,8 @@ pub fn run_study(
     run_samples(config, sigma, seed, 0..samples, options, progress)
 }
 
-/// Samples `range` of the study [`run_study`] runs with `seed` (their strikes and physics
-/// drawn by their own ids): a part of a study, e.g. a Dask task's. Errors name a sample by
-/// its place in `range`.
+/// Samples `range` of the study [`run_study`] runs with `seed`, on the CPU (their strikes
+/// and physics drawn by their own ids): a part of a study. See [`run`].
 pub fn run_samples(
     config: &StudyConfig,
     sigma: &Noise,
@@ -151,332 +298,131 @@ pub fn run_samples(
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
-    let first = range.start;
-    let physics =
-        |j: usize| sample_physics(&config.params, &sigma.physics, seed, (first + j) as u64);
-    let varies = !sigma.physics.is_empty();
-    run_with(
-        config,
-        range.len(),
-        &|j| noisy_strike(config, sigma, seed, (first + j) as u64),
-        varies.then_some(&physics as &(dyn Fn(usize) -> SimParams + Sync)),
-        options,
-        progress,
-    )
+    let samples = Samples::Drawn { sigma, seed, range };
+    run(&mut cpu()?, config, samples, options, progress)
 }
 
-/// Runs the given strikes, in order, without noise. `progress(done, total)` is called
-/// after each [`CHUNK`]; the samples come back in input order whatever the thread count.
-/// A study whose results would not fit the available memory is refused before it starts
-/// ([`Error::TooLarge`]); a strike the simulator refuses (not finite, V0 < 0, a² + b² > 1)
-/// is an [`Error::Input`] naming its position.
+/// Runs the given strikes, in order, without noise, on the CPU. See [`run`].
 pub fn run_strikes(
     config: &StudyConfig,
     strikes: &[CueStrike],
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
-    run_with(
+    run(
+        &mut cpu()?,
         config,
-        strikes.len(),
-        &|i| strikes[i],
-        None,
+        Samples::Given(strikes),
         options,
         progress,
     )
 }
 
-/// The samples `0..samples`, sample `i` struck `strike(i)` with the physics `physics(i)`
-/// (the study's own where `None`).
-fn run_with(
-    config: &StudyConfig,
-    samples: usize,
-    strike: &(dyn Fn(usize) -> CueStrike + Sync),
-    physics: Option<&(dyn Fn(usize) -> SimParams + Sync)>,
-    options: &RunOptions,
-    progress: &mut dyn FnMut(usize, usize),
-) -> Result<Vec<Sample>, Error> {
-    let initial = config.initial();
-    run_chunks(config, samples, options, progress, |part| {
-        (part.start..part.end)
-            .into_par_iter()
-            .with_min_len(64)
-            .map_init(
-                || {
-                    EventLoop::new(&config.table, config.params, options.limits, initial.len())
-                        .expect("checked by run_chunks")
-                },
-                |lp, i| {
-                    if let Some(physics) = physics {
-                        lp.set_params(physics(i)).map_err(|e| sample_error(i, e))?;
-                    }
-                    simulate_sample(lp, config, &initial, strike(i), options.until)
-                        .map_err(|e| sample_error(i, e))
-                },
-            )
-            .collect()
-    })
+/// The CPU backend.
+fn cpu() -> Result<ShotEngine, Error> {
+    ShotEngine::new(Backend::Cpu, Precision::F64)
 }
 
 /// A strike the simulator refuses, as the error of sample `i`.
-pub(super) fn sample_error(i: usize, e: SimError) -> Error {
+fn sample_error(i: usize, e: SimError) -> Error {
     Error::from(InputError::new(format!("sample {i}: {e}")))
 }
 
-/// The samples `0..samples` in chunks of [`CHUNK`], each computed by `chunk(range)`, with
-/// `progress` after each (see [`run_chunks_of`]).
-pub(super) fn run_chunks(
-    config: &StudyConfig,
-    samples: usize,
-    options: &RunOptions,
-    progress: &mut dyn FnMut(usize, usize),
-    chunk: impl FnMut(std::ops::Range<usize>) -> Result<Vec<Sample>, Error>,
-) -> Result<Vec<Sample>, Error> {
-    run_chunks_of(config, samples, CHUNK, options, progress, chunk)
-}
-
-/// The samples `0..samples` in chunks of `size`, each computed by `chunk(range)`, with
-/// `progress` after each: the study's size checked against the memory first, and the
-/// parameters and ball count against the event loop (so that the workers' loops cannot
-/// fail).
-pub(super) fn run_chunks_of(
-    config: &StudyConfig,
-    samples: usize,
-    size: usize,
-    options: &RunOptions,
-    progress: &mut dyn FnMut(usize, usize),
-    mut chunk: impl FnMut(std::ops::Range<usize>) -> Result<Vec<Sample>, Error>,
-) -> Result<Vec<Sample>, Error> {
-    crate::limits::check_memory(
-        &format!("a study of {samples} samples"),
-        (samples as u64).saturating_mul(std::mem::size_of::<Sample>() as u64),
-    )?;
-    EventLoop::new(
-        &config.table,
-        config.params,
-        options.limits,
-        config.initial().len(),
-    )?;
-    let mut out = Vec::with_capacity(samples);
-    let mut first = 0;
-    while first < samples {
-        let end = samples.min(first + size.max(1));
-        out.extend(chunk(first..end)?);
-        first = end;
-        progress(first, samples);
-    }
-    Ok(out)
-}
-
-/// The cue ball's first contact in `ev`, if `ev` is one (spec of the reference's
-/// `first_contact`): ball–ball with the cue ball, a cushion or jaw, a pocket, or the cue
-/// ball stopping. The strike and the cue ball's own sliding → rolling are not.
-fn first_contact_of(ev: &Event, cue: u32) -> Option<FirstContact> {
-    let involves = ev.ball == cue || (ev.kind == EventKind::BallBall && ev.other == cue);
-    if !involves {
-        return None;
-    }
+/// What the cue ball's first contact `ev` was (`ev` is one: [`crate::simulate::watch`]'s
+/// `first_contact_of`): a ball, a cushion or jaw, a pocket, or the cue ball stopping.
+fn first_contact_kind(ev: &Event, cue: u32) -> FirstContact {
     match ev.kind {
-        EventKind::BallBall => Some(FirstContact::Ball(if ev.ball == cue {
-            ev.other
-        } else {
-            ev.ball
-        })),
-        EventKind::BallLinearCushion => Some(FirstContact::Cushion {
+        EventKind::BallBall => FirstContact::Ball(if ev.ball == cue { ev.other } else { ev.ball }),
+        EventKind::BallLinearCushion => FirstContact::Cushion {
             circular: false,
             index: ev.other,
-        }),
-        EventKind::BallCircularCushion => Some(FirstContact::Cushion {
+        },
+        EventKind::BallCircularCushion => FirstContact::Cushion {
             circular: true,
             index: ev.other,
-        }),
-        EventKind::BallPocket => Some(FirstContact::Pocket(ev.other)),
+        },
+        EventKind::BallPocket => FirstContact::Pocket(ev.other),
+        // the strike and the cue ball's sliding → rolling are no first contact (the watch
+        // passes them by); the rest are the cue ball stopping
         EventKind::RollingSpinning
         | EventKind::RollingStationary
-        | EventKind::SpinningStationary => Some(FirstContact::Stopped),
-        EventKind::StickBall | EventKind::SlidingRolling => None,
+        | EventKind::SpinningStationary
+        | EventKind::StickBall
+        | EventKind::SlidingRolling => FirstContact::Stopped,
     }
 }
 
-/// What one sample comes to, built from its events as they go by: the same on the CPU's
-/// event loop ([`simulate_sample`]) and on the GPU's (`study::gpu`), which reports each
-/// event with the states of its balls right after it.
-#[derive(Clone, Debug)]
-pub struct SampleWatch {
-    cue: usize,
-    until: Until,
-    /// The sample's ball parameters (the study's, or the sample's own draw).
-    ball: BallParams,
-    sample: Sample,
-    /// Events seen, the strike included.
-    seen: usize,
-    /// With [`Until::FirstContact`], once the first contact is seen: the events seen then
-    /// and the cue ball's centre; later events are ignored.
-    stop: Option<(usize, (f64, f64))>,
-}
-
-impl SampleWatch {
-    /// A watch of `strike` played from `initial` on `config`'s cue ball.
-    pub fn new(
-        config: &StudyConfig,
-        initial: &[crate::model::ball_state::BallState],
-        strike: CueStrike,
-        until: Until,
-    ) -> SampleWatch {
-        let cue = config.cue;
-        SampleWatch {
-            cue,
-            until,
-            ball: config.params.ball,
-            sample: Sample {
-                strike,
-                first: FirstContact::Nothing,
-                first_t: f64::NAN,
-                contact_cue: (f64::NAN, f64::NAN),
-                contact_speed: f64::NAN,
-                contact_point: (f64::NAN, f64::NAN),
-                cut_angle: f64::NAN,
-                potted: Vec::new(),
-                cue_final: (initial[cue].r.x, initial[cue].r.y),
-                n_events: 0,
-                duration: 0.0,
-                cut: None,
-            },
-            seen: 0,
-            stop: None,
-        }
-    }
-
-    /// The watch of a sample simulated with its own ball parameters (a study whose physics
-    /// varies from sample to sample).
-    pub fn with_ball_params(mut self, ball: BallParams) -> SampleWatch {
-        self.ball = ball;
-        self
-    }
-
-    /// Whether the watch has all it needs ([`Until::FirstContact`] and the first contact
-    /// seen): the caller may stop the loop.
-    pub fn is_complete(&self) -> bool {
-        self.stop.is_some()
-    }
-
-    /// Takes event `ev` in. `cue_before` is the cue ball's state at time `t0` (any time
-    /// from its last change to `ev.t`), for its velocity just before the event;
-    /// `position(i)` gives ball `i`'s centre right after the event, for the balls `ev`
-    /// involves.
-    pub fn observe(
-        &mut self,
-        config: &StudyConfig,
-        ev: &Event,
-        cue_before: &crate::model::ball_state::BallState,
-        t0: f64,
-        position: impl Fn(usize) -> crate::model::vec3::Vec3,
-    ) {
-        if self.stop.is_some() {
-            return;
-        }
-        self.seen += 1;
-        let s = &mut self.sample;
-        if ev.kind == EventKind::BallPocket {
-            s.potted.push(Pot {
-                ball: ev.ball,
-                pocket: ev.other,
-                t: ev.t,
-            });
-        }
-        if s.first != FirstContact::Nothing {
-            return;
-        }
-        let cue = self.cue;
-        let Some(first) = first_contact_of(ev, cue as u32) else {
-            return;
-        };
-        let at = position(cue);
-        let v = evolve(cue_before, ev.t - t0, &self.ball).v;
-        s.first = first;
-        s.first_t = ev.t;
-        s.contact_cue = (at.x, at.y);
-        s.contact_speed = v.x.hypot(v.y);
-        s.contact_point = contact_point(config, first, (at.x, at.y));
-        if let FirstContact::Ball(k) = first {
-            let o = position(k as usize);
-            let (nx, ny) = (o.x - at.x, o.y - at.y);
-            s.contact_point = (0.5 * (at.x + o.x), 0.5 * (at.y + o.y));
-            s.cut_angle = (v.x * ny - v.y * nx)
-                .atan2(v.x * nx + v.y * ny)
-                .to_degrees();
-        }
-        if self.until == Until::FirstContact {
-            self.stop = Some((self.seen, (at.x, at.y)));
-        }
-    }
-
-    /// [`SampleWatch::observe`] of the `number`th event (the strike is 1) where the events
-    /// before it were not shown: the GPU's watch shows only those that count (the first
-    /// contact, the pots).
-    pub fn observe_numbered(
-        &mut self,
-        config: &StudyConfig,
-        number: usize,
-        ev: &Event,
-        cue_before: &crate::model::ball_state::BallState,
-        t0: f64,
-        position: impl Fn(usize) -> crate::model::vec3::Vec3,
-    ) {
-        if self.stop.is_none() {
-            self.seen = number.saturating_sub(1);
-        }
-        self.observe(config, ev, cue_before, t0, position);
-    }
-
-    /// The sample, given the cue ball's centre at the end and how the loop ended (both
-    /// ignored once [`SampleWatch::is_complete`]: the sample ends at the first contact).
-    pub fn finish(self, cue_final: (f64, f64), outcome: Outcome) -> Sample {
-        let mut s = self.sample;
-        match self.stop {
-            Some((n_events, at)) => {
-                s.cue_final = at;
-                s.n_events = n_events;
-                s.duration = s.first_t;
-                s.cut = None;
-            }
-            None => {
-                s.cue_final = cue_final;
-                s.n_events = outcome.n_events;
-                s.duration = outcome.t_end;
-                s.cut = outcome.cut;
-            }
-        }
-        s
-    }
-}
-
-/// One sample on `lp`: the balls `initial`, `strike` on the study's cue ball, run
-/// [`Until`] the end asked for. Errors only on a strike the loop refuses.
-pub fn simulate_sample(
-    lp: &mut EventLoop<'_>,
+/// What one sample came to, from its watch ([`TableWatch`], either backend's): `strike`
+/// played with the ball parameters `ball`, run [`Until`] the end asked for; `cue_final` is
+/// the cue ball's centre at the end and `outcome` how the run ended (both ignored where
+/// the sample ends at its first contact).
+pub fn sample_of(
     config: &StudyConfig,
-    initial: &[crate::model::ball_state::BallState],
-    strike: CueStrike,
     until: Until,
-) -> Result<Sample, SimError> {
+    strike: CueStrike,
+    ball: BallParams,
+    watch: TableWatch<'_>,
+    cue_final: (f64, f64),
+    outcome: Outcome,
+) -> Sample {
     let cue = config.cue;
-    lp.reset(initial, Some((cue, strike)))?;
-    let mut watch =
-        SampleWatch::new(config, initial, strike, until).with_ball_params(lp.params().ball);
-    loop {
-        // the cue ball before the event, for its velocity at the first contact (its state
-        // holds at the loop's time, whatever its own time stamp)
-        let (before, t0) = (lp.balls()[cue], lp.time());
-        let Some(ev) = lp.step() else { break };
-        let balls = lp.balls();
-        watch.observe(config, &ev, &before, t0, |i| balls[i].r);
-        if watch.is_complete() {
-            break;
-        }
+    let potted = watch
+        .pots
+        .iter()
+        .map(|(_, ev)| Pot {
+            ball: ev.ball,
+            pocket: ev.other,
+            t: ev.t,
+        })
+        .collect();
+    let mut s = Sample {
+        strike,
+        first: FirstContact::Nothing,
+        first_t: f64::NAN,
+        contact_cue: (f64::NAN, f64::NAN),
+        contact_speed: f64::NAN,
+        contact_point: (f64::NAN, f64::NAN),
+        cut_angle: f64::NAN,
+        potted,
+        cue_final,
+        n_events: outcome.n_events,
+        duration: outcome.t_end,
+        cut: outcome.cut,
+    };
+    let Some(f) = watch.first else {
+        return s;
+    };
+    let ev = f.event;
+    let first = first_contact_kind(&ev, cue as u32);
+    let at = (f.cue_after.x, f.cue_after.y);
+    let v = evolve(&f.cue_before, ev.t - f.t0, &ball).v;
+    s.first = first;
+    s.first_t = ev.t;
+    s.contact_cue = at;
+    s.contact_speed = v.x.hypot(v.y);
+    s.contact_point = contact_point(config, first, at);
+    if let FirstContact::Ball(_) = first {
+        let o = f.other_after;
+        let (nx, ny) = (o.x - at.0, o.y - at.1);
+        s.contact_point = (0.5 * (at.0 + o.x), 0.5 * (at.1 + o.y));
+        s.cut_angle = (v.x * ny - v.y * nx)
+            .atan2(v.x * nx + v.y * ny)
+            .to_degrees();
     }
-    let end = lp.balls()[cue].r;
-    Ok(watch.finish((end.x, end.y), lp.outcome()))
+    if until == Until::FirstContact {
+        // the sample ends at its first contact (the loop stopped there: no pot comes after)
+        let own = watch
+            .pots
+            .iter()
+            .take_while(|(n, _)| *n <= f.number)
+            .count();
+        s.potted.truncate(own);
+        s.cue_final = at;
+        s.n_events = f.number;
+        s.duration = ev.t;
+        s.cut = None;
+    }
+    s
 }
 
 /// Where a cue ball centred at `(x, y)` touches the cushion of `first` (the nearest point
