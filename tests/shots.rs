@@ -1250,7 +1250,7 @@ fn cli_shots_bad_input_exits_2_and_leaves_no_output() {
         2,
         &["--strikes", "--samples"],
     );
-    fails(&["--samples", "0"], 2, &["--samples"]);
+    fails(&["--samples", "0"], 2, &["--samples", "must be at least 1"]);
     files_before(&[&off, &header, &twice, &study]);
 
     // a failed run keeps an existing output as it was

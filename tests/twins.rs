@@ -207,10 +207,7 @@ const TWINS: &[Twin] = &[
     Twin {
         rust: "src/query/roots.rs",
         wgsl: "shaders/query/roots.wgsl",
-        rust_only: &[(
-            "first_upcrossing",
-            "used by the study's rectangle cushions, which have no shader",
-        )],
+        rust_only: &[],
         wgsl_only: &[],
     },
     Twin {

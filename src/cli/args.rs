@@ -201,7 +201,7 @@ pub struct ShotsArgs {
     /// data/studies. Default: the built-in study.
     pub scenario: Option<PathBuf>,
     /// Number of noisy samples (ignored with --strikes).
-    #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, default_value_t = 100_000, value_parser = at_least_one_u64)]
     pub samples: u64,
     /// Random seed: sample i's noise depends on (seed, i) only.
     #[arg(long, default_value_t = 42)]
@@ -332,6 +332,16 @@ pub struct BenchArgs {
     /// Worker threads for the CPU backend and the simulator (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+}
+
+/// A count of at least 1, as a u64 (clap's own range check words it as "0 is not in
+/// 1..18446744073709551615").
+fn at_least_one_u64(s: &str) -> Result<u64, String> {
+    match s.parse::<u64>() {
+        Ok(0) => Err("must be at least 1".to_owned()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(e.to_string()),
+    }
 }
 
 /// A count of at least 1.

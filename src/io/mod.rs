@@ -64,14 +64,6 @@ impl Format {
     }
 }
 
-/// Reads a batch from a file in the format its name says ([`Format::of`]).
-pub fn read_batch_path(path: &Path) -> Result<Batch, Error> {
-    match Format::of(Some(path)) {
-        Format::Csv => read_batch_csv_path(path),
-        Format::Npy => npy::read_batch_npy_path(path),
-    }
-}
-
 /// Reads a batch in `format` from `reader`; `file` is the name used in error messages.
 pub fn read_batch<R: Read>(reader: R, format: Format, file: &str) -> Result<Batch, Error> {
     match format {

@@ -46,16 +46,6 @@ pub fn smallest_positive_root(a: f64, b: f64, c: f64) -> f64 {
     NO_ROOT
 }
 
-/// The smallest `t > 0` at which `qa t² + qb t + qc` crosses zero upwards (or touches it),
-/// or `None`.
-pub fn first_upcrossing(qa: f64, qb: f64, qc: f64) -> Option<f64> {
-    let (n, r0, r1) = quadratic_roots(qa, qb, qc);
-    [r0, r1]
-        .into_iter()
-        .take(n as usize)
-        .find(|&t| t > 0.0 && 2.0 * qa * t + qb >= 0.0)
-}
-
 /// The make_kiss root choice shared by the ball–ball and circular-cushion spacers (spec
 /// §5.1, §5.3): of the roots of `A τ² + B τ + C = 0` whose imaginary part is below 1e-3 of
 /// their real part, the one with the smallest |τ|.
