@@ -61,8 +61,16 @@ use crate::simulate::watch::{TableWatch, WatchOptions, WatchedContact, WatchedPo
 /// some 40 MB.
 pub const DEFAULT_CHUNK_TABLES: usize = 1024;
 
-/// Tables one Rayon task simulates in a row (with one event loop).
+/// Tables one Rayon task simulates in a row (with one event loop), at least: a chunk is cut
+/// into some 32 tasks a thread, each of 8 to 64 tables ([`tables_per_task`]).
 const TABLES_PER_TASK: usize = 8;
+
+/// Tables per Rayon task for chunks of `per_chunk` tables: some 32 tasks a thread (enough
+/// to balance uneven tables), each of [`TABLES_PER_TASK`] to 64 tables (fewer, larger
+/// tasks cost less to gather).
+fn tables_per_task(per_chunk: usize) -> usize {
+    (per_chunk / (32 * rayon::current_num_threads())).clamp(TABLES_PER_TASK, 64)
+}
 
 /// How [`simulate_batch`] runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -259,6 +267,44 @@ impl Chunk {
         self.pot_start.push(self.pots.len());
     }
 
+    /// Makes this chunk the consecutive `parts` (each holding the tables right after the
+    /// one before), the first of them table `first`: emptied (its memory kept) and grown
+    /// once to its final size.
+    fn refill(&mut self, first: usize, watched: bool, parts: Vec<Chunk>) {
+        self.first = first;
+        self.watched = watched;
+        self.events.clear();
+        self.balls.clear();
+        self.outcomes.clear();
+        self.firsts.clear();
+        self.pots.clear();
+        for v in [
+            &mut self.event_start,
+            &mut self.ball_start,
+            &mut self.pot_start,
+        ] {
+            v.clear();
+            v.push(0);
+        }
+        let total = |f: fn(&Chunk) -> usize| parts.iter().map(f).sum::<usize>();
+        self.events.reserve(total(|c| c.events.len()));
+        self.balls.reserve(total(|c| c.balls.len()));
+        self.pots.reserve(total(|c| c.pots.len()));
+        let n = total(|c| c.outcomes.len());
+        self.outcomes.reserve(n);
+        self.firsts.reserve(total(|c| c.firsts.len()));
+        for v in [
+            &mut self.event_start,
+            &mut self.ball_start,
+            &mut self.pot_start,
+        ] {
+            v.reserve(n);
+        }
+        for part in parts {
+            self.append(part);
+        }
+    }
+
     /// Appends `other`, which holds the tables right after this chunk's.
     fn append(&mut self, other: Chunk) {
         let (e0, b0, p0) = (self.events.len(), self.balls.len(), self.pots.len());
@@ -344,13 +390,16 @@ pub fn simulate_batch<'p, E>(
         .map_err(|error| BatchError::Table { table: 0, error })?;
     let per_chunk = options.chunk_tables.max(1);
     let mut stats = BatchStats::default();
+    // one chunk, refilled: its memory is reused from chunk to chunk
+    let mut chunk = Chunk::empty(0);
+    let per_task = tables_per_task(per_chunk);
     let mut first = 0;
     while first < n_tables {
         let end = n_tables.min(first.saturating_add(per_chunk));
         let started = Instant::now();
         let tasks: Vec<Range<usize>> = (first..end)
-            .step_by(TABLES_PER_TASK)
-            .map(|s| s..end.min(s + TABLES_PER_TASK))
+            .step_by(per_task)
+            .map(|s| s..end.min(s + per_task))
             .collect();
         let parts: Vec<Result<Chunk, (usize, SimError)>> = tasks
             .into_par_iter()
@@ -368,11 +417,11 @@ pub fn simulate_batch<'p, E>(
                 },
             )
             .collect();
-        let mut chunk = Chunk::empty(first);
-        chunk.watched = options.watch.is_some();
-        for part in parts {
-            chunk.append(part.map_err(|(table, error)| BatchError::Table { table, error })?);
-        }
+        let parts: Vec<Chunk> = parts
+            .into_iter()
+            .collect::<Result<_, _>>()
+            .map_err(|(table, error)| BatchError::Table { table, error })?;
+        chunk.refill(first, options.watch.is_some(), parts);
         stats.sim_seconds += started.elapsed().as_secs_f64();
         stats.tables += chunk.len();
         stats.events += chunk.n_events();
@@ -396,6 +445,16 @@ fn run_tables(
 ) -> Result<Chunk, (usize, SimError)> {
     let mut out = Chunk::empty(tables.start);
     out.watched = options.watch.is_some();
+    // room for the tables (their balls, at a guess), so that the chunk seldom grows
+    let n = tables.len();
+    out.outcomes.reserve(n);
+    out.ball_start.reserve(n);
+    out.event_start.reserve(n);
+    out.pot_start.reserve(n);
+    out.balls.reserve(n * 16);
+    if out.watched {
+        out.firsts.reserve(n);
+    }
     let mut watcher = options.watch.map(Watcher::new);
     for k in tables {
         let fail = |e| (k, e);

@@ -239,30 +239,24 @@ pub fn run(
     };
     let mut out = Vec::with_capacity(n);
     let sink = |chunk: &crate::simulate::Chunk| {
-        let first = chunk.tables().start;
-        let judged: Vec<Sample> = (0..chunk.len())
-            .into_par_iter()
-            .with_min_len(64)
-            .filter_map(|i| chunk.get(i))
-            .map(|run| {
-                let j = run.table;
-                let watch = run.watch.expect("a watched batch");
-                let ball = physics.of(j).ball;
-                let end = run.balls[0].r;
-                let strike = samples.strike(config, j);
-                sample_of(
-                    config,
-                    options.until,
-                    strike,
-                    ball,
-                    watch,
-                    (end.x, end.y),
-                    run.outcome,
-                )
-            })
-            .collect();
-        debug_assert_eq!(judged.len(), chunk.len(), "chunk from {first}");
-        out.extend(judged);
+        // each sample judged from its watch, Rayon over the chunk, straight into `out`
+        out.par_extend((0..chunk.len()).into_par_iter().with_min_len(64).map(|i| {
+            let run = chunk.get(i).expect("a table of the chunk");
+            let j = run.table;
+            let watch = run.watch.expect("a watched batch");
+            let ball = physics.of(j).ball;
+            let end = run.balls[0].r;
+            let strike = samples.strike(config, j);
+            sample_of(
+                config,
+                options.until,
+                strike,
+                ball,
+                watch,
+                (end.x, end.y),
+                run.outcome,
+            )
+        }));
         progress(out.len(), n);
         Ok::<(), Error>(())
     };
