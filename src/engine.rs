@@ -32,9 +32,9 @@ use crate::model::sim_params::Physics;
 use crate::model::table::Table;
 use crate::query::ball_ball::Contact;
 use crate::resolve::stick_ball::CueStrike;
-use crate::simulate::batch::{EventRecord, check_table};
+use crate::simulate::batch::{EventRecord, check_input};
 use crate::simulate::{
-    BatchError, BatchOptions, BatchStats, Chunk, EventLoop, Limits, MAX_BALLS, simulate_batch,
+    BatchError, BatchOptions, BatchStats, Chunk, EventLoop, Limits, simulate_batch,
 };
 use std::ops::Range;
 use std::time::Instant;
@@ -603,8 +603,8 @@ impl ShotEngine {
 }
 
 /// Tables `tables` of `input`, each checked as [`simulate_batch`] checks it (Rayon over
-/// tables, nothing kept): the most balls a table has, or the first bad table's position
-/// (in table order) and error.
+/// tables, nothing kept; the parameters were checked before): the most balls a table has,
+/// or the first bad table's position (in table order) and error.
 fn check_chunk(
     table: &Table,
     physics: Physics<'_>,
@@ -612,30 +612,16 @@ fn check_chunk(
     tables: Range<usize>,
     input: &(impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync),
 ) -> Result<usize, (usize, SimError)> {
-    let limits = options.limits;
     let verdicts: Vec<Result<usize, (usize, SimError)>> = tables
         .into_par_iter()
         .with_min_len(64)
-        .map_init(
-            || {
-                (
-                    EventLoop::new(table, physics.first(), limits, MAX_BALLS),
-                    Vec::new(),
-                )
-            },
-            |(lp, balls), k| {
-                let fail = |e| (k, e);
-                // cannot fail: the parameters were checked before
-                let lp = lp
-                    .as_mut()
-                    .map_err(|_| fail(SimError::Table("no event loop".to_owned())))?;
-                let strike = input(k, balls).map_err(fail)?;
-                lp.set_params(physics.of(k)).map_err(fail)?;
-                let radius = lp.params().ball.r;
-                check_table(lp, table, radius, options, balls, strike).map_err(fail)?;
-                Ok(balls.len())
-            },
-        )
+        .map_init(Vec::new, |balls, k| {
+            let fail = |e| (k, e);
+            let strike = input(k, balls).map_err(fail)?;
+            let radius = physics.of(k).ball.r;
+            check_input(table, radius, options, balls, strike).map_err(fail)?;
+            Ok(balls.len())
+        })
         .collect();
     verdicts
         .into_iter()

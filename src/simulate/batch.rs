@@ -494,11 +494,25 @@ fn run_tables(
 }
 
 /// Checks one table's input as every backend checks it before simulating it, and leaves
-/// `lp` reset to it: at most [`MAX_BALLS`] balls, [`check_layout`] (when
-/// `options.check_layout`), a strike on a ball that is on the table, and
-/// [`EventLoop::reset`]'s checks (finite numbers, a valid strike).
+/// `lp` reset to it: [`check_input`]'s checks, then [`EventLoop::reset`]'s.
 pub(crate) fn check_table(
     lp: &mut EventLoop,
+    table: &Table,
+    radius: f64,
+    options: &BatchOptions,
+    balls: &[BallState],
+    strike: Option<(usize, CueStrike)>,
+) -> Result<(), SimError> {
+    check_input(table, radius, options, balls, strike)?;
+    lp.reset(balls, strike)
+}
+
+/// Checks one table's input as every backend checks it before simulating it: at most
+/// [`MAX_BALLS`] balls, the watched ball on the table (with [`BatchOptions::watch`]),
+/// [`check_layout`] (when `options.check_layout`), a strike on a ball that is on the table,
+/// and [`EventLoop::check_input`] (finite numbers, a valid strike): what
+/// [`EventLoop::reset`] would refuse, and more.
+pub(crate) fn check_input(
     table: &Table,
     radius: f64,
     options: &BatchOptions,
@@ -534,7 +548,7 @@ pub(crate) fn check_table(
             reason: "the strike's ball is pocketed".to_owned(),
         });
     }
-    lp.reset(balls, strike)
+    EventLoop::check_input(balls, strike)
 }
 
 /// Checks every table of a batch as [`simulate_batch`] (and every backend of
