@@ -451,9 +451,11 @@ fn run_tables(
     out.ball_start.reserve(n);
     out.event_start.reserve(n);
     out.pot_start.reserve(n);
-    out.balls.reserve(n * 16);
     if out.watched {
+        out.balls.reserve(n);
         out.firsts.reserve(n);
+    } else {
+        out.balls.reserve(n * 16);
     }
     let mut watcher = options.watch.map(Watcher::new);
     for k in tables {

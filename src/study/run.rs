@@ -209,12 +209,26 @@ pub fn run(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
     let n = samples.len();
+    let each = std::mem::size_of::<Sample>() + std::mem::size_of::<CueStrike>();
     crate::limits::check_memory(
         &format!("a study of {n} samples"),
-        (n as u64).saturating_mul(std::mem::size_of::<Sample>() as u64),
+        (n as u64).saturating_mul(each as u64),
     )?;
     let initial = config.initial();
     let cue = config.cue;
+    // the strikes, drawn once (Rayon over samples): the input and the judge both read them
+    let drawn: Vec<CueStrike> = match &samples {
+        Samples::Drawn { .. } => (0..n)
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|j| samples.strike(config, j))
+            .collect(),
+        Samples::Given(_) => Vec::new(),
+    };
+    let strikes: &[CueStrike] = match &samples {
+        Samples::Drawn { .. } => &drawn,
+        Samples::Given(given) => given,
+    };
     let batch = BatchOptions {
         limits: options.limits,
         record_events: false,
@@ -235,7 +249,7 @@ pub fn run(
     let input = |j: usize, balls: &mut Vec<BallState>| {
         balls.clear();
         balls.extend_from_slice(&initial);
-        Ok(Some((cue, samples.strike(config, j))))
+        Ok(Some((cue, strikes[j])))
     };
     let mut out = Vec::with_capacity(n);
     let sink = |chunk: &crate::simulate::Chunk| {
@@ -246,7 +260,7 @@ pub fn run(
             let watch = run.watch.expect("a watched batch");
             let ball = physics.of(j).ball;
             let end = run.balls[0].r;
-            let strike = samples.strike(config, j);
+            let strike = strikes[j];
             sample_of(
                 config,
                 options.until,
