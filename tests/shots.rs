@@ -701,6 +701,22 @@ fn example_file_is_the_builtin_study_and_sections_are_optional() {
     let hit = run_strikes(&s, &[s.shot], &REST, &mut |_, _| {}).unwrap();
     assert_eq!(hit[0].first, FirstContact::Ball(1));
     assert!(hit[0].cut_angle.abs() < 1e-9, "{:?}", hit[0]);
+    // every built-in table by its name, pooltool's 7-ft default table among them
+    let on = |kind: &str| {
+        let text = format!("[table]\nkind = \"{kind}\"\n{minimal}");
+        StudyConfig::parse(&text, "on.toml", None)
+    };
+    let seven = on("7ft").unwrap();
+    assert_eq!(
+        (seven.table_name.as_str(), &seven.table),
+        ("7ft", &Table::seven_foot())
+    );
+    assert_ne!(seven.table, Table::nine_foot());
+    assert_eq!(on("rectangle").unwrap().table.pockets.len(), 0);
+    let unknown = on("8ft").unwrap_err().to_string();
+    for name in ["8ft", "9ft", "7ft", "rectangle", "JSON table file"] {
+        assert!(unknown.contains(name), "{unknown}");
+    }
     // a reference-format scenario of the same layout gives the same study
     let reference = studies("dev_scenario.json");
     let r = StudyConfig::read_reference(&reference).unwrap();

@@ -9,9 +9,10 @@
 //! built-in study and a complete example):
 //!
 //! ```toml
-//! [table]            # optional: "9ft" (the default), "rectangle", or a JSON table file
-//! kind = "9ft"       #   (the format of data/fullshots/table.json; relative paths are
-//!                    #   taken from the study file's folder)
+//! [table]            # optional: "9ft" (the default), "7ft" (pooltool's default table),
+//! kind = "9ft"       #   "rectangle", or a JSON table file (the format of
+//!                    #   data/fullshots/table.json; relative paths are taken from the
+//!                    #   study file's folder)
 //!
 //! [physics]          # optional, each key too: pooltool 0.6.0's BallParams names and
 //! R = 0.028575       #   defaults, read by the one parser of every entry point
@@ -67,7 +68,7 @@ use serde::Deserialize;
 
 use crate::error::{Error, InputError, SimError};
 use crate::io::physics::{PhysicsSource, PhysicsValue, physics_from_entries, toml_error};
-use crate::io::table_json::table_by_name;
+use crate::io::table_json::{BUILTIN_TABLES, table_by_name};
 use crate::model::ball_state::BallState;
 use crate::model::sim_params::SimParams;
 use crate::model::table::Table;
@@ -392,7 +393,7 @@ impl StudyConfig {
 
         let table_name = raw.table.kind.clone().unwrap_or_else(|| "9ft".to_owned());
         let table = match table_name.as_str() {
-            "9ft" | "rectangle" => table_by_name(&table_name)?,
+            builtin if BUILTIN_TABLES.contains(&builtin) => table_by_name(builtin)?,
             file => {
                 let path = match dir {
                     Some(d) if !std::path::Path::new(file).is_absolute() => d.join(file),
@@ -400,7 +401,9 @@ impl StudyConfig {
                 };
                 table_by_name(&path.display().to_string()).map_err(|e| match e {
                     Error::Io { path, source } => err(format!(
-                        "key `table.kind`: cannot read the table file {path}: {source}"
+                        "key `table.kind`: cannot read the table file {path}: {source} (the \
+                         kind is a built-in table, {}, or a JSON table file)",
+                        BUILTIN_TABLES.join(", ")
                     )),
                     other => other,
                 })?
