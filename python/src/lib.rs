@@ -68,6 +68,55 @@ fn mem_err(e: std::io::Error) -> PyErr {
     PyRuntimeError::new_err(format!("writing the result: {e}"))
 }
 
+/// Simulates `n` tables (`sizes`: their balls in all, and `n`) through the one entry point
+/// ([`ShotEngine::simulate_with`]), writing each chunk to the `.npy` writers as it comes
+/// (table `k` as `ids(k)`) and noticing Ctrl-C between chunks: the bytes of the events
+/// (where `options.record_events`; else empty), the final states and the outcomes. A bad
+/// table stops it with `bad(k, error)`. `simulate` and the bridge's `simulate_shots` share
+/// it; the caller releases the GIL around it.
+#[allow(clippy::too_many_arguments)]
+fn simulate_npy<'b>(
+    engine: &mut ShotEngine,
+    tbl: &Table,
+    physics: Physics<'_>,
+    options: &BatchOptions,
+    (n_balls, n): (usize, usize),
+    input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync,
+    ids: impl Fn(usize) -> TableIds<'b>,
+    bad: impl Fn(usize, SimError) -> PyErr,
+) -> PyResult<(Vec<u8>, Vec<u8>, Vec<u8>)> {
+    let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
+    let mut ev_w = if options.record_events {
+        Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
+    } else {
+        None
+    };
+    let mut fin_w = FinalWriter::new(&mut fin_out, Format::Npy, n_balls as u64).map_err(mem_err)?;
+    let mut oc_w = OutcomesWriter::new(&mut oc_out, Format::Npy, n as u64).map_err(mem_err)?;
+    let done = engine.simulate_with(tbl, physics, options, n, input, |chunk| {
+        for run in chunk.iter() {
+            let ids = ids(run.table);
+            if let Some(w) = ev_w.as_mut() {
+                w.write_table(ids, tbl, &run).map_err(mem_err)?;
+            }
+            fin_w.write_table(ids, tbl, &run).map_err(mem_err)?;
+            oc_w.write_table(ids, &run).map_err(mem_err)?;
+        }
+        Python::attach(|py| py.check_signals()).map_err(Stop)
+    });
+    match done {
+        Ok(_) => {}
+        Err(BatchError::Table { table, error }) => return Err(bad(table, error)),
+        Err(BatchError::Sink(Stop(e))) => return Err(e),
+    }
+    if let Some(w) = ev_w {
+        w.finish().map_err(mem_err)?;
+    }
+    fin_w.finish().map_err(mem_err)?;
+    oc_w.finish().map_err(mem_err)?;
+    Ok((ev_out, fin_out, oc_out))
+}
+
 /// A contiguous column's values.
 fn slice<'a, T: numpy::Element>(a: &'a PyReadonlyArray1<'_, T>, name: &str) -> PyResult<&'a [T]> {
     a.as_slice().map_err(|_| {
@@ -406,53 +455,23 @@ fn simulate<'py>(
     let mut engine = shot_engine_of(backend, precision)?;
     warn_notes(py, &mut engine)?;
     let n = batch.num_tables();
-    let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
-    // the one entry point, with the GIL released; each chunk's results are written as it
-    // comes, and Ctrl-C is noticed between chunks
+    // the one entry point, with the GIL released
     let input = batch.sim_input_for(&strikes, physics);
-    let result = py.detach(|| {
-        let mut ev_w = if events {
-            Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
-        } else {
-            None
-        };
-        let mut fin_w = FinalWriter::new(&mut fin_out, Format::Npy, batch.num_balls() as u64)
-            .map_err(mem_err)?;
-        let mut oc_w = OutcomesWriter::new(&mut oc_out, Format::Npy, n as u64).map_err(mem_err)?;
-        let done = engine.simulate_with(&tbl, physics, &options, n, input, |chunk| {
-            for run in chunk.iter() {
-                let ids = TableIds {
-                    table: batch.table_id(run.table),
-                    balls: batch.ball_ids(run.table),
-                };
-                if let Some(w) = ev_w.as_mut() {
-                    w.write_table(ids, &tbl, &run).map_err(mem_err)?;
-                }
-                fin_w.write_table(ids, &tbl, &run).map_err(mem_err)?;
-                oc_w.write_table(ids, &run).map_err(mem_err)?;
-            }
-            Python::attach(|py| py.check_signals()).map_err(Stop)
-        });
-        match done {
-            Ok(_) => {}
-            Err(BatchError::Table { table: k, error }) => {
-                let e = Error::from(
-                    kisstime::InputError::new(error.to_string())
-                        .in_file("balls")
-                        .at_table(batch.table_id(k)),
-                );
-                return Err(py_err(e));
-            }
-            Err(BatchError::Sink(Stop(e))) => return Err(e),
-        }
-        if let Some(w) = ev_w {
-            w.finish().map_err(mem_err)?;
-        }
-        fin_w.finish().map_err(mem_err)?;
-        oc_w.finish().map_err(mem_err)
-    });
+    let sizes = (batch.num_balls(), n);
+    let ids = |k: usize| TableIds {
+        table: batch.table_id(k),
+        balls: batch.ball_ids(k),
+    };
+    let bad = |k: usize, error: SimError| {
+        let e = kisstime::InputError::new(error.to_string())
+            .in_file("balls")
+            .at_table(batch.table_id(k));
+        py_err(Error::from(e))
+    };
+    let result =
+        py.detach(|| simulate_npy(&mut engine, &tbl, physics, &options, sizes, input, ids, bad));
     warn_notes(py, &mut engine)?;
-    result?;
+    let (ev_out, fin_out, oc_out) = result?;
     let ev = events.then(|| PyBytes::new(py, &ev_out));
     Ok((ev, PyBytes::new(py, &fin_out), PyBytes::new(py, &oc_out)))
 }
@@ -633,55 +652,28 @@ fn simulate_shots<'py>(
     let n_balls: usize = good.iter().map(|&k| batch.balls(at[k]).len()).sum();
     let mut engine = shot_engine_of(backend, precision)?;
     warn_notes(py, &mut engine)?;
-    let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
+    let sub = |j: usize, balls: &mut Vec<BallState>| input(good[j], balls);
+    let ids = |j: usize| TableIds {
+        table: good[j] as i64,
+        balls: batch.ball_ids(at[good[j]]),
+    };
+    let failed = |j: usize, error: SimError| PyValueError::new_err(message(good[j], &error));
+    let physics = physics_for(one, &per);
+    let sizes = (n_balls, good.len());
     let result = py.detach(|| {
-        let mut ev_w = if events {
-            Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
-        } else {
-            None
-        };
-        let mut fin_w =
-            FinalWriter::new(&mut fin_out, Format::Npy, n_balls as u64).map_err(mem_err)?;
-        let mut oc_w =
-            OutcomesWriter::new(&mut oc_out, Format::Npy, good.len() as u64).map_err(mem_err)?;
-        let sub = |j: usize, balls: &mut Vec<BallState>| input(good[j], balls);
-        let done = engine.simulate_with(
+        simulate_npy(
+            &mut engine,
             &tbl,
-            physics_for(one, &per),
+            physics,
             &options,
-            good.len(),
+            sizes,
             sub,
-            |chunk| {
-                for run in chunk.iter() {
-                    let k = good[run.table];
-                    let ids = TableIds {
-                        table: k as i64,
-                        balls: batch.ball_ids(at[k]),
-                    };
-                    if let Some(w) = ev_w.as_mut() {
-                        w.write_table(ids, &tbl, &run).map_err(mem_err)?;
-                    }
-                    fin_w.write_table(ids, &tbl, &run).map_err(mem_err)?;
-                    oc_w.write_table(ids, &run).map_err(mem_err)?;
-                }
-                Python::attach(|py| py.check_signals()).map_err(Stop)
-            },
-        );
-        match done {
-            Ok(_) => {}
-            Err(BatchError::Table { table: j, error }) => {
-                return Err(PyValueError::new_err(message(good[j], &error)));
-            }
-            Err(BatchError::Sink(Stop(e))) => return Err(e),
-        }
-        if let Some(w) = ev_w {
-            w.finish().map_err(mem_err)?;
-        }
-        fin_w.finish().map_err(mem_err)?;
-        oc_w.finish().map_err(mem_err)
+            ids,
+            failed,
+        )
     });
     warn_notes(py, &mut engine)?;
-    result?;
+    let (ev_out, fin_out, oc_out) = result?;
     let ev = events.then(|| PyBytes::new(py, &ev_out));
     Ok((
         ev,
