@@ -908,17 +908,17 @@ fn per_table_physics_from_a_csv_is_each_table_alone() {
         csv.push_str(&format!("{t},{u_r},{e_c},{m}\n"));
     }
     let per_table = write(dir.path(), "physics.csv", &csv);
+    // `kisstime simulate BALLS --strikes STRIKES --physics FILE [--final OUT]`
+    let with_physics = |physics: &Path, out: Option<&Path>| {
+        let mut args = vec!["simulate", s(&balls), "--strikes", s(&strikes)];
+        args.extend(["--physics", s(physics)]);
+        if let Some(out) = out {
+            args.extend(["--final", s(out)]);
+        }
+        kisstime(&args)
+    };
     let fin = dir.path().join("final.csv");
-    let r = kisstime(&[
-        "simulate",
-        s(&balls),
-        "--strikes",
-        s(&strikes),
-        "--physics",
-        s(&per_table),
-        "--final",
-        s(&fin),
-    ]);
+    let r = with_physics(&per_table, Some(&fin));
     assert_eq!(r.code, Some(0), "{}", r.stderr);
     let all = csv_rows(&std::fs::read_to_string(&fin).unwrap());
     let mut differ = 0;
@@ -929,16 +929,7 @@ fn per_table_physics_from_a_csv_is_each_table_alone() {
             &format!("u_r = {u_r}\ne_c = {e_c}\n[cue]\nM = {m}\n"),
         );
         let one_fin = dir.path().join(format!("f{t}.csv"));
-        let r = kisstime(&[
-            "simulate",
-            s(&balls),
-            "--strikes",
-            s(&strikes),
-            "--physics",
-            s(&toml),
-            "--final",
-            s(&one_fin),
-        ]);
+        let r = with_physics(&toml, Some(&one_fin));
         assert_eq!(r.code, Some(0), "{}", r.stderr);
         let alone = csv_rows(&std::fs::read_to_string(&one_fin).unwrap());
         let mine = |rows: &[Vec<String>]| {
@@ -958,14 +949,7 @@ fn per_table_physics_from_a_csv_is_each_table_alone() {
     // bad files
     let bad = |name: &str, text: &str, words: &[&str]| {
         let f = write(dir.path(), name, text);
-        let r = kisstime(&[
-            "simulate",
-            s(&balls),
-            "--strikes",
-            s(&strikes),
-            "--physics",
-            s(&f),
-        ]);
+        let r = with_physics(&f, None);
         assert_eq!(r.code, Some(2), "{name}: {}", r.stderr);
         for w in words {
             assert!(r.stderr.contains(w), "{name}: {w} not in {}", r.stderr);

@@ -9,32 +9,16 @@
 mod common;
 
 use kisstime::io::physics::{read_physics, read_table_ball_params};
-use kisstime::io::shot_set::{ReplayOut, read_shots, read_table, replay};
-use kisstime::simulate::{Limits, SimParams, Table};
-use std::io::{BufWriter, Write};
+use kisstime::io::shot_set::read_table;
+use kisstime::simulate::{SimParams, Table};
 
 /// Replays the set with `params` and runs the judge: `Some((passed, failed, output))`,
 /// `None` where python3 is missing.
 fn replay_and_judge(params: SimParams) -> Option<(usize, usize, String)> {
-    let dir = common::physics_dir();
-    let table = read_table(&dir).unwrap();
-    let shots = read_shots(&dir, params.ball.r).unwrap();
-    assert_eq!(shots.len(), 120);
-    let out = tempfile::tempdir().unwrap();
-    let (ev_path, fin_path) = (out.path().join("events.csv"), out.path().join("final.csv"));
-    let mut events = BufWriter::new(std::fs::File::create(&ev_path).unwrap());
-    let mut fin = BufWriter::new(std::fs::File::create(&fin_path).unwrap());
-    let mut files = ReplayOut {
-        events: &mut events,
-        final_balls: &mut fin,
-        event_balls: None,
-    };
-    let stats = replay(&shots, &table, params, Limits::default(), &mut files).unwrap();
-    events.flush().unwrap();
-    fin.flush().unwrap();
-    assert_eq!(stats.cut, 0, "no shot may be cut by the default limits");
-    println!("{} shots, {} events", stats.shots, stats.events);
-    common::check_against(out.path(), &dir)
+    let (shots, events, verdict) = common::replay_and_judge(&common::physics_dir(), params);
+    assert_eq!(shots, 120);
+    println!("{shots} shots, {events} events");
+    verdict
 }
 
 /// The set's parameters, read from its `physics.toml` by the library's parser.
