@@ -444,3 +444,50 @@ fn tables_of_22_40_and_64_balls_run_as_on_the_cpu() {
         .unwrap_err();
     assert!(err.to_string().contains("at most 64"), "{err}");
 }
+
+/// What reusing the event loop's buffers across chunks saves (issue 25): the same 2,000
+/// ordinary shots in chunks of 250 tables, with the buffers made once and with them made
+/// anew for every chunk (the `testing` hook `fresh_buffers`), alternating, five runs each;
+/// prints the medians. The results must be the same. Run by hand on lavapipe:
+/// `cargo test --release --test gpu_event_loop buffer_reuse -- --ignored --nocapture`.
+#[test]
+#[ignore = "a timing, run by hand"]
+fn buffer_reuse_timing() {
+    use kisstime::workload::{ShotWorkload, generate_shots};
+    let Some(mut gpu) = open(Precision::F64, "buffer_reuse_timing") else {
+        return;
+    };
+    let params = SimParams::default();
+    let shots: Vec<GpuShot> = generate_shots(ShotWorkload::Ordinary, 2000, 7, params.ball.r)
+        .into_iter()
+        .map(|s| GpuShot {
+            strike: s.strike(),
+            balls: s.balls,
+        })
+        .collect();
+    let table = kisstime::simulate::Table::nine_foot();
+    gpu.max_tables_per_chunk = 250;
+    let mut times = [Vec::new(), Vec::new()];
+    let mut first: Option<Vec<_>> = None;
+    for _ in 0..5 {
+        for fresh in [false, true] {
+            gpu.fresh_buffers = fresh;
+            let started = std::time::Instant::now();
+            let runs = gpu
+                .simulate(&table, params, Limits::default(), &shots, false)
+                .unwrap();
+            times[usize::from(fresh)].push(started.elapsed().as_secs_f64());
+            match &first {
+                Some(f) => assert!(f == &runs, "fresh {fresh}: other results"),
+                None => first = Some(runs),
+            }
+        }
+    }
+    for (name, t) in ["buffers reused", "buffers made per chunk"]
+        .iter()
+        .zip(&mut times)
+    {
+        t.sort_by(f64::total_cmp);
+        println!("{name}: median {:.3} s, runs {t:.3?}", t[2]);
+    }
+}

@@ -212,6 +212,10 @@ pub struct GpuSimulator {
     /// A fault waiting for its dispatch: the fault, and how many dispatches run first.
     #[cfg(feature = "testing")]
     pub(super) pending_fault: Option<(super::Fault, u32)>,
+    /// Test hook: make the buffers anew for every chunk instead of reusing them (to
+    /// measure what the reuse saves).
+    #[cfg(feature = "testing")]
+    pub fresh_buffers: bool,
     /// The last call's timings, summed over chunks (see [`GpuTimings`]).
     timings: GpuTimings,
     /// Every call's timings since the simulator was opened.
@@ -261,6 +265,8 @@ impl GpuSimulator {
             pack_u: Vec::new(),
             #[cfg(feature = "testing")]
             pending_fault: None,
+            #[cfg(feature = "testing")]
+            fresh_buffers: false,
             precision,
             pipelines: Vec::new(),
             threads,

@@ -50,6 +50,10 @@ impl GpuSimulator {
         sim_reals: usize,
     ) -> Result<&LoopBuffers, Error> {
         let per = self.events_per_dispatch.max(1) as usize;
+        #[cfg(feature = "testing")]
+        if self.fresh_buffers {
+            self.bufs = None;
+        }
         let fits = self.bufs.as_ref().is_some_and(|b| {
             b.layout == layout
                 && b.tables >= tables
