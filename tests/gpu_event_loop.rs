@@ -22,9 +22,8 @@ mod common;
 
 use kisstime::Precision;
 use kisstime::gpu::{GpuShot, GpuSimulator};
-use kisstime::io::shot_set::{ReplayOut, read_shots, read_table, write_headers, write_shot};
+use kisstime::io::shot_set::{read_shots, read_table, write_headers, write_shot};
 use kisstime::simulate::{EventRecord, Limits, SimParams, simulate};
-use std::io::{BufWriter, Write};
 
 /// The event bound of the f32 run (the reference's longest shot has 1,108 events).
 const F32_MAX_EVENTS: usize = 3000;
@@ -169,22 +168,13 @@ fn judge(
     runs: &[kisstime::gpu::GpuRun],
     reference: &std::path::Path,
 ) -> Option<(usize, usize)> {
-    let out = tempfile::tempdir().unwrap();
-    let (ev_path, fin_path) = (out.path().join("events.csv"), out.path().join("final.csv"));
-    let mut events = BufWriter::new(std::fs::File::create(&ev_path).unwrap());
-    let mut fin = BufWriter::new(std::fs::File::create(&fin_path).unwrap());
-    let mut files = ReplayOut {
-        events: &mut events,
-        final_balls: &mut fin,
-        event_balls: None,
-    };
-    write_headers(&mut files).unwrap();
-    for (s, run) in shots.iter().zip(runs) {
-        write_shot(s, &run.events, &run.balls, table, &mut files).unwrap();
-    }
-    events.flush().unwrap();
-    fin.flush().unwrap();
-    let (passed, failed, text) = common::check_against(out.path(), reference)?;
+    let ((), verdict) = common::write_and_judge(reference, |files| {
+        write_headers(files).unwrap();
+        for (s, run) in shots.iter().zip(runs) {
+            write_shot(s, &run.events, &run.balls, table, files).unwrap();
+        }
+    });
+    let (passed, failed, text) = verdict?;
     for l in text.lines().filter(|l| l.contains("FAIL")) {
         println!("  {l}");
     }

@@ -268,34 +268,47 @@ pub fn physics_dir() -> std::path::PathBuf {
     std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/physics")).to_path_buf()
 }
 
-/// Replays the reference set in `dir` (the format of `data/fullshots`) with `params`
-/// through the library's replay (`kisstime::io::shot_set::replay`), writing the checker's
-/// `events.csv` and `final.csv` to a temporary folder, and runs the set's judge on it:
-/// `(shots, events, the judge's verdict)`, the verdict `None` where python3 is missing. No
-/// shot may be cut by the default limits.
-pub fn replay_and_judge(
-    dir: &std::path::Path,
-    params: kisstime::simulate::SimParams,
-) -> (usize, usize, Option<(usize, usize, String)>) {
-    use kisstime::io::shot_set::{ReplayOut, read_shots, read_table, replay};
+/// Has `write` write a replay's `events.csv` and `final.csv` (through a
+/// `kisstime::io::shot_set::ReplayOut`) into a temporary folder, then runs the judge of
+/// the reference set in `reference` on them ([`check_against`]): `write`'s result and the
+/// verdict, `None` where python3 is missing.
+pub fn write_and_judge<T>(
+    reference: &std::path::Path,
+    write: impl FnOnce(&mut kisstime::io::shot_set::ReplayOut<'_>) -> T,
+) -> (T, Option<(usize, usize, String)>) {
     use std::io::{BufWriter, Write};
-    let table = read_table(dir).unwrap();
-    let shots = read_shots(dir, params.ball.r).unwrap();
     let out = tempfile::tempdir().unwrap();
     let (ev_path, fin_path) = (out.path().join("events.csv"), out.path().join("final.csv"));
     let mut events = BufWriter::new(std::fs::File::create(&ev_path).unwrap());
     let mut fin = BufWriter::new(std::fs::File::create(&fin_path).unwrap());
-    let mut files = ReplayOut {
+    let mut files = kisstime::io::shot_set::ReplayOut {
         events: &mut events,
         final_balls: &mut fin,
         event_balls: None,
     };
-    let limits = kisstime::simulate::Limits::default();
-    let stats = replay(&shots, &table, params, limits, &mut files).unwrap();
+    let written = write(&mut files);
     events.flush().unwrap();
     fin.flush().unwrap();
+    (written, check_against(out.path(), reference))
+}
+
+/// Replays the reference set in `dir` (the format of `data/fullshots`) with `params`
+/// through the library's replay (`kisstime::io::shot_set::replay`) and runs the set's judge
+/// on it ([`write_and_judge`]): `(shots, events, the judge's verdict)`, the verdict `None`
+/// where python3 is missing. No shot may be cut by the default limits.
+pub fn replay_and_judge(
+    dir: &std::path::Path,
+    params: kisstime::simulate::SimParams,
+) -> (usize, usize, Option<(usize, usize, String)>) {
+    use kisstime::io::shot_set::{read_shots, read_table, replay};
+    let table = read_table(dir).unwrap();
+    let shots = read_shots(dir, params.ball.r).unwrap();
+    let limits = kisstime::simulate::Limits::default();
+    let (stats, verdict) = write_and_judge(dir, |files| {
+        replay(&shots, &table, params, limits, files).unwrap()
+    });
     assert_eq!(stats.cut, 0, "no shot may be cut by the default limits");
-    (stats.shots, stats.events, check_against(out.path(), dir))
+    (stats.shots, stats.events, verdict)
 }
 
 /// Runs the set's judge, `check_fullshots.py`, on a replay in `out` (its `events.csv` and
