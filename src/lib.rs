@@ -19,6 +19,8 @@
 //!   ball–pocket collisions, the motion transitions;
 //! - [`simulate`]: the event loop — whole shots from the strike to rest, pooltool 0.6.0's
 //!   physics (CPU, f64), many tables at once, and the watch (a study's view of the events);
+//! - [`game`]: the rules' verdict on a simulated shot (legal, foul, turn over, game over),
+//!   as pooltool 0.6.0's rule sets judge it: [`game::nine_ball`];
 //! - [`batch`]: the flat batch layout, the pair order and the next-collision tie rule;
 //! - [`cpu`]: the Rayon drivers [`pair_times`] and [`next_collisions`] (f64, the
 //!   reference);
@@ -66,6 +68,7 @@ pub mod compare;
 pub mod cpu;
 pub mod engine;
 pub mod error;
+pub mod game;
 pub mod gpu;
 pub mod io;
 pub mod limits;

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 /// kernels and for whole shots; the study is its client (it runs through
 /// `ShotEngine::simulate_with`), so it sits on top.
 const LAYERS: &[&str] = &[
-    "error", "model", "motion", "query", "resolve", "limits", "simulate", "batch", "cpu", "gpu",
-    "compare", "io", "workload", "engine", "study",
+    "error", "model", "motion", "query", "resolve", "limits", "simulate", "game", "batch", "cpu",
+    "gpu", "compare", "io", "workload", "engine", "study",
 ];
 
 /// Every `.rs` file under `dir`.

@@ -1,0 +1,185 @@
+//! Games: the rules' verdict on one simulated shot — was it legal, which foul, is the turn
+//! over, is the game over — judged from the shot's events and its balls at the start,
+//! exactly as pooltool 0.6.0's rule sets judge them (`pooltool/ruleset/`), one module per
+//! game:
+//!
+//! - [`nine_ball`]: 9-ball (`pooltool.ruleset.nine_ball`).
+//!
+//! A judge reads a [`Shot`]: each ball's identity (`ids`, the input's ball ids: the cue
+//! ball is 0, object balls their numbers), each ball's state at the start (which balls
+//! were already pocketed), and the events in order, the strike first (what
+//! [`crate::simulate::simulate_batch`] records). It allocates nothing and loops over the
+//! events a bounded number of times, so it can sit on the hot path of a batch or a study.
+//!
+//! Reference: `data/games/` holds pooltool's own verdicts on shots it simulated
+//! (`tools/games/`, seeded), and `tests/games.rs` replays each shot through kisstime and
+//! checks the judge against them.
+
+use crate::error::SimError;
+use crate::model::MotionState;
+use crate::model::ball_state::BallState;
+use crate::simulate::batch::EventRecord;
+use crate::simulate::events::{Event, EventKind};
+
+pub mod nine_ball;
+
+/// A foul, named as in kisstime's outputs ([`Foul::code`]) and as pooltool 0.6.0 words
+/// its reason ([`Foul::pooltool_reason`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Foul {
+    /// The cue ball was pocketed.
+    CuePocketed,
+    /// The cue ball hit no ball (pooltool: no ball–ball event at all).
+    NoHit,
+    /// The first ball the cue ball hit was not one the player may hit first.
+    WrongBallFirst,
+    /// No ball reached a cushion after the first contact and none was pocketed.
+    NoRail,
+    /// A break with no ball pocketed and fewer than four object balls at a cushion.
+    BreakRails,
+}
+
+impl Foul {
+    /// Every foul.
+    pub const ALL: [Foul; 5] = [
+        Foul::CuePocketed,
+        Foul::NoHit,
+        Foul::WrongBallFirst,
+        Foul::NoRail,
+        Foul::BreakRails,
+    ];
+
+    /// Its code in kisstime's outputs: `cue_pocketed`, `no_hit`, `wrong_ball_first`,
+    /// `no_rail`, `break_rails`.
+    pub fn code(self) -> &'static str {
+        match self {
+            Foul::CuePocketed => "cue_pocketed",
+            Foul::NoHit => "no_hit",
+            Foul::WrongBallFirst => "wrong_ball_first",
+            Foul::NoRail => "no_rail",
+            Foul::BreakRails => "break_rails",
+        }
+    }
+
+    /// The reason pooltool 0.6.0's rule sets give for it (9-ball's wording).
+    pub fn pooltool_reason(self) -> &'static str {
+        match self {
+            Foul::CuePocketed => "Cue ball in pocket!",
+            Foul::NoHit => "No ball contacted",
+            Foul::WrongBallFirst => "Lowest ball not hit first",
+            Foul::NoRail => "Cushion not contacted after first contact",
+            Foul::BreakRails => "4 rails must be contacted, or 1 ball potted",
+        }
+    }
+}
+
+/// The rules' verdict on one shot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Verdict {
+    /// Whether the shot was legal.
+    pub legal: bool,
+    /// The foul, where it was not (`None` exactly when `legal`).
+    pub foul: Option<Foul>,
+    /// Whether the player's turn is over.
+    pub turn_over: bool,
+    /// Whether the game is over (won by the player who shot).
+    pub game_over: bool,
+}
+
+/// One simulated shot as the rules see it.
+#[derive(Clone, Copy, Debug)]
+pub struct Shot<'a> {
+    /// Each ball's identity, index for index: 0 the cue ball, object balls their numbers.
+    pub ids: &'a [i64],
+    /// Each ball's state at the start of the shot (pocketed ones are off the table).
+    pub start: &'a [BallState],
+    /// The shot's events in order, the strike first.
+    pub events: &'a [EventRecord],
+}
+
+impl Shot<'_> {
+    /// Checks the shot for a pool game (8-ball, 9-ball): one ball per index, exactly one
+    /// cue ball (id 0), the others numbered 1 to 15, at most [`u64::BITS`] balls. Returns
+    /// the cue ball's index.
+    pub fn pool_cue(&self) -> Result<usize, SimError> {
+        if self.ids.len() != self.start.len() {
+            return Err(SimError::Table(format!(
+                "{} ball ids for {} balls",
+                self.ids.len(),
+                self.start.len()
+            )));
+        }
+        if self.ids.len() > u64::BITS as usize {
+            return Err(SimError::Table(format!(
+                "{} balls: the rules take at most {}",
+                self.ids.len(),
+                u64::BITS
+            )));
+        }
+        let mut cue = None;
+        for (index, &id) in self.ids.iter().enumerate() {
+            match id {
+                0 if cue.is_some() => {
+                    return Err(SimError::Ball {
+                        index,
+                        reason: "a second cue ball (id 0)".to_owned(),
+                    });
+                }
+                0 => cue = Some(index),
+                1..=15 => {}
+                other => {
+                    return Err(SimError::Ball {
+                        index,
+                        reason: format!("id {other}: pool balls are the cue ball (0) and 1 to 15"),
+                    });
+                }
+            }
+        }
+        cue.ok_or_else(|| SimError::Table("no cue ball (id 0) on the table".to_owned()))
+    }
+
+    /// The events, in order.
+    fn events(&self) -> impl Iterator<Item = &Event> + '_ {
+        self.events.iter().map(|r| &r.event)
+    }
+
+    /// Whether ball `i` was on the table at the start.
+    fn on_table_at_start(&self, i: usize) -> bool {
+        self.start[i].s != MotionState::Pocketed
+    }
+
+    /// The balls pocketed during the shot, as a bit set of indices.
+    fn pocketed(&self) -> u64 {
+        self.events()
+            .filter(|e| e.kind == EventKind::BallPocket)
+            .fold(0, |set, e| set | bit(e.ball))
+    }
+
+    /// The cue ball's first ball–ball event: its time and the other ball's index.
+    fn first_contact(&self, cue: usize) -> Option<(f64, usize)> {
+        self.events().find_map(|e| {
+            let involves = e.ball as usize == cue || e.other as usize == cue;
+            (e.kind == EventKind::BallBall && involves).then(|| {
+                let other = if e.ball as usize == cue {
+                    e.other
+                } else {
+                    e.ball
+                };
+                (e.t, other as usize)
+            })
+        })
+    }
+}
+
+/// The bit of ball index `i` in a set of balls.
+fn bit(i: u32) -> u64 {
+    1u64.checked_shl(i).unwrap_or(0)
+}
+
+/// Whether `e` is a ball hitting a cushion (a straight one or a jaw).
+fn is_cushion(e: &Event) -> bool {
+    matches!(
+        e.kind,
+        EventKind::BallLinearCushion | EventKind::BallCircularCushion
+    )
+}

@@ -1,0 +1,93 @@
+//! 9-ball as pooltool 0.6.0 judges it (`pooltool/ruleset/nine_ball.py`: `is_legal`,
+//! `is_turn_over`, `is_game_over`, with `pooltool/ruleset/utils.py`'s helpers).
+//!
+//! **A break** (the first shot of a game) is legal unless the cue ball is pocketed
+//! ([`Foul::CuePocketed`]), and then only if a ball is pocketed or at least four object
+//! balls reach a cushion (straight or jaw; [`Foul::BreakRails`]).
+//!
+//! **Any other shot**, the first foul that applies in this order:
+//! 1. no ball–ball event at all ([`Foul::NoHit`]);
+//! 2. the cue ball's first ball–ball contact is not with the lowest-numbered ball on the
+//!    table at the start ([`Foul::WrongBallFirst`]);
+//! 3. the cue ball is pocketed ([`Foul::CuePocketed`]);
+//! 4. no ball (the cue ball included) touches a cushion strictly after the time of that
+//!    first contact, and no object ball is pocketed ([`Foul::NoRail`]).
+//!
+//! The turn is over after a foul or when no object ball was pocketed; the game is over
+//! after a legal shot that pocketed the highest-numbered ball on the table at the start
+//! (the 9), the break included.
+//!
+//! Where pooltool departs from the WPA rules (kisstime follows pooltool; the WPA reading
+//! is not offered yet): the break need not hit the 1 first; a ball driven off the table is
+//! no foul (pooltool's tables have no such event); a 9 pocketed on a foul stays down (WPA
+//! re-spots it; pooltool's game loop re-spots a ball only when none is left, which is not
+//! part of the verdict); there is no push-out after the break.
+
+use super::{Foul, Shot, Verdict, bit, is_cushion};
+use crate::error::SimError;
+use crate::simulate::events::EventKind;
+
+/// The verdict on `shot`, a break where `break_shot`. Errors: the shot's balls are not a
+/// pool game's ([`Shot::pool_cue`]), or no object ball was on the table at the start.
+pub fn judge(shot: &Shot<'_>, break_shot: bool) -> Result<Verdict, SimError> {
+    let cue = shot.pool_cue()?;
+    let on_table = |i: usize| i != cue && shot.on_table_at_start(i);
+    let numbers = || (0..shot.ids.len()).filter(|&i| on_table(i));
+    let lowest = numbers().min_by_key(|&i| shot.ids[i]);
+    let highest = numbers().max_by_key(|&i| shot.ids[i]);
+    let (Some(lowest), Some(highest)) = (lowest, highest) else {
+        return Err(SimError::Table(
+            "no numbered ball on the table at the start".to_owned(),
+        ));
+    };
+    let pocketed = shot.pocketed();
+    let cue_pocketed = pocketed & bit(cue as u32) != 0;
+    let object_pocketed = pocketed & !bit(cue as u32) != 0;
+    let foul = if break_shot {
+        break_foul(shot, cue, cue_pocketed, pocketed != 0)
+    } else {
+        shot_foul(shot, cue, lowest, cue_pocketed, object_pocketed)
+    };
+    let legal = foul.is_none();
+    Ok(Verdict {
+        legal,
+        foul,
+        turn_over: !legal || !object_pocketed,
+        game_over: legal && pocketed & bit(highest as u32) != 0,
+    })
+}
+
+/// A break's foul (pooltool's `_is_legal_break`), if any.
+fn break_foul(shot: &Shot<'_>, cue: usize, cue_pocketed: bool, any_pocketed: bool) -> Option<Foul> {
+    if cue_pocketed {
+        return Some(Foul::CuePocketed);
+    }
+    let at_cushion = shot
+        .events()
+        .filter(|e| is_cushion(e) && e.ball as usize != cue)
+        .fold(0u64, |set, e| set | bit(e.ball));
+    (!any_pocketed && at_cushion.count_ones() < 4).then_some(Foul::BreakRails)
+}
+
+/// A shot's foul other than a break's (pooltool's `is_legal`), if any.
+fn shot_foul(
+    shot: &Shot<'_>,
+    cue: usize,
+    lowest: usize,
+    cue_pocketed: bool,
+    object_pocketed: bool,
+) -> Option<Foul> {
+    let any_contact = shot.events().any(|e| e.kind == EventKind::BallBall);
+    let first = shot.first_contact(cue);
+    if !any_contact {
+        return Some(Foul::NoHit);
+    }
+    if first.map(|(_, ball)| ball) != Some(lowest) {
+        return Some(Foul::WrongBallFirst);
+    }
+    if cue_pocketed {
+        return Some(Foul::CuePocketed);
+    }
+    let cushion_after = first.is_some_and(|(t, _)| shot.events().any(|e| is_cushion(e) && e.t > t));
+    (!cushion_after && !object_pocketed).then_some(Foul::NoRail)
+}

@@ -1,0 +1,271 @@
+//! The game judges against pooltool 0.6.0's own verdicts (`data/games/`, made by
+//! `tools/games/`: shots simulated by `pt.simulate` and judged by pooltool's rule-set
+//! functions). Each shot is replayed through kisstime's simulator on the same table; its
+//! event sequence (each event's type and balls) must be pooltool's for all but 1 % of the
+//! shots (a break is chaotic: a drift of 1e-9 s can grow into another sequence late in
+//! it), with times within 1e-6 s for 99 % of them; on every shot whose sequence is
+//! pooltool's, kisstime's verdict — legal, the foul, turn over, game over — must be
+//! pooltool's.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use kisstime::game::{Foul, Shot, nine_ball};
+use kisstime::simulate::{
+    BallState, BatchOptions, CueStrike, EventRecord, SimParams, Table, simulate_batch,
+};
+
+fn dir(game: &str) -> PathBuf {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/games")).join(game)
+}
+
+/// A CSV line's cells (a cell in double quotes may hold commas; `""` is a quote).
+fn cells(line: &str) -> Vec<String> {
+    let (mut out, mut cell, mut quoted) = (Vec::new(), String::new(), false);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                cell.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => out.push(std::mem::take(&mut cell)),
+            _ => cell.push(c),
+        }
+    }
+    out.push(cell);
+    out
+}
+
+/// A CSV file's rows as maps from column to cell.
+fn rows(path: &Path) -> Vec<BTreeMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let head = cells(lines.next().unwrap());
+    lines
+        .map(|l| head.iter().cloned().zip(cells(l)).collect())
+        .collect()
+}
+
+fn num(row: &BTreeMap<String, String>, key: &str) -> f64 {
+    row[key].parse().unwrap()
+}
+
+/// One reference shot: balls (id, x, y), strike, whether a break, pooltool's verdict and
+/// its events' digest (type, t, ball, other).
+struct RefShot {
+    ids: Vec<i64>,
+    xy: Vec<(f64, f64)>,
+    strike: CueStrike,
+    break_shot: bool,
+    legal: bool,
+    reason: String,
+    turn_over: bool,
+    game_over: bool,
+    events: Vec<(String, f64, String, String)>,
+}
+
+fn read_set(game: &str) -> Vec<RefShot> {
+    let d = dir(game);
+    let mut shots: Vec<RefShot> = rows(&d.join("shots.csv"))
+        .iter()
+        .map(|r| RefShot {
+            ids: Vec::new(),
+            xy: Vec::new(),
+            strike: CueStrike {
+                v0: num(r, "v0"),
+                phi: num(r, "phi"),
+                theta: num(r, "theta"),
+                a: num(r, "a"),
+                b: num(r, "b"),
+            },
+            break_shot: r["break"] == "1",
+            legal: r["legal"] == "1",
+            reason: r["reason"].clone(),
+            turn_over: r["turn_over"] == "1",
+            game_over: r["game_over"] == "1",
+            events: Vec::new(),
+        })
+        .collect();
+    for r in rows(&d.join("balls.csv")) {
+        let s = &mut shots[r["shot"].parse::<usize>().unwrap()];
+        s.ids.push(r["ball"].parse().unwrap());
+        s.xy.push((num(&r, "x"), num(&r, "y")));
+    }
+    for r in rows(&d.join("events.csv")) {
+        let s = &mut shots[r["shot"].parse::<usize>().unwrap()];
+        s.events.push((
+            r["type"].clone(),
+            num(&r, "t"),
+            r["ball"].clone(),
+            r["other"].clone(),
+        ));
+    }
+    shots
+}
+
+/// Every shot of the set simulated by kisstime (the cue ball, id 0, struck), in order:
+/// each one's events.
+fn replay(shots: &[RefShot], table: &Table) -> Vec<Vec<EventRecord>> {
+    let p = SimParams::default();
+    let input = |k: usize, balls: &mut Vec<BallState>| {
+        let s = &shots[k];
+        balls.clear();
+        balls.extend(
+            s.xy.iter()
+                .map(|&(x, y)| BallState::at_rest(x, y, p.ball.r)),
+        );
+        let cue = s.ids.iter().position(|&id| id == 0).unwrap();
+        Ok(Some((cue, s.strike)))
+    };
+    let mut out = Vec::new();
+    simulate_batch(
+        table,
+        p,
+        &BatchOptions::default(),
+        shots.len(),
+        input,
+        |chunk| {
+            out.extend(chunk.iter().map(|run| run.events.to_vec()));
+            Ok::<(), ()>(())
+        },
+    )
+    .unwrap();
+    out
+}
+
+/// Where kisstime's event sequence (each event's type and balls) differs from pooltool's
+/// digest, if it does; else the largest difference of their times, s.
+fn events_differ(s: &RefShot, mine: &[EventRecord]) -> Result<f64, String> {
+    if mine.len() != s.events.len() {
+        return Err(format!(
+            "{} events, pooltool {}",
+            mine.len(),
+            s.events.len()
+        ));
+    }
+    let mut drift = 0.0f64;
+    for (k, (r, (kind, t, ball, other))) in mine.iter().zip(&s.events).enumerate() {
+        let e = r.event;
+        let id = |i: u32| s.ids[i as usize].to_string();
+        let o = if e.kind.name() == "ball_ball" {
+            id(e.other)
+        } else {
+            String::new()
+        };
+        let b = id(e.ball);
+        if e.kind.name() != kind || (&b, &o) != (ball, other) {
+            return Err(format!(
+                "event {k}: kisstime {} {b} {o} at {}, pooltool {kind} {ball} {other} at {t}",
+                e.kind.name(),
+                e.t
+            ));
+        }
+        drift = drift.max((e.t - t).abs());
+    }
+    Ok(drift)
+}
+
+#[test]
+fn nine_ball_verdicts_are_pooltools() {
+    let shots = read_set("nine_ball");
+    assert!(shots.len() >= 500, "{} shots", shots.len());
+    let table = Table::seven_foot();
+    let runs = replay(&shots, &table);
+    let p = SimParams::default();
+    let mut tally: BTreeMap<String, usize> = BTreeMap::new();
+    let (mut differ, mut drift) = (Vec::new(), Vec::new());
+    for (k, (s, events)) in shots.iter().zip(&runs).enumerate() {
+        match events_differ(s, events) {
+            Ok(d) => drift.push(d),
+            Err(why) => {
+                differ.push(format!("shot {k}: {why}"));
+                continue;
+            }
+        }
+        let start: Vec<BallState> =
+            s.xy.iter()
+                .map(|&(x, y)| BallState::at_rest(x, y, p.ball.r))
+                .collect();
+        let shot = Shot {
+            ids: &s.ids,
+            start: &start,
+            events,
+        };
+        let v = nine_ball::judge(&shot, s.break_shot).unwrap();
+        let reason = v.foul.map_or("", Foul::pooltool_reason);
+        let want = (s.legal, s.reason.as_str(), s.turn_over, s.game_over);
+        assert_eq!(
+            (v.legal, reason, v.turn_over, v.game_over),
+            want,
+            "shot {k} (break {})",
+            s.break_shot
+        );
+        let key = format!(
+            "{}{}",
+            if s.break_shot { "break " } else { "" },
+            v.foul.map_or("legal", Foul::code)
+        );
+        *tally.entry(key).or_default() += 1;
+    }
+    println!("{tally:#?}");
+    drift.sort_by(f64::total_cmp);
+    let at = |q: f64| drift[((drift.len() - 1) as f64 * q) as usize];
+    println!(
+        "{} of {} shots with pooltool's event sequence, judged; time drift: median {:.1e} s, \
+         99 % {:.1e} s, largest {:.1e} s; sequences that differ: {differ:#?}",
+        drift.len(),
+        shots.len(),
+        at(0.5),
+        at(0.99),
+        at(1.0)
+    );
+    // a break is chaotic: a drift of 1e-9 s can grow into another sequence late in it
+    // (pooltool's own sensitivity, as in data/fullshots)
+    assert!(differ.len() * 100 <= shots.len(), "{differ:#?}");
+    assert!(at(0.99) < 1e-6, "time drift {:.1e} s", at(0.99));
+    // every verdict the set holds was judged
+    for foul in [
+        "cue_pocketed",
+        "no_hit",
+        "wrong_ball_first",
+        "no_rail",
+        "break break_rails",
+        "break cue_pocketed",
+        "legal",
+        "break legal",
+    ] {
+        assert!(
+            tally.get(foul).is_some_and(|&n| n >= 5),
+            "{foul}: {tally:?}"
+        );
+    }
+}
+
+#[test]
+fn a_shot_that_is_not_a_pool_game_is_an_error() {
+    let p = SimParams::default();
+    let start = [
+        BallState::at_rest(0.3, 0.3, p.ball.r),
+        BallState::at_rest(0.6, 0.6, p.ball.r),
+    ];
+    let judge = |ids: &[i64]| {
+        let shot = Shot {
+            ids,
+            start: &start,
+            events: &[],
+        };
+        nine_ball::judge(&shot, false).map_err(|e| e.to_string())
+    };
+    assert!(judge(&[1, 2]).unwrap_err().contains("no cue ball"));
+    assert!(judge(&[0, 0]).unwrap_err().contains("second cue ball"));
+    assert!(judge(&[0, 16]).unwrap_err().contains("1 to 15"));
+    assert!(judge(&[0]).unwrap_err().contains("1 ball ids for 2 balls"));
+    // no ball hit at all
+    let v = judge(&[0, 9]).unwrap();
+    assert_eq!(
+        (v.legal, v.foul, v.turn_over),
+        (false, Some(Foul::NoHit), true)
+    );
+}
