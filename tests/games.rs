@@ -10,7 +10,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use kisstime::game::{Foul, Shot, nine_ball};
+use kisstime::game::{Context, Foul, Shot, eight_ball, nine_ball};
 use kisstime::simulate::{
     BallState, BatchOptions, CueStrike, EventRecord, SimParams, Table, simulate_batch,
 };
@@ -63,11 +63,30 @@ struct RefShot {
     reason: String,
     turn_over: bool,
     game_over: bool,
+    /// 8-ball: the shot's context and whether the player who shot won.
+    context: Context,
+    won: Option<bool>,
     events: Vec<(String, f64, String, String)>,
 }
 
 fn read_set(game: &str) -> Vec<RefShot> {
     let d = dir(game);
+    let pockets = Table::seven_foot().pocket_ids;
+    let context = |r: &BTreeMap<String, String>| Context {
+        break_shot: r["break"] == "1",
+        hittable: r.get("hittable").map_or(0, |h| {
+            Context::balls(
+                h.split(';')
+                    .filter(|s| !s.is_empty())
+                    .map(|n| n.parse().unwrap()),
+            )
+        }),
+        call_shot: r.get("call_shot").is_some_and(|c| c == "1"),
+        ball_call: r.get("ball_call").and_then(|b| b.parse().ok()),
+        pocket_call: r
+            .get("pocket_call")
+            .and_then(|p| pockets.iter().position(|q| q == p)),
+    };
     let mut shots: Vec<RefShot> = rows(&d.join("shots.csv"))
         .iter()
         .map(|r| RefShot {
@@ -85,6 +104,8 @@ fn read_set(game: &str) -> Vec<RefShot> {
             reason: r["reason"].clone(),
             turn_over: r["turn_over"] == "1",
             game_over: r["game_over"] == "1",
+            context: context(r),
+            won: r.get("won").map(|w| w == "1"),
             events: Vec::new(),
         })
         .collect();
@@ -167,9 +188,16 @@ fn events_differ(s: &RefShot, mine: &[EventRecord]) -> Result<f64, String> {
     Ok(drift)
 }
 
-#[test]
-fn nine_ball_verdicts_are_pooltools() {
-    let shots = read_set("nine_ball");
+/// The set of `game` replayed and judged by `judge`, whose verdicts must be pooltool's
+/// (`reason` words a foul as the game's pooltool rules do); every verdict in `expect` must
+/// occur at least 5 times.
+fn check_set(
+    game: &str,
+    judge: impl Fn(&Shot<'_>, &RefShot) -> kisstime::game::Verdict,
+    reason: fn(Foul) -> &'static str,
+    expect: &[&str],
+) {
+    let shots = read_set(game);
     assert!(shots.len() >= 500, "{} shots", shots.len());
     let table = Table::seven_foot();
     let runs = replay(&shots, &table);
@@ -193,8 +221,12 @@ fn nine_ball_verdicts_are_pooltools() {
             start: &start,
             events,
         };
-        let v = nine_ball::judge(&shot, s.break_shot).unwrap();
-        let reason = v.foul.map_or("", Foul::pooltool_reason);
+        let v = judge(&shot, s);
+        assert_eq!(v.legal, v.foul.is_none(), "shot {k}");
+        if let Some(won) = s.won {
+            assert_eq!(v.won, won, "shot {k}: won");
+        }
+        let reason = v.foul.map_or("", reason);
         let want = (s.legal, s.reason.as_str(), s.turn_over, s.game_over);
         assert_eq!(
             (v.legal, reason, v.turn_over, v.game_over),
@@ -226,21 +258,52 @@ fn nine_ball_verdicts_are_pooltools() {
     assert!(differ.len() * 100 <= shots.len(), "{differ:#?}");
     assert!(at(0.99) < 1e-6, "time drift {:.1e} s", at(0.99));
     // every verdict the set holds was judged
-    for foul in [
-        "cue_pocketed",
-        "no_hit",
-        "wrong_ball_first",
-        "no_rail",
-        "break break_rails",
-        "break cue_pocketed",
-        "legal",
-        "break legal",
-    ] {
+    for verdict in expect {
         assert!(
-            tally.get(foul).is_some_and(|&n| n >= 5),
-            "{foul}: {tally:?}"
+            tally.get(*verdict).is_some_and(|&n| n >= 5),
+            "{verdict}: {tally:?}"
         );
     }
+}
+
+#[test]
+fn nine_ball_verdicts_are_pooltools() {
+    check_set(
+        "nine_ball",
+        |shot, s| nine_ball::judge(shot, s.break_shot).unwrap(),
+        nine_ball::pooltool_reason,
+        &[
+            "cue_pocketed",
+            "no_hit",
+            "wrong_ball_first",
+            "no_rail",
+            "break break_rails",
+            "break cue_pocketed",
+            "legal",
+            "break legal",
+        ],
+    );
+}
+
+#[test]
+fn eight_ball_verdicts_are_pooltools() {
+    check_set(
+        "eight_ball",
+        |shot, s| eight_ball::judge(shot, &s.context).unwrap(),
+        eight_ball::pooltool_reason,
+        &[
+            "cue_pocketed",
+            "no_hit",
+            "wrong_ball_first",
+            "no_rail",
+            "not_called",
+            "eight_illegal",
+            "break break_rails",
+            "break cue_pocketed",
+            "legal",
+            "break legal",
+        ],
+    );
 }
 
 #[test]

@@ -3,7 +3,11 @@
 //! exactly as pooltool 0.6.0's rule sets judge them (`pooltool/ruleset/`), one module per
 //! game:
 //!
-//! - [`nine_ball`]: 9-ball (`pooltool.ruleset.nine_ball`).
+//! - [`nine_ball`]: 9-ball (`pooltool.ruleset.nine_ball`);
+//! - [`eight_ball`]: 8-ball (`pooltool.ruleset.eight_ball`).
+//!
+//! A shot's context ([`Context`]) is what the player was allowed and asked to do: whether
+//! it is a break, the balls they may hit first, and their call.
 //!
 //! A judge reads a [`Shot`]: each ball's identity (`ids`, the input's ball ids: the cue
 //! ball is 0, object balls their numbers), each ball's state at the start (which balls
@@ -21,6 +25,7 @@ use crate::model::ball_state::BallState;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::events::{Event, EventKind};
 
+pub mod eight_ball;
 pub mod nine_ball;
 
 /// A foul, named as in kisstime's outputs ([`Foul::code`]) and as pooltool 0.6.0 words
@@ -37,20 +42,27 @@ pub enum Foul {
     NoRail,
     /// A break with no ball pocketed and fewer than four object balls at a cushion.
     BreakRails,
+    /// A shot that had to be called was not (8-ball).
+    NotCalled,
+    /// The 8 pocketed out of turn or in another pocket than the one called (8-ball: the
+    /// game is lost).
+    EightIllegal,
 }
 
 impl Foul {
     /// Every foul.
-    pub const ALL: [Foul; 5] = [
+    pub const ALL: [Foul; 7] = [
         Foul::CuePocketed,
         Foul::NoHit,
         Foul::WrongBallFirst,
         Foul::NoRail,
         Foul::BreakRails,
+        Foul::NotCalled,
+        Foul::EightIllegal,
     ];
 
     /// Its code in kisstime's outputs: `cue_pocketed`, `no_hit`, `wrong_ball_first`,
-    /// `no_rail`, `break_rails`.
+    /// `no_rail`, `break_rails`, `not_called`, `eight_illegal`.
     pub fn code(self) -> &'static str {
         match self {
             Foul::CuePocketed => "cue_pocketed",
@@ -58,18 +70,52 @@ impl Foul {
             Foul::WrongBallFirst => "wrong_ball_first",
             Foul::NoRail => "no_rail",
             Foul::BreakRails => "break_rails",
+            Foul::NotCalled => "not_called",
+            Foul::EightIllegal => "eight_illegal",
         }
     }
 
-    /// The reason pooltool 0.6.0's rule sets give for it (9-ball's wording).
-    pub fn pooltool_reason(self) -> &'static str {
+    /// The reason pooltool 0.6.0's rule sets give for it (the rules that know it; the
+    /// wrong ball first is worded per game: [`nine_ball::pooltool_reason`],
+    /// [`eight_ball::pooltool_reason`]).
+    fn pooltool_reason(self) -> &'static str {
         match self {
             Foul::CuePocketed => "Cue ball in pocket!",
             Foul::NoHit => "No ball contacted",
             Foul::WrongBallFirst => "Lowest ball not hit first",
             Foul::NoRail => "Cushion not contacted after first contact",
             Foul::BreakRails => "4 rails must be contacted, or 1 ball potted",
+            Foul::NotCalled => "Shot not called, but it was required!",
+            Foul::EightIllegal => "8-ball sunk illegally (out of turn or wrong pocket)!",
         }
+    }
+}
+
+/// A shot's context: what the player was allowed and asked to do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Context {
+    /// Whether the shot is a game's break.
+    pub break_shot: bool,
+    /// The balls the player may hit first, as a set of ball numbers (bit `n` for ball
+    /// `n`; 8-ball: the group, e.g. solids `0b1111_1110`). 9-ball works it out from the
+    /// table (the lowest ball) and ignores it.
+    pub hittable: u16,
+    /// Whether the shot must be called (8-ball after the break).
+    pub call_shot: bool,
+    /// The called ball's number, if any.
+    pub ball_call: Option<i64>,
+    /// The called pocket's index in the table's pockets, if any.
+    pub pocket_call: Option<usize>,
+}
+
+impl Context {
+    /// The set of ball numbers `numbers` as [`Context::hittable`] takes it (numbers
+    /// outside 1..=15 are left out).
+    pub fn balls(numbers: impl IntoIterator<Item = i64>) -> u16 {
+        numbers
+            .into_iter()
+            .filter(|n| (1..=15).contains(n))
+            .fold(0, |set, n| set | (1 << n))
     }
 }
 
@@ -82,8 +128,10 @@ pub struct Verdict {
     pub foul: Option<Foul>,
     /// Whether the player's turn is over.
     pub turn_over: bool,
-    /// Whether the game is over (won by the player who shot).
+    /// Whether the game is over.
     pub game_over: bool,
+    /// Whether the player who shot won the game (it is over, and theirs).
+    pub won: bool,
 }
 
 /// One simulated shot as the rules see it.
@@ -146,6 +194,11 @@ impl Shot<'_> {
     /// Whether ball `i` was on the table at the start.
     fn on_table_at_start(&self, i: usize) -> bool {
         self.start[i].s != MotionState::Pocketed
+    }
+
+    /// The index of the ball numbered `n`, if it is in the shot.
+    fn index_of(&self, n: i64) -> Option<usize> {
+        self.ids.iter().position(|&id| id == n)
     }
 
     /// The balls pocketed during the shot, as a bit set of indices.

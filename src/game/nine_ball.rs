@@ -15,7 +15,7 @@
 //!
 //! The turn is over after a foul or when no object ball was pocketed; the game is over
 //! after a legal shot that pocketed the highest-numbered ball on the table at the start
-//! (the 9), the break included.
+//! (the 9), the break included, and won by the player who shot.
 //!
 //! Where pooltool departs from the WPA rules (kisstime follows pooltool; the WPA reading
 //! is not offered yet): the break need not hit the 1 first; a ball driven off the table is
@@ -49,16 +49,28 @@ pub fn judge(shot: &Shot<'_>, break_shot: bool) -> Result<Verdict, SimError> {
         shot_foul(shot, cue, lowest, cue_pocketed, object_pocketed)
     };
     let legal = foul.is_none();
+    let game_over = legal && pocketed & bit(highest as u32) != 0;
     Ok(Verdict {
         legal,
         foul,
         turn_over: !legal || !object_pocketed,
-        game_over: legal && pocketed & bit(highest as u32) != 0,
+        game_over,
+        won: game_over,
     })
 }
 
-/// A break's foul (pooltool's `_is_legal_break`), if any.
-fn break_foul(shot: &Shot<'_>, cue: usize, cue_pocketed: bool, any_pocketed: bool) -> Option<Foul> {
+/// The reason pooltool 0.6.0's 9-ball gives for `foul` (`is_legal`'s text).
+pub fn pooltool_reason(foul: Foul) -> &'static str {
+    foul.pooltool_reason()
+}
+
+/// A break's foul (pooltool's `_is_legal_break`, the same in 8-ball), if any.
+pub(super) fn break_foul(
+    shot: &Shot<'_>,
+    cue: usize,
+    cue_pocketed: bool,
+    any_pocketed: bool,
+) -> Option<Foul> {
     if cue_pocketed {
         return Some(Foul::CuePocketed);
     }
