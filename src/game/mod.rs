@@ -28,8 +28,8 @@ use crate::simulate::events::{Event, EventKind};
 pub mod eight_ball;
 pub mod nine_ball;
 
-/// A foul, named as in kisstime's outputs ([`Foul::code`]) and as pooltool 0.6.0 words
-/// its reason ([`Foul::pooltool_reason`]).
+/// A foul, named as in kisstime's outputs ([`Foul::code`]) and as pooltool 0.6.0's rule
+/// sets word its reason ([`nine_ball::pooltool_reason`], [`eight_ball::pooltool_reason`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Foul {
     /// The cue ball was pocketed.
