@@ -109,6 +109,12 @@ impl InputError {
         self.ball = Some(ball);
         self
     }
+
+    /// Sets the message (an error located first, worded after).
+    pub fn with_message(mut self, message: impl Into<String>) -> InputError {
+        self.message = message.into();
+        self
+    }
 }
 
 impl fmt::Display for InputError {

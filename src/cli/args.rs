@@ -141,6 +141,17 @@ pub struct SimulateArgs {
     /// shots end elsewhere than pooltool's.
     #[arg(long, value_enum, default_value_t = PrecisionArg::F64)]
     pub precision: PrecisionArg,
+    /// Judge every shot by a game's rules, as pooltool 0.6.0's rule sets judge it
+    /// (`9-ball`, `8-ball`): adds `legal,foul,turn_over,game_over,won` to `--outcomes`
+    /// (`foul`: cue_pocketed, no_hit, wrong_ball_first, no_rail, break_rails, not_called,
+    /// eight_illegal). Ball ids are the game's: 0 the cue ball, object balls their numbers.
+    #[arg(long, value_enum, requires = "outcomes")]
+    pub rules: Option<RulesArg>,
+    /// Each shot's context for `--rules`: CSV `table,break,hittable,ball_call,pocket_call`
+    /// (hittable ball ids joined by `;`, empty: any ball but the 8; the pocket's id, e.g.
+    /// `lb`; see the README). Tables without a row: not a break, an open table, no call.
+    #[arg(long, value_name = "CSV", requires = "rules")]
+    pub context: Option<PathBuf>,
     /// Print the table, the batch size, the backend and the cut tables on stderr.
     #[arg(short, long)]
     pub verbose: bool,
@@ -351,6 +362,17 @@ fn at_least_one(s: &str) -> Result<usize, String> {
         Ok(n) => Ok(n),
         Err(e) => Err(e.to_string()),
     }
+}
+
+/// A game's rules for `kisstime simulate --rules`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RulesArg {
+    /// 9-ball (pooltool's `nine_ball`): the lowest ball first, the 9 wins.
+    #[value(name = "9-ball")]
+    NineBall,
+    /// 8-ball (pooltool's `eight_ball`): the group first, called shots, the 8 last.
+    #[value(name = "8-ball")]
+    EightBall,
 }
 
 /// A built-in whole-shot workload for `kisstime bench --sim`.

@@ -6,7 +6,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use kisstime::engine::{Backend, Precision, ShotEngine};
+use kisstime::game::{Context, Shot, Verdict, eight_ball, nine_ball};
 use kisstime::io::Format;
+use kisstime::io::context::{default_context, read_contexts};
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
 use kisstime::io::table_json::table_by_name;
@@ -14,7 +16,7 @@ use kisstime::io::{output_error, write_output};
 use kisstime::simulate::{BallState, BatchError, BatchOptions, Limits, SimError, TableRun};
 use kisstime::{Batch, Error, InputError};
 
-use super::args::SimulateArgs;
+use super::args::{RulesArg, SimulateArgs};
 use super::commands::{check_output, read_input};
 use super::progress::Progress;
 use super::shot_plot::render_shot_png;
@@ -102,6 +104,25 @@ fn maybe_output(
     }
 }
 
+/// A table's verdict under `rules` in `context` (`start`: its balls at the start).
+fn judge(
+    rules: RulesArg,
+    start: &[BallState],
+    ids: TableIds,
+    run: &TableRun,
+    context: &Context,
+) -> Result<Verdict, SimError> {
+    let shot = Shot {
+        ids: ids.balls,
+        start,
+        events: run.events,
+    };
+    match rules {
+        RulesArg::NineBall => nine_ball::judge(&shot, context.break_shot),
+        RulesArg::EightBall => eight_ball::judge(&shot, context),
+    }
+}
+
 /// The position in the batch of the table `--plot` draws: `--table-id`, or the only table.
 fn plotted_table(batch: &Batch, id: Option<i64>) -> Result<usize, Error> {
     let n = batch.num_tables();
@@ -170,6 +191,22 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         None => (Vec::new(), Vec::new()),
     };
     let n = batch.num_tables();
+    let contexts: Vec<Context> = match (&args.rules, &args.context) {
+        (Some(_), Some(path)) => {
+            let ids: Vec<i64> = (0..n).map(|k| batch.table_id(k)).collect();
+            read_contexts(path, &ids, |k| batch.ball_ids(k), &table.pocket_ids)?
+        }
+        (Some(_), None) => vec![default_context(); n],
+        (None, _) => Vec::new(),
+    };
+    // 8-ball: every shot but the break must be called (pooltool's rule)
+    let contexts: Vec<Context> = contexts
+        .into_iter()
+        .map(|c| Context {
+            call_shot: args.rules == Some(RulesArg::EightBall) && !c.break_shot,
+            ..c
+        })
+        .collect();
     if args.verbose {
         eprintln!(
             "kisstime: simulating {n} tables ({} balls, {} strikes) on {} with {} threads",
@@ -181,7 +218,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     }
     let options = BatchOptions {
         limits,
-        record_events: args.output.is_some(),
+        // the rules judge a shot from its events
+        record_events: args.output.is_some() || args.rules.is_some(),
         ..BatchOptions::default()
     };
     let mut engine = ShotEngine::new(args.backend.backend(), args.precision.precision())?;
@@ -215,12 +253,17 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                     None => None,
                 };
                 let mut outcomes = match outcomes_out {
+                    Some(w) if args.rules.is_some() => Some(
+                        OutcomesWriter::with_verdicts(w, Format::of(outcomes_path), n as u64)
+                            .map_err(&o_err)?,
+                    ),
                     Some(w) => Some(
                         OutcomesWriter::new(w, Format::of(outcomes_path), n as u64)
                             .map_err(&o_err)?,
                     ),
                     None => None,
                 };
+                let mut start = Vec::new();
                 let bar = Progress::new("simulating", n as u64, "tables", n >= SHOW_TABLES);
                 let mut write_run = |run: &TableRun| -> Result<(), Error> {
                     let ids = TableIds {
@@ -236,8 +279,18 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                     if let Some(w) = finals.as_mut() {
                         w.write_table(ids, &table, run).map_err(&f_err)?;
                     }
-                    if let Some(w) = outcomes.as_mut() {
-                        w.write_table(ids, run).map_err(&o_err)?;
+                    match (outcomes.as_mut(), args.rules) {
+                        (Some(w), Some(rules)) => {
+                            let k = run.table;
+                            let r = physics.of(k).ball.r;
+                            start.clear();
+                            start.extend(batch.balls(k).iter().map(|b| BallState::from_ball(b, r)));
+                            let v = judge(rules, &start, ids, run, &contexts[k])
+                                .map_err(|e| table_error(args, &batch, &strike_rows, k, e))?;
+                            w.write_judged(ids, run, &v).map_err(&o_err)?;
+                        }
+                        (Some(w), None) => w.write_table(ids, run).map_err(&o_err)?,
+                        (None, _) => {}
                     }
                     Ok(())
                 };

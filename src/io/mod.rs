@@ -28,6 +28,7 @@ use crate::query::ball_ball::Contact;
 
 pub mod atomic;
 mod columns;
+pub mod context;
 pub mod csv;
 pub mod npy;
 pub mod physics;

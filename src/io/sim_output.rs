@@ -19,7 +19,10 @@
 //! index) for a pocketed ball, else empty (−1).
 //!
 //! **Outcomes** ([`OUTCOME_COLUMNS`]): one row per table: `table,events,t_end,cut`, `cut`
-//! `none`, `max_events` or `max_time` (`.npy`: 0, 1, 2).
+//! `none`, `max_events` or `max_time` (`.npy`: 0, 1, 2). With a game's rules
+//! ([`JUDGED_OUTCOME_COLUMNS`]) the verdict follows: `legal,foul,turn_over,game_over,won`,
+//! the flags `1`/`0`, `foul` a [`crate::game::Foul`] code or empty (`.npy`: its place in
+//! [`crate::game::Foul::ALL`], or −1).
 //!
 //! In `.npy` every field is `<i8` or `<f8` (the ids, `k`, codes and counts `<i8`), `type`
 //! and `state` are codes (`type`: the order above from 0; `state`: pooltool's 0 stationary
@@ -45,6 +48,18 @@ pub const FINAL_COLUMNS: [&str; 11] = [
 ];
 /// The per-table outcome output's columns.
 pub const OUTCOME_COLUMNS: [&str; 4] = ["table", "events", "t_end", "cut"];
+/// The outcome output's columns with the game's verdict (`simulate --rules`).
+pub const JUDGED_OUTCOME_COLUMNS: [&str; 9] = [
+    "table",
+    "events",
+    "t_end",
+    "cut",
+    "legal",
+    "foul",
+    "turn_over",
+    "game_over",
+    "won",
+];
 
 /// Which columns are integers (`<i8` in `.npy`), by name.
 fn is_int(name: &str) -> bool {
@@ -60,6 +75,11 @@ fn is_int(name: &str) -> bool {
             | "pocket"
             | "events"
             | "cut"
+            | "legal"
+            | "foul"
+            | "turn_over"
+            | "game_over"
+            | "won"
     )
 }
 
@@ -327,6 +347,22 @@ impl<'w> FinalWriter<'w> {
     }
 }
 
+/// A table's outcome cells.
+fn outcome_cells<'a>(ids: TableIds, run: &TableRun) -> [Cell<'a>; 4] {
+    let o = run.outcome;
+    let cut = match o.cut {
+        None => Cell::Named("none", 0),
+        Some(Cut::MaxEvents) => Cell::Named("max_events", 1),
+        Some(Cut::MaxTime) => Cell::Named("max_time", 2),
+    };
+    [
+        Cell::Int(ids.table),
+        Cell::Int(o.n_events as i64),
+        Cell::Num(o.t_end),
+        cut,
+    ]
+}
+
 /// The per-table outcome output ([`OUTCOME_COLUMNS`]).
 pub struct OutcomesWriter<'w>(Rows<'w>);
 
@@ -345,19 +381,53 @@ impl<'w> OutcomesWriter<'w> {
         )?))
     }
 
+    /// Starts it for `tables` tables with the game's verdict
+    /// ([`JUDGED_OUTCOME_COLUMNS`]; rows by [`OutcomesWriter::write_judged`]).
+    pub fn with_verdicts(
+        out: &'w mut dyn Write,
+        format: Format,
+        tables: u64,
+    ) -> std::io::Result<OutcomesWriter<'w>> {
+        Ok(OutcomesWriter(Rows::new(
+            out,
+            format,
+            &JUDGED_OUTCOME_COLUMNS,
+            Some(tables),
+        )?))
+    }
+
     /// Appends a table's outcome.
     pub fn write_table(&mut self, ids: TableIds, run: &TableRun) -> std::io::Result<()> {
-        let o = run.outcome;
-        let cut = match o.cut {
-            None => Cell::Named("none", 0),
-            Some(Cut::MaxEvents) => Cell::Named("max_events", 1),
-            Some(Cut::MaxTime) => Cell::Named("max_time", 2),
+        self.0.row(&outcome_cells(ids, run))
+    }
+
+    /// Appends a table's outcome and its verdict (a writer made by
+    /// [`OutcomesWriter::with_verdicts`]).
+    pub fn write_judged(
+        &mut self,
+        ids: TableIds,
+        run: &TableRun,
+        v: &crate::game::Verdict,
+    ) -> std::io::Result<()> {
+        let [a, b, c, d] = outcome_cells(ids, run);
+        let flag = |f: bool| Cell::Int(i64::from(f));
+        let foul = match v.foul {
+            Some(f) => {
+                let at = crate::game::Foul::ALL.iter().position(|&g| g == f);
+                Cell::Named(f.code(), at.map_or(-1, |k| k as i64))
+            }
+            None => Cell::Named("", -1),
         };
         self.0.row(&[
-            Cell::Int(ids.table),
-            Cell::Int(o.n_events as i64),
-            Cell::Num(o.t_end),
-            cut,
+            a,
+            b,
+            c,
+            d,
+            flag(v.legal),
+            foul,
+            flag(v.turn_over),
+            flag(v.game_over),
+            flag(v.won),
         ])
     }
 
