@@ -46,6 +46,7 @@ __all__ = [
     "NEXT_DTYPE",
     "STATES",
     "EVENT_TYPES",
+    "FOULS",
     "Batch",
     "pair_times",
     "next_collisions",
@@ -368,9 +369,23 @@ def simulate(
     backend: str = "cpu",
     precision: Optional[str] = None,
     physics: PhysicsLike = None,
+    rules: Optional[str] = None,
+    context: Union[None, str, os.PathLike, Mapping] = None,
 ) -> SimResult:
     """Whole shots from the cue strike to rest with pooltool 0.6.0's physics
     (``kisstime simulate``).
+
+    ``rules`` (``"9-ball"`` or ``"8-ball"``) judges every shot as pooltool 0.6.0's rule
+    sets judge it (``kisstime simulate --rules``): ``outcomes`` then has the fields
+    ``legal``, ``foul`` (an index in :data:`FOULS`, -1 for none), ``turn_over``,
+    ``game_over`` and ``won`` (0/1). Ball ids are the game's: 0 the cue ball, the object
+    balls their numbers. ``context`` gives each shot's context (``--context``): the path of
+    a CSV file ``table,break,hittable,ball_call,pocket_call``, or a dict of equal-length
+    columns with those names (``hittable``: a list of ball ids, or a str of ids joined by
+    ``;``, per table; ``ball_call`` -1 or ``None`` for none, ``pocket_call`` a pocket id such
+    as ``"lb"`` or ``""``); tables without one play an ordinary shot on an open table with
+    no call. Errors (an unknown game, a table not in the input, a ball not on the table, a
+    pocket the table lacks) raise ``ValueError``.
 
     ``physics`` sets the balls' and the cue's parameters (``kisstime simulate
     --physics``): a dict with pooltool 0.6.0's ``BallParams`` names (:data:`PHYSICS_KEYS`:
@@ -429,8 +444,60 @@ def simulate(
         precision,
         *_physics_per_table(physics),
         text,
+        rules,
+        _context_csv(context),
     )
     return SimResult(_load(ev) if ev is not None else None, _load(fin), _load(oc))
+
+
+#: The fouls ``simulate(..., rules=...)`` reports, in the order ``outcomes['foul']``
+#: indexes (kisstime's codes; ``kisstime.game::Foul::ALL``).
+FOULS = (
+    "cue_pocketed",
+    "no_hit",
+    "wrong_ball_first",
+    "no_rail",
+    "break_rails",
+    "not_called",
+    "eight_illegal",
+)
+
+
+def _context_csv(context) -> Optional[str]:
+    """``simulate``'s ``context`` as the CSV text the extension reads."""
+    if context is None:
+        return None
+    if not isinstance(context, Mapping):
+        with open(os.fspath(context), newline="") as f:
+            return f.read()
+    cols = ("table", "break", "hittable", "ball_call", "pocket_call")
+    unknown = set(context) - set(cols)
+    if unknown:
+        raise ValueError(f"context: unknown columns {sorted(unknown)}; the columns are {cols}")
+    if "table" not in context:
+        raise ValueError("context: a 'table' column is needed")
+    n = len(context["table"])
+    for c in context:
+        if len(context[c]) != n:
+            raise ValueError(f"context: {c} has {len(context[c])} values for {n} tables")
+
+    def cell(c: str, i: int) -> str:
+        if c not in context:
+            return ""
+        v = context[c][i]
+        if c == "hittable":
+            return v if isinstance(v, str) else ";".join(str(int(b)) for b in v)
+        if c == "break":
+            return "1" if bool(v) else "0"
+        if c == "ball_call":
+            return "" if v is None or int(v) < 0 else str(int(v))
+        if c == "pocket_call":
+            return "" if v is None else str(v)
+        return str(int(v))
+
+    lines = [",".join(cols)]
+    lines += [",".join(cell(c, i) for c in cols) for i in range(n)]
+    return "\n".join(lines) + "\n"
 
 
 def _physics_per_table(physics: PhysicsLike) -> tuple:

@@ -17,6 +17,8 @@ use pyo3::types::{PyBytes, PyDict};
 
 use kisstime::batch::Batch;
 use kisstime::engine::ShotEngine;
+use kisstime::game::{Context, Rules, Shot, Verdict};
+use kisstime::io::context::{default_context, parse_contexts};
 use kisstime::io::npy::{batch_from_columns, batch_from_records};
 use kisstime::io::physics::{BatchPhysics, PhysicsColumns, PhysicsValue};
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
@@ -25,7 +27,7 @@ use kisstime::io::table_json::{table_by_name, table_from_json_text};
 use kisstime::io::{Format, PairsWriter};
 use kisstime::simulate::{
     BallState, BatchError, BatchOptions, CueStrike, Limits, Physics, SimError, SimParams, Table,
-    check_tables,
+    TableRun, check_tables,
 };
 use kisstime::study::{
     Class, FirstContact, Pot, Result4, RunOptions, Sample, StudyConfig, Summary, Until,
@@ -68,12 +70,22 @@ fn mem_err(e: std::io::Error) -> PyErr {
     PyRuntimeError::new_err(format!("writing the result: {e}"))
 }
 
+/// Which outputs [`simulate_npy`] writes besides the final states and the outcomes.
+#[derive(Clone, Copy)]
+struct Outputs {
+    /// The events (the batch must record them).
+    events: bool,
+    /// The outcomes with each table's verdict.
+    judged: bool,
+}
+
 /// Simulates `n` tables (`sizes`: their balls in all, and `n`) through the one entry point
 /// ([`ShotEngine::simulate_with`]), writing each chunk to the `.npy` writers as it comes
 /// (table `k` as `ids(k)`) and noticing Ctrl-C between chunks: the bytes of the events
-/// (where `options.record_events`; else empty), the final states and the outcomes. A bad
-/// table stops it with `bad(k, error)`. `simulate` and the bridge's `simulate_shots` share
-/// it; the caller releases the GIL around it.
+/// (where `out.events`; else empty), the final states and the outcomes (with each table's
+/// verdict `judge(run)` where `out.judged`). A bad table stops it with `bad(k, error)`.
+/// `simulate` and the bridge's `simulate_shots` share it; the caller releases the GIL
+/// around it.
 #[allow(clippy::too_many_arguments)]
 fn simulate_npy<'b>(
     engine: &mut ShotEngine,
@@ -84,15 +96,22 @@ fn simulate_npy<'b>(
     input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync,
     ids: impl Fn(usize) -> TableIds<'b>,
     bad: impl Fn(usize, SimError) -> PyErr,
+    out: Outputs,
+    judge: &(dyn Fn(&TableRun) -> PyResult<Option<Verdict>> + Sync),
 ) -> PyResult<(Vec<u8>, Vec<u8>, Vec<u8>)> {
     let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
-    let mut ev_w = if options.record_events {
+    let mut ev_w = if out.events {
         Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
     } else {
         None
     };
     let mut fin_w = FinalWriter::new(&mut fin_out, Format::Npy, n_balls as u64).map_err(mem_err)?;
-    let mut oc_w = OutcomesWriter::new(&mut oc_out, Format::Npy, n as u64).map_err(mem_err)?;
+    let mut oc_w = if out.judged {
+        OutcomesWriter::with_verdicts(&mut oc_out, Format::Npy, n as u64)
+    } else {
+        OutcomesWriter::new(&mut oc_out, Format::Npy, n as u64)
+    }
+    .map_err(mem_err)?;
     let done = engine.simulate_with(tbl, physics, options, n, input, |chunk| {
         for run in chunk.iter() {
             let ids = ids(run.table);
@@ -100,7 +119,10 @@ fn simulate_npy<'b>(
                 w.write_table(ids, tbl, &run).map_err(mem_err)?;
             }
             fin_w.write_table(ids, tbl, &run).map_err(mem_err)?;
-            oc_w.write_table(ids, &run).map_err(mem_err)?;
+            match judge(&run)? {
+                Some(v) => oc_w.write_judged(ids, &run, &v).map_err(mem_err)?,
+                None => oc_w.write_table(ids, &run).map_err(mem_err)?,
+            }
         }
         Python::attach(|py| py.check_signals()).map_err(Stop)
     });
@@ -383,7 +405,7 @@ fn physics_entries(physics: &PhysicsArg) -> PyResult<Vec<(String, PhysicsValue)>
 /// Whole shots from the strike to rest: `(events, final, outcomes)` as the `.npy` bytes of
 /// `kisstime simulate -o … --final … --outcomes …` (`events` is `None` unless asked).
 #[pyfunction]
-#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None, physics_columns=None, table_json=None))]
+#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None, physics_columns=None, table_json=None, rules=None, context=None))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -398,6 +420,8 @@ fn simulate<'py>(
     physics: PhysicsArg,
     physics_columns: Option<(I64s<'py>, Vec<(String, F64s<'py>)>)>,
     table_json: Option<&str>,
+    rules: Option<&str>,
+    context: Option<&str>,
 ) -> PyResult<(
     Option<Bound<'py, PyBytes>>,
     Bound<'py, PyBytes>,
@@ -447,14 +471,65 @@ fn simulate<'py>(
         }
         None => Vec::new(),
     };
+    let n = batch.num_tables();
+    // the game's rules and each table's context (`kisstime simulate --rules --context`)
+    let game = match rules {
+        Some(name) => {
+            let rules = Rules::from_name(name).map_err(PyValueError::new_err)?;
+            let ids: Vec<i64> = (0..n).map(|k| batch.table_id(k)).collect();
+            let contexts = match context {
+                Some(text) => {
+                    let balls = |k: usize| batch.ball_ids(k);
+                    parse_contexts(text, "context", &ids, balls, &tbl.pocket_ids).map_err(py_err)?
+                }
+                None => vec![default_context(); n],
+            };
+            let contexts: Vec<Context> = contexts.into_iter().map(|c| rules.context(c)).collect();
+            Some((rules, contexts))
+        }
+        None if context.is_some() => {
+            return Err(PyValueError::new_err(
+                "context is for rules: give rules too",
+            ));
+        }
+        None => None,
+    };
     let options = BatchOptions {
         limits,
-        record_events: events,
+        // the rules judge a shot from its events
+        record_events: events || game.is_some(),
         ..BatchOptions::default()
     };
     let mut engine = shot_engine_of(backend, precision)?;
     warn_notes(py, &mut engine)?;
-    let n = batch.num_tables();
+    // each table's verdict, where judged: its balls at the start, its events
+    let judge = |run: &TableRun| -> PyResult<Option<Verdict>> {
+        let Some((rules, contexts)) = &game else {
+            return Ok(None);
+        };
+        let k = run.table;
+        let r = physics.of(k).ball.r;
+        let start: Vec<BallState> = batch
+            .balls(k)
+            .iter()
+            .map(|b| BallState::from_ball(b, r))
+            .collect();
+        let shot = Shot {
+            ids: batch.ball_ids(k),
+            start: &start,
+            events: run.events,
+        };
+        rules.judge(&shot, &contexts[k]).map(Some).map_err(|e| {
+            let e = kisstime::InputError::new(e.to_string())
+                .in_file("balls")
+                .at_table(batch.table_id(k));
+            py_err(Error::from(e))
+        })
+    };
+    let out = Outputs {
+        events,
+        judged: game.is_some(),
+    };
     // the one entry point, with the GIL released
     let input = batch.sim_input_for(&strikes, physics);
     let sizes = (batch.num_balls(), n);
@@ -468,8 +543,20 @@ fn simulate<'py>(
             .at_table(batch.table_id(k));
         py_err(Error::from(e))
     };
-    let result =
-        py.detach(|| simulate_npy(&mut engine, &tbl, physics, &options, sizes, input, ids, bad));
+    let result = py.detach(|| {
+        simulate_npy(
+            &mut engine,
+            &tbl,
+            physics,
+            &options,
+            sizes,
+            input,
+            ids,
+            bad,
+            out,
+            &judge,
+        )
+    });
     warn_notes(py, &mut engine)?;
     let (ev_out, fin_out, oc_out) = result?;
     let ev = events.then(|| PyBytes::new(py, &ev_out));
@@ -660,6 +747,11 @@ fn simulate_shots<'py>(
     let failed = |j: usize, error: SimError| PyValueError::new_err(message(good[j], &error));
     let physics = physics_for(one, &per);
     let sizes = (n_balls, good.len());
+    let out = Outputs {
+        events,
+        judged: false,
+    };
+    let judge = |_: &TableRun| Ok(None);
     let result = py.detach(|| {
         simulate_npy(
             &mut engine,
@@ -670,6 +762,8 @@ fn simulate_shots<'py>(
             sub,
             ids,
             failed,
+            out,
+            &judge,
         )
     });
     warn_notes(py, &mut engine)?;

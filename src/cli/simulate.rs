@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use kisstime::engine::{Backend, Precision, ShotEngine};
-use kisstime::game::{Context, Shot, Verdict, eight_ball, nine_ball};
+use kisstime::game::{Context, Rules, Shot};
 use kisstime::io::Format;
 use kisstime::io::context::{default_context, read_contexts};
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
@@ -104,25 +104,6 @@ fn maybe_output(
     }
 }
 
-/// A table's verdict under `rules` in `context` (`start`: its balls at the start).
-fn judge(
-    rules: RulesArg,
-    start: &[BallState],
-    ids: TableIds,
-    run: &TableRun,
-    context: &Context,
-) -> Result<Verdict, SimError> {
-    let shot = Shot {
-        ids: ids.balls,
-        start,
-        events: run.events,
-    };
-    match rules {
-        RulesArg::NineBall => nine_ball::judge(&shot, context.break_shot),
-        RulesArg::EightBall => eight_ball::judge(&shot, context),
-    }
-}
-
 /// The position in the batch of the table `--plot` draws: `--table-id`, or the only table.
 fn plotted_table(batch: &Batch, id: Option<i64>) -> Result<usize, Error> {
     let n = batch.num_tables();
@@ -199,14 +180,15 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         (Some(_), None) => vec![default_context(); n],
         (None, _) => Vec::new(),
     };
-    // 8-ball: every shot but the break must be called (pooltool's rule)
-    let contexts: Vec<Context> = contexts
-        .into_iter()
-        .map(|c| Context {
-            call_shot: args.rules == Some(RulesArg::EightBall) && !c.break_shot,
-            ..c
-        })
-        .collect();
+    let rules = args.rules.map(|r| match r {
+        RulesArg::NineBall => Rules::NineBall,
+        RulesArg::EightBall => Rules::EightBall,
+    });
+    // the game's part of each context (8-ball: every shot but the break is called)
+    let contexts: Vec<Context> = match rules {
+        Some(rules) => contexts.into_iter().map(|c| rules.context(c)).collect(),
+        None => contexts,
+    };
     if args.verbose {
         eprintln!(
             "kisstime: simulating {n} tables ({} balls, {} strikes) on {} with {} threads",
@@ -279,13 +261,19 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
                     if let Some(w) = finals.as_mut() {
                         w.write_table(ids, &table, run).map_err(&f_err)?;
                     }
-                    match (outcomes.as_mut(), args.rules) {
+                    match (outcomes.as_mut(), rules) {
                         (Some(w), Some(rules)) => {
                             let k = run.table;
                             let r = physics.of(k).ball.r;
                             start.clear();
                             start.extend(batch.balls(k).iter().map(|b| BallState::from_ball(b, r)));
-                            let v = judge(rules, &start, ids, run, &contexts[k])
+                            let shot = Shot {
+                                ids: ids.balls,
+                                start: &start,
+                                events: run.events,
+                            };
+                            let v = rules
+                                .judge(&shot, &contexts[k])
                                 .map_err(|e| table_error(args, &batch, &strike_rows, k, e))?;
                             w.write_judged(ids, run, &v).map_err(&o_err)?;
                         }

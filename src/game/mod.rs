@@ -28,6 +28,50 @@ use crate::simulate::events::{Event, EventKind};
 pub mod eight_ball;
 pub mod nine_ball;
 
+/// A game whose rules judge shots.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Rules {
+    /// 9-ball ([`nine_ball`]).
+    NineBall,
+    /// 8-ball ([`eight_ball`]).
+    EightBall,
+}
+
+impl Rules {
+    /// Every game, with its name.
+    pub const ALL: [(Rules, &'static str); 2] =
+        [(Rules::NineBall, "9-ball"), (Rules::EightBall, "8-ball")];
+
+    /// The game named `name` (`9-ball`, `8-ball`); the error lists the names.
+    pub fn from_name(name: &str) -> Result<Rules, String> {
+        Rules::ALL
+            .iter()
+            .find(|(_, n)| *n == name)
+            .map(|(r, _)| *r)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Rules::ALL.iter().map(|(_, n)| *n).collect();
+                format!("unknown game {name:?}: the rules are {}", names.join(", "))
+            })
+    }
+
+    /// The game's own part of a shot's context: 8-ball asks every shot but the break to be
+    /// called (pooltool's `ShotConstraints.call_shot`); 9-ball asks none.
+    pub fn context(self, context: Context) -> Context {
+        Context {
+            call_shot: self == Rules::EightBall && !context.break_shot,
+            ..context
+        }
+    }
+
+    /// The verdict on `shot` in `context` (see [`nine_ball::judge`], [`eight_ball::judge`]).
+    pub fn judge(self, shot: &Shot<'_>, context: &Context) -> Result<Verdict, SimError> {
+        match self {
+            Rules::NineBall => nine_ball::judge(shot, context.break_shot),
+            Rules::EightBall => eight_ball::judge(shot, context),
+        }
+    }
+}
+
 /// A foul, named as in kisstime's outputs ([`Foul::code`]) and as pooltool 0.6.0's rule
 /// sets word its reason ([`nine_ball::pooltool_reason`], [`eight_ball::pooltool_reason`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
