@@ -244,3 +244,73 @@ fn bad_contexts_and_rules_are_refused_naming_the_file_line_and_table() {
     assert_eq!(r.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&r.stderr).contains("--outcomes"));
 }
+
+/// The rules judge the GPU's events as the CPU's: the 9-ball set's first 200 shots through
+/// `--backend gpu` (lavapipe in CI) give the CPU's verdict columns, row for row.
+#[test]
+fn the_gpu_s_shots_are_judged_as_the_cpu_s() {
+    if common::gpu_or_skip(kisstime::Precision::F64, "games on the GPU").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (balls, strikes, contexts, _) = inputs("nine_ball", dir.path());
+    // the first 200 tables only
+    let keep = |path: &Path, name: &str| {
+        let text = read(path);
+        let mut lines = text.lines();
+        let mut out = format!("{}\n", lines.next().unwrap());
+        for l in lines {
+            let table: usize = l.split(',').next().unwrap().parse().unwrap();
+            if table < 200 {
+                out.push_str(l);
+                out.push('\n');
+            }
+        }
+        let p = dir.path().join(name);
+        std::fs::write(&p, out).unwrap();
+        p
+    };
+    let (balls, strikes) = (keep(&balls, "b200.csv"), keep(&strikes, "s200.csv"));
+    let contexts = keep(&contexts, "c200.csv");
+    let s = |p: &Path| p.to_str().unwrap().to_owned();
+    let mut verdicts = Vec::new();
+    for backend in ["cpu", "gpu"] {
+        let out = dir.path().join(format!("{backend}.csv"));
+        let r = common::run_kisstime(
+            &[
+                "simulate",
+                &s(&balls),
+                "--strikes",
+                &s(&strikes),
+                "--table",
+                "7ft",
+                "--rules",
+                "9-ball",
+                "--context",
+                &s(&contexts),
+                "--outcomes",
+                &s(&out),
+                "--backend",
+                backend,
+            ],
+            &[],
+        );
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let cols = [
+            "table",
+            "events",
+            "legal",
+            "foul",
+            "turn_over",
+            "game_over",
+            "won",
+        ];
+        let rows: Vec<Vec<String>> = rows(&read(&out))
+            .iter()
+            .map(|m| cols.iter().map(|c| m[*c].clone()).collect())
+            .collect();
+        verdicts.push(rows);
+    }
+    assert_eq!(verdicts[0].len(), 200);
+    assert_eq!(verdicts[0], verdicts[1]);
+}
