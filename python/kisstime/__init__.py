@@ -371,6 +371,7 @@ def simulate(
     physics: PhysicsLike = None,
     rules: Optional[str] = None,
     context: Union[None, str, os.PathLike, Mapping] = None,
+    _rule_ids: Optional[Mapping[int, int]] = None,
 ) -> SimResult:
     """Whole shots from the cue strike to rest with pooltool 0.6.0's physics
     (``kisstime simulate``).
@@ -385,7 +386,8 @@ def simulate(
     ``;``, per table; ``ball_call`` -1 or ``None`` for none, ``pocket_call`` a pocket id such
     as ``"lb"`` or ``""``); tables without one play an ordinary shot on an open table with
     no call. Errors (an unknown game, a table not in the input, a ball not on the table, a
-    pocket the table lacks) raise ``ValueError``.
+    pocket the table lacks) raise ``ValueError``. (``_rule_ids``, for the pooltool bridge:
+    each ball id's id in the game, where they differ.)
 
     ``physics`` sets the balls' and the cue's parameters (``kisstime simulate
     --physics``): a dict with pooltool 0.6.0's ``BallParams`` names (:data:`PHYSICS_KEYS`:
@@ -446,6 +448,10 @@ def simulate(
         text,
         rules,
         _context_csv(context),
+        None if _rule_ids is None else (
+            np.ascontiguousarray(list(_rule_ids.keys()), dtype="<i8"),
+            np.ascontiguousarray(list(_rule_ids.values()), dtype="<i8"),
+        ),
     )
     return SimResult(_load(ev) if ev is not None else None, _load(fin), _load(oc))
 

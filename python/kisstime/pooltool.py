@@ -214,9 +214,27 @@ class Converted:
             f.write(self.table)
         return path
 
-    def simulate(self, **kwargs: Any):
+    def simulate(
+        self,
+        *,
+        rules: str | None = None,
+        break_shot: bool = False,
+        hittable: Sequence[str] | None = None,
+        ball_call: str | None = None,
+        pocket_call: str | None = None,
+        **kwargs: Any,
+    ):
         """``kisstime.simulate`` on these balls, this strike, this table and these
         physical parameters (:attr:`physics`).
+
+        With ``rules`` (``"9-ball"``, ``"8-ball"``) the shot is judged as pooltool 0.6.0's
+        rule set judges it, in pooltool's terms: ``break_shot``, ``hittable`` (the ball
+        ids the player may hit first: 8-ball's group; ``None``: an open table; 9-ball
+        works it out), ``ball_call`` and ``pocket_call`` (pooltool's ids, e.g. ``"3"``,
+        ``"rt"``; 8-ball asks every shot but the break to be called). The verdict is in
+        the result's ``outcomes``: ``legal``, ``foul`` (an index in ``kisstime.FOULS``, -1
+        for none), ``turn_over``, ``game_over``, ``won``. The balls must be pooltool's pool
+        balls: ``"cue"`` and the numbered ``"1"`` to ``"15"``.
 
         The table goes as JSON text (no file is written). ``kwargs`` go to
         ``kisstime.simulate`` (``max_events``, ``max_time``, ``events``, ``backend``);
@@ -229,7 +247,45 @@ class Converted:
         kwargs.setdefault("physics", self.physics or None)
         kwargs.setdefault("table", self.table)
         strikes = self.strikes if len(self.strikes) else None
+        if rules is not None:
+            game = {}
+            for i, b in enumerate(self.ball_ids):
+                if b == "cue":
+                    game[i] = 0
+                elif b.isdigit() and 1 <= int(b) <= 15:
+                    game[i] = int(b)
+                else:
+                    raise ValueError(
+                        f"ball {b!r}: the pool rules take the balls 'cue' and '1' to '15'"
+                    )
+
+            def number(b: str, what: str) -> int:
+                if b not in self.ball_ids:
+                    raise ValueError(f"{what} {b!r} is not a ball (balls: {self.ball_ids})")
+                return game[self.ball(b)]
+
+            kwargs["rules"] = rules
+            kwargs["_rule_ids"] = game
+            kwargs["context"] = {
+                "table": [self.table_id],
+                "break": [bool(break_shot)],
+                "hittable": [_hittable(hittable, self.ball_ids, number)],
+                "ball_call": [-1 if ball_call is None else number(ball_call, "ball_call")],
+                "pocket_call": [pocket_call or ""],
+            }
         return kisstime.simulate(self.balls, strikes, **kwargs)
+
+
+def _hittable(hittable, ball_ids, number) -> Any:
+    """pooltool's ``hittable`` as the context's: the numbers of those of its balls that are
+    in the system (pooltool's groups name balls a position may lack), or ``""`` (an open
+    table) for ``None``."""
+    if not hittable:
+        return ""
+    present = [number(b, "hittable") for b in hittable if b in ball_ids]
+    if not present:
+        raise ValueError(f"hittable {tuple(hittable)}: none of them is a ball ({ball_ids})")
+    return present
 
 
 def _floats(v: Any, n: int, what: str) -> list[float]:

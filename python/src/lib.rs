@@ -405,7 +405,7 @@ fn physics_entries(physics: &PhysicsArg) -> PyResult<Vec<(String, PhysicsValue)>
 /// Whole shots from the strike to rest: `(events, final, outcomes)` as the `.npy` bytes of
 /// `kisstime simulate -o … --final … --outcomes …` (`events` is `None` unless asked).
 #[pyfunction]
-#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None, physics_columns=None, table_json=None, rules=None, context=None))]
+#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None, physics_columns=None, table_json=None, rules=None, context=None, rule_ids=None))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -422,6 +422,7 @@ fn simulate<'py>(
     table_json: Option<&str>,
     rules: Option<&str>,
     context: Option<&str>,
+    rule_ids: Option<(I64s<'py>, I64s<'py>)>,
 ) -> PyResult<(
     Option<Bound<'py, PyBytes>>,
     Bound<'py, PyBytes>,
@@ -477,15 +478,33 @@ fn simulate<'py>(
         Some(name) => {
             let rules = Rules::from_name(name).map_err(PyValueError::new_err)?;
             let ids: Vec<i64> = (0..n).map(|k| batch.table_id(k)).collect();
+            // the balls' ids in the game (the batch's own, or mapped: the bridge's)
+            let game_ids: Vec<Vec<i64>> = match &rule_ids {
+                None => (0..n).map(|k| batch.ball_ids(k).to_vec()).collect(),
+                Some((from, to)) => {
+                    let (from, to) = (slice(from, "rule ids")?, slice(to, "rule ids")?);
+                    let map = |b: i64| {
+                        from.iter()
+                            .position(|&f| f == b)
+                            .map(|i| to[i])
+                            .ok_or_else(|| {
+                                PyValueError::new_err(format!("ball {b}: no id in the game"))
+                            })
+                    };
+                    (0..n)
+                        .map(|k| batch.ball_ids(k).iter().map(|&b| map(b)).collect())
+                        .collect::<PyResult<_>>()?
+                }
+            };
             let contexts = match context {
                 Some(text) => {
-                    let balls = |k: usize| batch.ball_ids(k);
+                    let balls = |k: usize| game_ids[k].as_slice();
                     parse_contexts(text, "context", &ids, balls, &tbl.pocket_ids).map_err(py_err)?
                 }
                 None => vec![default_context(); n],
             };
             let contexts: Vec<Context> = contexts.into_iter().map(|c| rules.context(c)).collect();
-            Some((rules, contexts))
+            Some((rules, contexts, game_ids))
         }
         None if context.is_some() => {
             return Err(PyValueError::new_err(
@@ -504,7 +523,7 @@ fn simulate<'py>(
     warn_notes(py, &mut engine)?;
     // each table's verdict, where judged: its balls at the start, its events
     let judge = |run: &TableRun| -> PyResult<Option<Verdict>> {
-        let Some((rules, contexts)) = &game else {
+        let Some((rules, contexts, game_ids)) = &game else {
             return Ok(None);
         };
         let k = run.table;
@@ -515,7 +534,7 @@ fn simulate<'py>(
             .map(|b| BallState::from_ball(b, r))
             .collect();
         let shot = Shot {
-            ids: batch.ball_ids(k),
+            ids: &game_ids[k],
             start: &start,
             events: run.events,
         };
