@@ -713,6 +713,23 @@ fn example_file_is_the_builtin_study_and_sections_are_optional() {
     );
     assert_ne!(seven.table, Table::nine_foot());
     assert_eq!(on("rectangle").unwrap().table.pockets.len(), 0);
+    // a built-in table of another size (as the JSON scenario's `table.l`, `table.w`)
+    let sized = |kind: &str, size: &str| {
+        let text = format!("[table]\nkind = \"{kind}\"\n{size}\n{minimal}");
+        StudyConfig::parse(&text, "sized.toml", None)
+    };
+    let small = sized("9ft", "l = 2.2\nw = 1.1").unwrap();
+    let specs = kisstime::model::PocketTableSpecs {
+        l: 2.2,
+        w: 1.1,
+        ..Default::default()
+    };
+    assert_eq!(small.table, Table::pocket_table(&specs));
+    assert_ne!(small.table, Table::nine_foot());
+    let e = sized("9ft", "l = -1").unwrap_err().to_string();
+    assert!(e.contains("table.l") && e.contains("greater than 0"), "{e}");
+    let e = sized("my_table.json", "w = 1").unwrap_err().to_string();
+    assert!(e.contains("own size"), "{e}");
     let unknown = on("8ft").unwrap_err().to_string();
     for name in ["8ft", "9ft", "7ft", "rectangle", "JSON table file"] {
         assert!(unknown.contains(name), "{unknown}");

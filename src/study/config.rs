@@ -13,6 +13,9 @@
 //! kind = "9ft"       #   "rectangle", or a JSON table file (the format of
 //!                    #   data/fullshots/table.json; relative paths are taken from the
 //!                    #   study file's folder)
+//! # l = 2.54         # optional, a built-in table only: the playing surface's length and
+//! # w = 1.27         #   width in m (its pockets and cushions follow, as in pooltool's
+//!                    #   PocketTableSpecs; the JSON scenario's `table.l`, `table.w`)
 //!
 //! [physics]          # optional, each key too: pooltool 0.6.0's BallParams names and
 //! R = 0.028575       #   defaults, read by the one parser of every entry point
@@ -71,7 +74,7 @@ use crate::io::physics::{PhysicsSource, PhysicsValue, physics_from_entries, toml
 use crate::io::table_json::{BUILTIN_TABLES, table_by_name};
 use crate::model::ball_state::BallState;
 use crate::model::sim_params::SimParams;
-use crate::model::table::Table;
+use crate::model::table::{PocketTableSpecs, Table};
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::check::check_layout;
 
@@ -276,6 +279,9 @@ struct RawFile {
 #[serde(deny_unknown_fields)]
 struct RawTable {
     kind: Option<String>,
+    /// A size of its own for a built-in table: the playing surface's length and width.
+    l: Option<f64>,
+    w: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -392,8 +398,41 @@ impl StudyConfig {
         };
 
         let table_name = raw.table.kind.clone().unwrap_or_else(|| "9ft".to_owned());
+        // a size of its own (`l`, `w`), for a built-in table
+        let extent = |key: &str, v: Option<f64>| match v {
+            Some(x) if !(x.is_finite() && x > 0.0) => Err(err(format!(
+                "key `table.{key}` is {x}, it must be finite and greater than 0"
+            ))),
+            _ => Ok(v),
+        };
+        let (l, w) = (extent("l", raw.table.l)?, extent("w", raw.table.w)?);
+        let sized = l.is_some() || w.is_some();
         let table = match table_name.as_str() {
+            "9ft" | "7ft" | "rectangle" if sized => {
+                let specs = if table_name == "7ft" {
+                    PocketTableSpecs::seven_foot()
+                } else {
+                    PocketTableSpecs::default()
+                };
+                let specs = PocketTableSpecs {
+                    l: l.unwrap_or(specs.l),
+                    w: w.unwrap_or(specs.w),
+                    ..specs
+                };
+                if table_name == "rectangle" {
+                    Table::rectangle(specs.w, specs.l, specs.cushion_height)?
+                } else {
+                    Table::pocket_table(&specs)
+                }
+            }
             builtin if BUILTIN_TABLES.contains(&builtin) => table_by_name(builtin)?,
+            _ if sized => {
+                return Err(err(
+                    "keys `table.l`, `table.w`: a table file has its own size (they size the \
+                     built-in tables)"
+                        .to_owned(),
+                ));
+            }
             file => {
                 let path = match dir {
                     Some(d) if !std::path::Path::new(file).is_absolute() => d.join(file),
