@@ -100,6 +100,16 @@ fn inputs(game: &str, dir: &Path) -> (PathBuf, PathBuf, PathBuf, Vec<String>) {
     )
 }
 
+/// `kisstime simulate BALLS --strikes STRIKES --table 7ft --rules RULES --context CONTEXT
+/// --outcomes OUT [extra]`, with `files` = [BALLS, STRIKES, CONTEXT, OUT].
+fn judge_cli(files: [&Path; 4], rules: &str, extra: &[&str]) -> std::process::Output {
+    let [balls, strikes, context, out] = files.map(|p| p.to_str().unwrap().to_owned());
+    let mut args = vec!["simulate", &balls, "--strikes", &strikes, "--table", "7ft"];
+    args.extend(["--rules", rules, "--context", &context, "--outcomes", &out]);
+    args.extend(extra);
+    common::run_kisstime(&args, &[])
+}
+
 /// pooltool's reason for a foul code, per game.
 fn reason(game: &str, code: &str) -> &'static str {
     use kisstime::game::{Foul, eight_ball, nine_ball};
@@ -117,24 +127,7 @@ fn judged_through_the_cli(game: &str, rules: &str, percent: usize) {
     let dir = tempfile::tempdir().unwrap();
     let (balls, strikes, contexts, unsaid) = inputs(game, dir.path());
     let out = dir.path().join("outcomes.csv");
-    let s = |p: &Path| p.to_str().unwrap().to_owned();
-    let r = common::run_kisstime(
-        &[
-            "simulate",
-            &s(&balls),
-            "--strikes",
-            &s(&strikes),
-            "--table",
-            "7ft",
-            "--rules",
-            rules,
-            "--context",
-            &s(&contexts),
-            "--outcomes",
-            &s(&out),
-        ],
-        &[],
-    );
+    let r = judge_cli([&balls, &strikes, &contexts, &out], rules, &[]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let mine = rows(&read(&out));
     let theirs = rows(&read(&data(game).join("shots.csv")));
@@ -198,23 +191,7 @@ fn bad_contexts_and_rules_are_refused_naming_the_file_line_and_table() {
             format!("table,break,hittable,ball_call,pocket_call\n{context}\n"),
         )
         .unwrap();
-        common::run_kisstime(
-            &[
-                "simulate",
-                &s(&balls),
-                "--strikes",
-                &s(&strikes),
-                "--table",
-                "7ft",
-                "--rules",
-                rules,
-                "--context",
-                &s(&c),
-                "--outcomes",
-                &s(&out),
-            ],
-            &[],
-        )
+        judge_cli([&balls, &strikes, &c, &out], rules, &[])
     };
     for (context, words) in [
         (
@@ -272,28 +249,13 @@ fn the_gpu_s_shots_are_judged_as_the_cpu_s() {
     };
     let (balls, strikes) = (keep(&balls, "b200.csv"), keep(&strikes, "s200.csv"));
     let contexts = keep(&contexts, "c200.csv");
-    let s = |p: &Path| p.to_str().unwrap().to_owned();
     let mut verdicts = Vec::new();
     for backend in ["cpu", "gpu"] {
         let out = dir.path().join(format!("{backend}.csv"));
-        let r = common::run_kisstime(
-            &[
-                "simulate",
-                &s(&balls),
-                "--strikes",
-                &s(&strikes),
-                "--table",
-                "7ft",
-                "--rules",
-                "9-ball",
-                "--context",
-                &s(&contexts),
-                "--outcomes",
-                &s(&out),
-                "--backend",
-                backend,
-            ],
-            &[],
+        let r = judge_cli(
+            [&balls, &strikes, &contexts, &out],
+            "9-ball",
+            &["--backend", backend],
         );
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
         let cols = [

@@ -92,17 +92,42 @@ def clear_spot(rng, table, placed, R):
     raise RuntimeError("no room")
 
 
-def ordinary(rng, table):
+def place(rng, table, ids):
+    """The cue ball and the numbered balls `ids` at random clear spots: the balls and the
+    cue ball's centre."""
     R = pt.BallParams.default().R
-    k = int(rng.integers(1, 10))
-    ids = sorted(rng.choice(np.arange(1, 10), size=k, replace=False).tolist())
     placed = []
     balls = {}
     for bid in ["cue"] + [str(i) for i in ids]:
         xy = clear_spot(rng, table, placed, R)
         placed.append(xy)
         balls[bid] = pt.Ball.create(bid, xy=xy)
-    cue_xy = placed[0]
+    return balls, placed[0]
+
+
+def aim(rng, balls, cue_xy, target):
+    """The direction from the cue ball to `target` with 1° of noise, or anywhere."""
+    if target is None:
+        return rng.uniform(0, 360)
+    tx, ty = balls[target].state.rvw[0][:2]
+    return math.degrees(math.atan2(ty - cue_xy[1], tx - cue_xy[0])) + rng.normal(0, 1.0)
+
+
+def ordinary_strike(rng, phi):
+    """An ordinary shot's strike in direction `phi`."""
+    return dict(
+        V0=float(rng.uniform(0.2, 4.0)),
+        phi=float(phi % 360),
+        theta=float(rng.choice([0.0, 0.0, 0.0, rng.uniform(0, 10)])),
+        a=float(rng.uniform(-0.3, 0.3)),
+        b=float(rng.uniform(-0.3, 0.3)),
+    )
+
+
+def ordinary(rng, table):
+    k = int(rng.integers(1, 10))
+    ids = sorted(rng.choice(np.arange(1, 10), size=k, replace=False).tolist())
+    balls, cue_xy = place(rng, table, ids)
     u = rng.uniform()
     if u < 0.6:
         target = str(ids[0])
@@ -110,19 +135,7 @@ def ordinary(rng, table):
         target = str(ids[int(rng.integers(0, k))])
     else:
         target = None
-    if target is None:
-        phi = rng.uniform(0, 360)
-    else:
-        tx, ty = balls[target].state.rvw[0][:2]
-        phi = math.degrees(math.atan2(ty - cue_xy[1], tx - cue_xy[0])) + rng.normal(0, 1.0)
-    strike = dict(
-        V0=float(rng.uniform(0.2, 4.0)),
-        phi=float(phi % 360),
-        theta=float(rng.choice([0.0, 0.0, 0.0, rng.uniform(0, 10)])),
-        a=float(rng.uniform(-0.3, 0.3)),
-        b=float(rng.uniform(-0.3, 0.3)),
-    )
-    return balls, strike
+    return balls, ordinary_strike(rng, aim(rng, balls, cue_xy, target))
 
 
 def a_break(rng, table, game=GameType.NINEBALL):
@@ -161,19 +174,12 @@ def pocket_along(table, cue_xy, target_xy):
 
 def ordinary8(rng, table):
     """An 8-ball position, strike and the player's constraints (group and call)."""
-    R = pt.BallParams.default().R
     group = str(rng.choice(list(GROUP_ODDS), p=list(GROUP_ODDS.values())))
     k = int(rng.integers(1, 16))
     ids = sorted(rng.choice(np.arange(1, 16), size=k, replace=False).tolist())
     if group == "eight" and 8 not in ids:
         ids = sorted(ids + [8])
-    placed = []
-    balls = {}
-    for bid in ["cue"] + [str(i) for i in ids]:
-        xy = clear_spot(rng, table, placed, R)
-        placed.append(xy)
-        balls[bid] = pt.Ball.create(bid, xy=xy)
-    cue_xy = placed[0]
+    balls, cue_xy = place(rng, table, ids)
     hittable = GROUPS[group]
     mine = [b for b in balls if b in hittable]
     u = rng.uniform()
@@ -184,11 +190,7 @@ def ordinary8(rng, table):
         target = others[int(rng.integers(0, len(others)))]
     else:
         target = None
-    if target is None:
-        phi = rng.uniform(0, 360)
-    else:
-        tx, ty = balls[target].state.rvw[0][:2]
-        phi = math.degrees(math.atan2(ty - cue_xy[1], tx - cue_xy[0])) + rng.normal(0, 1.0)
+    phi = aim(rng, balls, cue_xy, target)
     # the call: the aimed ball (if the player may hit it) in the pocket along its line or
     # in any pocket; now and then no call at all, or a shot that needs none
     pockets = sorted(table.pockets)
@@ -211,14 +213,7 @@ def ordinary8(rng, table):
         ball_call=ball_call,
         pocket_call=pocket_call,
     )
-    strike = dict(
-        V0=float(rng.uniform(0.2, 4.0)),
-        phi=float(phi % 360),
-        theta=float(rng.choice([0.0, 0.0, 0.0, rng.uniform(0, 10)])),
-        a=float(rng.uniform(-0.3, 0.3)),
-        b=float(rng.uniform(-0.3, 0.3)),
-    )
-    return balls, strike, constraints
+    return balls, ordinary_strike(rng, phi), constraints
 
 
 def break_constraints():
