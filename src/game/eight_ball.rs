@@ -26,9 +26,9 @@
 //!
 //! Where pooltool departs from the WPA rules (kisstime follows pooltool): the 8 pocketed on
 //! the break ends the game (WPA: re-spot or re-rack); the break needs no call, and a
-//! legal break keeps the table only if a ball is pocketed; an open table after the break
-//! takes any ball but the 8 first; no combination or safety call; the cue ball's pocket
-//! outranks the other fouls in the reason given.
+//! legal break keeps the table only if a ball other than the 8 is pocketed; an open table
+//! after the break takes any ball but the 8 first; no combination or safety call; the cue
+//! ball's pocket outranks the other fouls in the reason given.
 
 use super::nine_ball::break_foul;
 use super::{Context, Foul, Shot, Verdict, bit, is_cushion};
