@@ -505,7 +505,7 @@ impl ShotEngine {
     /// ([`auto_gpu_min_tables`]; a watched call by the study's rule,
     /// [`AUTO_STUDY_MAX_CPU_THREADS`]); a GPU failure redoes that chunk and the rest on the
     /// CPU, with a note. The results are the same on every backend (in f64 the same events,
-    /// their times within ~1e-12 s on the reference sets; see the README).
+    /// their times within ~1e-12 s on the reference sets; see docs/gpu.md).
     ///
     /// [`BatchStats::sim_seconds`] counts the simulation only, not the sink's time.
     #[allow(clippy::too_many_arguments)]

@@ -3,7 +3,9 @@
 //!
 //! Every scenario is a pure function of `(tables, balls, seed)`: the same arguments give
 //! the same batch on every machine (PCG-64 from `rand_pcg`). Balls never overlap at the
-//! start. The table is a 9-ft playing area, [`TABLE_LENGTH`] × [`TABLE_WIDTH`].
+//! start. The table is a 9-ft playing area, [`TABLE_LENGTH`] × [`TABLE_WIDTH`], in the frame
+//! of pooltool's table that every command uses: x across the table (0 to [`TABLE_WIDTH`]),
+//! y along it (0 to [`TABLE_LENGTH`]), so that `kisstime gen`'s tables can be simulated.
 
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -111,28 +113,30 @@ fn table(
 ) -> Vec<(i64, Ball)> {
     let r = params.radius;
     let margin = r + 1e-3;
+    // pooltool's frame: x across the table, y along it
     let full = (
-        (margin, TABLE_LENGTH - margin),
         (margin, TABLE_WIDTH - margin),
+        (margin, TABLE_LENGTH - margin),
     );
     match scenario {
         Workload::Rack => {
             let mut out = Vec::with_capacity(16);
             let d = 2.0 * r + 1e-4;
-            let (ax, ay) = (0.75 * TABLE_LENGTH, 0.5 * TABLE_WIDTH);
+            // the apex on the foot spot, the rows towards the foot rail (+y)
+            let (ax, ay) = (0.5 * TABLE_WIDTH, 0.75 * TABLE_LENGTH);
             let mut id = 1;
             for row in 0..5 {
                 for i in 0..=row {
-                    let x = ax + row as f64 * d * 3f64.sqrt() / 2.0;
-                    let y = ay + (i as f64 - row as f64 / 2.0) * d;
+                    let x = ax + (i as f64 - row as f64 / 2.0) * d;
+                    let y = ay + row as f64 * d * 3f64.sqrt() / 2.0;
                     out.push((id, Ball::at_rest(x, y)));
                     id += 1;
                 }
             }
             // the cue ball from the head string, aimed at the apex with a little noise
             let (cx, cy) = (
-                0.25 * TABLE_LENGTH,
                 0.5 * TABLE_WIDTH + rng.random_range(-0.1..0.1),
+                0.25 * TABLE_LENGTH,
             );
             let speed = rng.random_range(6.0..10.0);
             let aim = (ay - cy).atan2(ax - cx) + rng.random_range(-0.005..0.005);
@@ -178,7 +182,7 @@ fn table(
             // balls on a circle, every one aimed at its centre (± 0.05 rad) at similar
             // speeds: every pair closes in, so no pair can be ruled out cheaply. Two balls
             // slide with strong draw and side spin (curved paths); the rest roll.
-            let (cx, cy) = (0.5 * TABLE_LENGTH, 0.5 * TABLE_WIDTH);
+            let (cx, cy) = (0.5 * TABLE_WIDTH, 0.5 * TABLE_LENGTH);
             let ring = (balls as f64 * 3.0 * r / std::f64::consts::PI).max(0.25);
             (0..balls)
                 .map(|i| {

@@ -981,3 +981,58 @@ fn per_table_physics_from_a_csv_is_each_table_alone() {
         &["number.csv", "line 2", "u_r"],
     );
 }
+
+/// One frame everywhere: every `kisstime gen` scenario (written in pooltool's frame, x
+/// across the table) is a valid `simulate` input on the default 9-ft table, and every table
+/// runs to rest.
+#[test]
+fn every_gen_scenario_simulates() {
+    let dir = tempfile::tempdir().unwrap();
+    for scenario in ["rack", "midshot", "spread", "worst"] {
+        let input = dir.path().join(format!("{scenario}.csv"));
+        let made = kisstime(&[
+            "gen",
+            "--scenario",
+            scenario,
+            "--tables",
+            "40",
+            "-o",
+            s(&input),
+        ]);
+        assert_eq!(made.code, Some(0), "gen {scenario}: {}", made.stderr);
+        let out = dir.path().join(format!("{scenario}_outcomes.csv"));
+        let run = kisstime(&["simulate", s(&input), "--outcomes", s(&out), "--final", "-"]);
+        assert_eq!(run.code, Some(0), "simulate {scenario}: {}", run.stderr);
+        let rows = csv_rows(&std::fs::read_to_string(&out).unwrap());
+        assert_eq!(rows.len(), 40, "{scenario}: one outcome a table");
+        assert!(
+            rows.iter().all(|r| r[3] == "none"),
+            "{scenario}: a table was cut"
+        );
+    }
+    // the hand-made example of `pairs` is in the same frame
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/tables.csv");
+    let run = kisstime(&["simulate", example, "--final", "-"]);
+    assert_eq!(
+        run.code,
+        Some(0),
+        "simulate examples/tables.csv: {}",
+        run.stderr
+    );
+}
+
+/// A run refused on its first table prints nothing on standard output, not even a header.
+#[test]
+fn a_refused_run_prints_nothing_on_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = write(
+        dir.path(),
+        "bad.csv",
+        "table,ball,state,x,y,vx,vy,wx,wy,wz\n0,0,stationary,5,5,0,0,0,0,0\n\
+         0,1,stationary,0.5,0.5,0,0,0,0,0\n",
+    );
+    let run = kisstime(&["simulate", s(&bad)]);
+    assert_eq!(run.code, Some(2));
+    assert!(run.stderr.contains("off the table"), "{}", run.stderr);
+    assert_eq!(run.stdout, "", "nothing on stdout");
+}

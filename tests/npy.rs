@@ -278,7 +278,7 @@ fn csv_input_still_reads_in_any_order() {
     assert_eq!(batch.ball_ids(1), &[1, 5]);
 }
 
-/// Files written by NumPy itself (`np.save`, the README's example: a rolling cue ball 1 m
+/// Files written by NumPy itself (`np.save`, docs/cli.md's example: a rolling cue ball 1 m
 /// from a still ball), in both layouts.
 #[test]
 fn files_saved_by_numpy_read() {

@@ -834,7 +834,15 @@ fn scenario_of(kind: &str, text: &str, source: &str, dir: Option<&str>) -> PyRes
                 .map_err(|e| PyValueError::new_err(format!("{source}: not a scenario: {e}")))?;
             let toml_text = toml::to_string(&value)
                 .map_err(|e| PyValueError::new_err(format!("{source}: not a scenario: {e}")))?;
-            StudyConfig::parse(&toml_text, source, dir).map_err(py_err)
+            // the TOML is ours, not the user's: its line numbers mean nothing to them
+            StudyConfig::parse(&toml_text, source, dir).map_err(|e| {
+                let message = e.to_string();
+                let lined = format!("{source}, line ");
+                match message.strip_prefix(&lined).and_then(|r| r.split_once(':')) {
+                    Some((_, rest)) => PyValueError::new_err(format!("{source}:{rest}")),
+                    None => py_err(e),
+                }
+            })
         }
         other => Err(PyValueError::new_err(format!(
             "unknown scenario kind {other:?}"

@@ -377,3 +377,20 @@ def test_per_table_physics_is_each_table_alone():
     assert not same(per.final[per.final["table"] == 0], per.final[per.final["table"] == 2])
     with pytest.raises(ValueError, match="table 3"):
         kisstime.simulate(many, s, physics={"table": np.arange(3), "u_r": u_r[:3]})
+
+
+def test_a_dict_scenario_error_names_the_key_not_a_line():
+    """A scenario given as a dict has no lines: its errors name the key and the ball only."""
+    import tomllib
+
+    with open(ROOT / "examples" / "study.toml", "rb") as f:
+        scen = tomllib.load(f)
+    scen["shot"]["v0"] = "fast"
+    with pytest.raises(ValueError) as e:
+        kisstime.shot_study(scen, samples=10)
+    assert str(e.value).startswith("scenario dict: key `v0`"), str(e.value)
+    assert "line" not in str(e.value)
+    scen["shot"]["v0"] = 1.0
+    scen["balls"][1]["x"] = 9.0
+    with pytest.raises(ValueError, match=r"scenario dict: key `balls\[1\]`.*off the table"):
+        kisstime.shot_study(scen, samples=10)

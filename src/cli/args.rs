@@ -27,16 +27,16 @@ pub struct Cli {
 pub enum Command {
     /// Answer every ball pair of every table: when do they first touch while approaching?
     ///
-    /// INPUT is CSV with the header `table,ball,state,x,y,vx,vy,wx,wy,wz` (SI units; state is
-    /// stationary, spinning, sliding, rolling or pocketed; rows of one table need not be
-    /// adjacent). The output is CSV `table,i,j,t,status,horizon`, one row per pair with
+    /// INPUT is CSV with the header `table,ball,state,x,y,vx,vy,wx,wy,wz` (SI units, pooltool's
+    /// frame as every command: x across the table, y along it; state is stationary,
+    /// spinning, sliding, rolling or pocketed; rows of one table need not be adjacent). The output is CSV `table,i,j,t,status,horizon`, one row per pair with
     /// i < j the ball ids, in ascending table then ball id order; `t` is the first contact
     /// time in seconds (`inf` for none), `status` is hit, none or overlap, and `horizon` is
     /// the time until the first of the two balls changes its motion state. The output is
     /// streamed: a few million pairs are held at a time, whatever the batch size.
     ///
     /// Files whose name ends in .npy are NumPy arrays instead of CSV, input and output
-    /// (layouts in the README and `kisstime::io::npy`). Ctrl-C leaves no output file behind.
+    /// (layouts in docs/cli.md and `kisstime::io::npy`). Ctrl-C leaves no output file behind.
     Pairs(RunArgs),
     /// Each table's next collision: the earliest pair in contact, as an event loop asks
     /// after every event.
@@ -52,7 +52,8 @@ pub enum Command {
     /// the backends agree (pairs outside the precision's tier against the CPU f64).
     Bench(BenchArgs),
     /// Write a built-in workload as an input file, so that the CLI, other tools and other
-    /// simulators can be timed on identical data.
+    /// simulators can be timed on identical data. The tables are 9-ft tables in pooltool's
+    /// frame (x across, 0 to 1.27 m; y along, 0 to 2.54 m): `simulate` takes them too.
     Gen(GenArgs),
     /// Monte Carlo shot study: re-play one intended shot under cue noise many times, every
     /// sample from the strike to rest with the simulator (pooltool 0.6.0's physics and
@@ -133,7 +134,7 @@ pub struct SimulateArgs {
     /// Where to simulate: `cpu` (Rayon, f64, the reference), `gpu` (the WGSL event loop,
     /// one workgroup per table; up to 64 balls a table; an error when no GPU is usable)
     /// or `auto` (the backend measured faster for the work: never a software adapter; whole shots on a
-    /// hardware GPU from 512 tables per CPU thread; the pair kernels on the CPU; see the README).
+    /// hardware GPU from 512 tables per CPU thread; the pair kernels on the CPU; see docs/gpu.md).
     #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
     pub backend: BackendArg,
     /// The precision: `f64`, the only one for whole shots (the GPU needs SHADER_F64); `f32`
@@ -149,7 +150,7 @@ pub struct SimulateArgs {
     pub rules: Option<RulesArg>,
     /// Each shot's context for `--rules`: CSV `table,break,hittable,ball_call,pocket_call`
     /// (hittable ball ids joined by `;`, empty: any ball but the 8; the pocket's id, e.g.
-    /// `lb`; see the README). Tables without a row: not a break, an open table, no call.
+    /// `lb`; see docs/games.md). Tables without a row: not a break, an open table, no call.
     #[arg(long, value_name = "CSV", requires = "rules")]
     pub context: Option<PathBuf>,
     /// Print the table, the batch size, the backend and the cut tables on stderr.
@@ -167,7 +168,7 @@ pub struct RunArgs {
     pub output: Option<PathBuf>,
     /// Where to compute: `cpu` (Rayon, f64), `gpu` (wgpu; an error when no GPU is usable),
     /// `auto` (the backend measured faster for the work: never a software adapter; whole shots on a
-    /// hardware GPU from 512 tables per CPU thread; the pair kernels on the CPU; see the README).
+    /// hardware GPU from 512 tables per CPU thread; the pair kernels on the CPU; see docs/gpu.md).
     #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
     pub backend: BackendArg,
     /// Floating-point precision: `f64` (CPU, and GPUs that offer SHADER_F64) or `f32`
@@ -268,7 +269,7 @@ pub struct ShotsArgs {
     /// Where to simulate: `cpu` (Rayon, f64, the reference), `gpu` (the WGSL event loop,
     /// one workgroup per sample; up to 64 balls; an error when no GPU is usable) or
     /// `auto` (the backend measured faster for the work: never a software adapter; whole shots on a
-    /// hardware GPU from 512 tables per CPU thread; the pair kernels on the CPU; see the README).
+    /// hardware GPU from 512 tables per CPU thread; the pair kernels on the CPU; see docs/gpu.md).
     #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
     pub backend: BackendArg,
     /// The precision: `f64`, the only one for whole shots (the GPU needs SHADER_F64); `f32`

@@ -191,7 +191,15 @@ pub fn summary_text(run: &Run<'_>, s: &Summary) -> String {
     let mut out = preamble(run, s.samples);
     let n = s.samples;
     let mut section = "";
-    for (sec, label, k) in count_rows(c, s) {
+    let rows = count_rows(c, s);
+    // the label column fits the longest label, so the counts line up under "count"
+    let width = rows
+        .iter()
+        .map(|(_, label, _)| label.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(32);
+    for (sec, label, k) in rows {
         if sec != section {
             section = sec;
             let title = match sec {
@@ -202,15 +210,17 @@ pub fn summary_text(run: &Run<'_>, s: &Summary) -> String {
             };
             let _ = writeln!(
                 out,
-                "\n{title:<34} {:>9} {:>9}   95% confidence interval",
-                "count", "fraction"
+                "\n{title:<w$} {:>9} {:>9}   95% confidence interval",
+                "count",
+                "fraction",
+                w = width + 2
             );
         }
         let (lo, hi) = wilson(k, n);
         let frac = if n > 0 { k as f64 / n as f64 } else { 0.0 };
         let _ = writeln!(
             out,
-            "  {label:<32} {k:>9} {:>8}%   [{}%, {}%]",
+            "  {label:<width$} {k:>9} {:>8}%   [{}%, {}%]",
             percent(frac),
             percent(lo),
             percent(hi)

@@ -27,7 +27,9 @@ pub fn output_error(source: std::io::Error) -> Error {
 ///   data reached the disk. On any error nothing is left under that name (an earlier file
 ///   there is kept as it was) and the temporary file is removed;
 /// - anything else that exists — a character device such as `/dev/null` or `/dev/stdout`,
-///   a FIFO, a socket — is written straight through, never replaced.
+///   a FIFO, a socket — is written straight through, never replaced;
+/// - standard output is buffered (64 KiB): when `body` fails before the buffer first fills
+///   (bad input found in the first tables), nothing at all is printed, not even a header.
 pub fn write_output(
     path: Option<&Path>,
     body: impl FnOnce(&mut dyn Write) -> Result<(), Error>,
@@ -47,8 +49,13 @@ pub fn write_output(
     };
     let Some(path) = path else {
         let stdout = std::io::stdout();
-        let mut w = std::io::BufWriter::new(stdout.lock());
-        body(&mut w).map_err(named)?;
+        let mut w = std::io::BufWriter::with_capacity(1 << 16, stdout.lock());
+        if let Err(e) = body(&mut w) {
+            // what is still buffered (a header, the first rows) is dropped, not flushed:
+            // a run refused on its first table prints nothing on standard output
+            drop(w.into_parts());
+            return Err(named(e));
+        }
         return w.flush().map_err(io);
     };
     // what the path reaches, links followed

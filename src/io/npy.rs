@@ -320,7 +320,7 @@ fn check_record_fields(fields: &[npyz::Field]) -> Result<(), String> {
             return Err(format!(
                 "field '{}' is {} ('{got}'); kisstime reads int64 ('<i8') for table, ball and \
                  state and float64 ('<f8') for x, y, vx, vy, wx, wy, wz: convert with \
-                 a.astype(BALL) (the dtype in the README)",
+                 a.astype(BALL) (the dtype in docs/cli.md)",
                 f.name,
                 dtype_words(&got)
             ));
