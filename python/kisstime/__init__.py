@@ -27,10 +27,13 @@ convert systems with :mod:`kisstime.pooltool`.
 
 from __future__ import annotations
 
+import atexit
 import dataclasses
 import io
 import json
 import os
+import shutil
+import tempfile
 from dataclasses import dataclass, field
 from typing import Any, Mapping, NamedTuple, Optional, Sequence, Union
 
@@ -135,6 +138,19 @@ _BALL_INT = ("table", "ball", "state")
 _BALL_NUM = ("x", "y", "vx", "vy", "wx", "wy", "wz")
 
 ArrayLike = Union[np.ndarray, Mapping[str, Any]]
+
+
+def _quiet_mesa(backend: str) -> None:
+    """Before the first call that may open a GPU: Mesa's Vulkan drivers print
+    ``error: XDG_RUNTIME_DIR is invalid or not set`` on stderr (several times) when that
+    variable is unset, though compute needs no runtime directory. Where it is unset, point
+    it at a private temporary folder, removed when the interpreter exits (the command line
+    does the same). CPU calls touch nothing."""
+    if backend == "cpu" or os.environ.get("XDG_RUNTIME_DIR"):
+        return
+    folder = tempfile.mkdtemp(prefix="kisstime-xdg-")
+    os.environ["XDG_RUNTIME_DIR"] = folder
+    atexit.register(shutil.rmtree, folder, True)
 
 
 def _column(data: ArrayLike, name: str, dtype: str, what: str) -> np.ndarray:
@@ -290,6 +306,7 @@ def pair_times(
     f64 on the CPU, f32 on a GPU). Returns a structured array of :data:`PAIR_DTYPE`, tables
     in ascending id order and pairs ``(i, j)`` with ``i < j`` in ball-id order.
     """
+    _quiet_mesa(backend)
     data = _kisstime.pair_times(
         _as_batch(balls)._batch, _params(radius, mu_s, mu_r, mu_sp, g), backend, precision
     )
@@ -315,6 +332,7 @@ def next_collisions(
     :class:`Batch` (converted once, for repeated calls).
     """
     params = _params(radius, mu_s, mu_r, mu_sp, g)
+    _quiet_mesa(backend)
     raw = _kisstime.next_collisions(_as_batch(balls)._batch, params, backend, precision)
     return np.frombuffer(raw, dtype=NEXT_DTYPE).copy()
 
@@ -435,6 +453,7 @@ def simulate(
         ]
         strike_cols = (ints[0], ints[1], nums)
     name, text = _table(table)
+    _quiet_mesa(backend)
     ev, fin, oc = _kisstime.simulate(
         batch._batch,
         strike_cols,
@@ -680,6 +699,7 @@ def _study_chunk(
     """Samples ``first .. first + n`` of a study (noisy from ``seed``, or rows of the given
     strikes) as an opaque blob for :func:`_study_merge` (what a Dask task computes)."""
     strike_cols = None if strikes is None else _strike_columns(strikes)
+    _quiet_mesa(backend)
     return _kisstime.study_chunk(
         *scenario._args(),
         int(first),

@@ -946,6 +946,7 @@ def _run_group(
     balls["table"] = np.repeat(np.arange(len(convs)), [len(c.balls) for c in convs])
     batch = kisstime.Batch(balls)
     name, text = kisstime._table(table)
+    kisstime._quiet_mesa(opts["backend"])
     ev, fin, oc, bad = kisstime._kisstime.simulate_shots(
         batch._batch,
         [list(c.ball_ids) for c in convs],

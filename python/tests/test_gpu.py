@@ -95,3 +95,30 @@ def test_auto_without_a_gpu_warns_and_gives_the_cpus_arrays(monkeypatch):
             kisstime.simulate(arr, strike, backend="tpu")
         with pytest.raises(ValueError, match="f64 only"):
             kisstime.shot_study(SCENARIO, strikes=strikes(5), precision="f32")
+
+
+def test_mesa_runtime_dir_noise_does_not_reach_the_user():
+    """Mesa's drivers print ``error: XDG_RUNTIME_DIR is invalid or not set`` when it is
+    unset; the package sets a private one before opening a GPU, so a user sees none of it,
+    and a CPU call leaves the variable alone."""
+    need_gpu()
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k != "XDG_RUNTIME_DIR"}
+    code = (
+        "import os, kisstime\n"
+        "kisstime.shot_study(samples=50, backend='cpu')\n"
+        "assert 'XDG_RUNTIME_DIR' not in os.environ, 'a CPU call set it'\n"
+        "kisstime.shot_study(samples=50, backend='gpu')\n"
+        "kisstime.shot_study(samples=50, backend='auto')\n"
+        "print(os.environ['XDG_RUNTIME_DIR'])\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600
+    )
+    assert run.returncode == 0, run.stderr
+    assert "XDG_RUNTIME_DIR" not in run.stderr, run.stderr
+    assert not any(line.startswith("error:") for line in run.stderr.splitlines()), run.stderr
+    folder = run.stdout.strip()
+    assert folder and not os.path.exists(folder), "the private folder is removed at exit"
