@@ -7,7 +7,8 @@
 //! ```
 //!
 //! Reads SET_DIR's `shots.csv`, `initial.csv` and `table.json`, simulates every shot with
-//! pooltool's default parameters, writes `OUT_DIR/events.csv` and `OUT_DIR/final.csv`, and
+//! the set's `physics.toml` where it has one (pooltool's names; `data/physics`,
+//! `data/snooker`, `data/carom`), else pooltool's default parameters, writes `OUT_DIR/events.csv` and `OUT_DIR/final.csv`, and
 //! prints as its last line `N shots, E events in S s: X shots/s, Y events/s` (simulation
 //! time only). With `--event-balls` it also writes `OUT_DIR/event_balls.csv` (the
 //! agents' states after each event, as in the reference set).
@@ -32,7 +33,11 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         _ => return Err("usage: replay_fullshots SET_DIR OUT_DIR [--event-balls]".into()),
     };
     let (set, out) = (PathBuf::from(set), PathBuf::from(out));
-    let params = SimParams::default();
+    let physics = set.join("physics.toml");
+    let params = match physics.exists() {
+        true => kisstime::io::physics::read_physics(&physics)?,
+        false => SimParams::default(),
+    };
     let table = read_table(&set)?;
     let shots = read_shots(&set, params.ball.r)?;
     std::fs::create_dir_all(&out)?;

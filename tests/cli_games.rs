@@ -276,3 +276,66 @@ fn the_gpu_s_shots_are_judged_as_the_cpu_s() {
     assert_eq!(verdicts[0].len(), 200);
     assert_eq!(verdicts[0], verdicts[1]);
 }
+
+/// `--table carom --rules three-cushion`: the `data/carom` shots written as the
+/// simulator's input files (ball ids 0, 1, 2 for white, yellow, red; the carom balls come
+/// with the table) score exactly where pooltool's `three_cushion.is_point` did (the set's
+/// `point` column): `turn_over` 0 on a point, every shot legal.
+#[test]
+fn three_cushion_points_through_the_cli() {
+    let set = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/carom"));
+    let shots = rows(&read(&set.join("shots.csv")));
+    let mut balls = String::from("table,ball,state,x,y,vx,vy,wx,wy,wz\n");
+    for r in rows(&read(&set.join("initial.csv"))) {
+        balls += &format!(
+            "{},{},stationary,{},{},0,0,0,0,0\n",
+            r["shot"], r["ball"], r["x"], r["y"]
+        );
+    }
+    let mut strikes = String::from("table,ball,V0,phi,theta,a,b\n");
+    for r in &shots {
+        assert_eq!(r["cue_ball_id"], "white");
+        strikes += &format!(
+            "{},0,{},{},{},{},{}\n",
+            r["shot"], r["V0"], r["phi"], r["theta"], r["a"], r["b"]
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (b, s, o) = (
+        dir.path().join("balls.csv"),
+        dir.path().join("strikes.csv"),
+        dir.path().join("outcomes.csv"),
+    );
+    std::fs::write(&b, balls).unwrap();
+    std::fs::write(&s, strikes).unwrap();
+    let out = common::run_kisstime(
+        &[
+            "simulate",
+            b.to_str().unwrap(),
+            "--strikes",
+            s.to_str().unwrap(),
+            "--table",
+            "carom",
+            "--rules",
+            "three-cushion",
+            "--outcomes",
+            o.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let judged = rows(&read(&o));
+    assert_eq!(judged.len(), shots.len());
+    let mut points = 0;
+    for (v, r) in judged.iter().zip(&shots) {
+        assert_eq!((v["legal"].as_str(), v["foul"].as_str()), ("1", ""));
+        let point = r["point"] == "1";
+        points += usize::from(point);
+        assert_eq!(v["turn_over"] == "0", point, "shot {}", r["shot"]);
+    }
+    assert!(points >= 5, "{points} points");
+}

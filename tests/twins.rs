@@ -121,6 +121,14 @@ const TWINS: &[Twin] = &[
         wgsl: "shaders/model/sim_params.wgsl",
         rust_only: &[
             ("default", HOST_ONLY),
+            (
+                "BallParams::snooker",
+                "a preset the host picks; the shader reads whatever block it is given",
+            ),
+            (
+                "BallParams::carom",
+                "a preset the host picks; the shader reads whatever block it is given",
+            ),
             ("BallParams::validate", HOST_ONLY),
             ("CueParams::validate", "the strike is resolved on the host"),
             ("ResolverParams::validate", HOST_ONLY),

@@ -350,7 +350,7 @@ class SimResult(NamedTuple):
 
 
 #: What a ``table=`` argument takes: a built-in name (``"9ft"``, ``"7ft"``,
-#: ``"rectangle"``), the path of a JSON table, the JSON text itself, or a pooltool ``Table``.
+#: ``"rectangle"``, ``"snooker"``, ``"carom"``), the path of a JSON table, the JSON text itself, or a pooltool ``Table``.
 TableLike = Union[str, os.PathLike, Any]
 
 
@@ -371,7 +371,7 @@ def _table(table: TableLike) -> tuple:
 
         return ("table", table_json(table))
     raise TypeError(
-        "table: expected a built-in name (\"9ft\", \"7ft\", \"rectangle\"), a path, JSON "
+        "table: expected a built-in name (\"9ft\", \"7ft\", \"rectangle\", \"snooker\", \"carom\"), a path, JSON "
         f"text or a pooltool Table, not {type(table).__name__}"
     )
 
@@ -434,7 +434,9 @@ def simulate(
     ``strikes`` (at most one per table, applied at t = 0) is a structured array of
     :data:`STRIKE_DTYPE` or a dict of its columns. ``table`` is ``"9ft"`` (pooltool's 9-ft
     pocket table), ``"7ft"`` (pooltool's default table, ``pt.Table.default()``),
-    ``"rectangle"`` (the 9-ft playing surface, no pockets), the path of a JSON table in the
+    ``"rectangle"`` (the 9-ft playing surface, no pockets), ``"snooker"``, ``"carom"``
+    (pooltool's snooker and three-cushion tables; without ``physics`` they play their
+    game's balls, as pooltool's ``BallParams.default``), the path of a JSON table in the
     format of ``data/fullshots/table.json``, that JSON text itself (a str starting with
     ``{``), or a pooltool ``Table`` object (pocket, snooker or billiard; converted with
     :func:`kisstime.pooltool.table_json`, no file written). A table is cut after

@@ -234,7 +234,10 @@ class Converted:
         ``"rt"``; 8-ball asks every shot but the break to be called). The verdict is in
         the result's ``outcomes``: ``legal``, ``foul`` (an index in ``kisstime.FOULS``, -1
         for none), ``turn_over``, ``game_over``, ``won``. The balls must be pooltool's pool
-        balls: ``"cue"`` and the numbered ``"1"`` to ``"15"``.
+        balls: ``"cue"`` and the numbered ``"1"`` to ``"15"``. With
+        ``rules="three-cushion"`` any balls go (the cue ball is the one struck) and the
+        context arguments are not used: the shot scores a point exactly when
+        ``turn_over`` is false (pooltool's ``three_cushion.is_point``).
 
         The table goes as JSON text (no file is written). ``kwargs`` go to
         ``kisstime.simulate`` (``max_events``, ``max_time``, ``events``, ``backend``);
@@ -247,7 +250,10 @@ class Converted:
         kwargs.setdefault("physics", self.physics or None)
         kwargs.setdefault("table", self.table)
         strikes = self.strikes if len(self.strikes) else None
-        if rules is not None:
+        if rules == "three-cushion":
+            # the point needs no ball numbers: the cue ball is the one struck
+            kwargs["rules"] = rules
+        elif rules is not None:
             game = {}
             for i, b in enumerate(self.ball_ids):
                 if b == "cue":

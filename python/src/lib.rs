@@ -453,7 +453,11 @@ fn simulate<'py>(
             let ids: Vec<i64> = (0..batch.num_tables()).map(|k| batch.table_id(k)).collect();
             BatchPhysics::PerTable(cols.for_tables(&base, &ids, "physics").map_err(py_err)?)
         }
-        None => BatchPhysics::Shared(physics_of(&physics)?.unwrap_or_default()),
+        // without physics: the balls of the table's game (snooker, carom), as the CLI
+        None => BatchPhysics::Shared(physics_of(&physics)?.unwrap_or_else(|| SimParams {
+            ball: kisstime::io::table_json::default_ball_params(table_name),
+            ..SimParams::default()
+        })),
     };
     let physics = batch_physics.as_physics();
     let strikes = match &strikes {

@@ -121,3 +121,27 @@ def test_the_pooltool_bridge_judges_in_pooltools_terms():
         assert int(oc["game_over"]) == int(shot["game_over"]), game
     with pytest.raises(ValueError, match="is not a ball"):
         conv.simulate(rules="8-ball", ball_call="99")
+
+
+def test_three_cushion_points_through_python_are_pooltools():
+    """``table="carom", rules="three-cushion"`` on data/carom's shots (the carom balls come
+    with the table): a point (``turn_over`` 0) exactly where pooltool's is_point scored."""
+    carom = DATA.parents[1] / "carom"
+    with open(carom / "shots.csv", newline="") as f:
+        shots = list(csv.DictReader(f))
+    with open(carom / "initial.csv", newline="") as f:
+        balls = list(csv.DictReader(f))
+    b = np.zeros(len(balls), dtype=kisstime.BALL_DTYPE)
+    b["table"] = [int(r["shot"]) for r in balls]
+    b["ball"] = [int(r["ball"]) for r in balls]
+    b["x"] = [float(r["x"]) for r in balls]
+    b["y"] = [float(r["y"]) for r in balls]
+    s = np.zeros(len(shots), dtype=kisstime.STRIKE_DTYPE)
+    s["table"] = [int(r["shot"]) for r in shots]
+    for k in ("V0", "phi", "theta", "a", "b"):
+        s[k] = [float(r[k]) for r in shots]
+    res = kisstime.simulate(b, s, table="carom", rules="three-cushion", events=False)
+    points = np.array([r["point"] == "1" for r in shots])
+    assert 5 <= points.sum() <= len(shots) - 5
+    assert res.outcomes["legal"].all()
+    assert ((res.outcomes["turn_over"] == 0) == points).all()

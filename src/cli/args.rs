@@ -94,7 +94,9 @@ pub struct SimulateArgs {
     pub strikes: Option<PathBuf>,
     /// The table: `9ft` (pooltool's 9-ft pocket table), `7ft` (pooltool's default table,
     /// `Table.default()`), `rectangle` (the 9-ft's 1.27 × 2.54 m playing surface with four
-    /// rails and no pockets) or a JSON file (the format of data/fullshots/table.json).
+    /// rails and no pockets), `snooker` or `carom` (pooltool's snooker and three-cushion
+    /// tables; without --physics they play their game's balls, as pooltool's
+    /// `BallParams.default(game)`) or a JSON file (the format of data/fullshots/table.json).
     #[arg(long, default_value = "9ft")]
     pub table: String,
     /// Write every event here (atomically; .npy by name).
@@ -143,7 +145,7 @@ pub struct SimulateArgs {
     #[arg(long, value_enum, default_value_t = PrecisionArg::F64)]
     pub precision: PrecisionArg,
     /// Judge every shot by a game's rules, as pooltool 0.6.0's rule sets judge it
-    /// (`9-ball`, `8-ball`): adds `legal,foul,turn_over,game_over,won` to `--outcomes`
+    /// (`9-ball`, `8-ball`, `three-cushion`: a point exactly when the turn is not over): adds `legal,foul,turn_over,game_over,won` to `--outcomes`
     /// (`foul`: cue_pocketed, no_hit, wrong_ball_first, no_rail, break_rails, not_called,
     /// eight_illegal). Ball ids are the game's: 0 the cue ball, object balls their numbers.
     #[arg(long, value_enum, requires = "outcomes")]
@@ -374,6 +376,10 @@ pub enum RulesArg {
     /// 8-ball (pooltool's `eight_ball`): the group first, called shots, the 8 last.
     #[value(name = "8-ball")]
     EightBall,
+    /// Three-cushion billiards (pooltool's `three_cushion`): a point (the turn kept) when
+    /// the struck ball meets both others, three cushions or more before the second.
+    #[value(name = "three-cushion")]
+    ThreeCushion,
 }
 
 /// A built-in whole-shot workload for `kisstime bench --sim`.

@@ -151,11 +151,12 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     }
     let table = table_by_name(&args.table)?;
     let batch = read_input(&args.input)?;
-    let batch_physics = kisstime::io::physics::read_batch_physics(
+    let batch_physics = kisstime::io::physics::read_batch_physics_on(
         args.physics.as_deref(),
         &(0..batch.num_tables())
             .map(|k| batch.table_id(k))
             .collect::<Vec<_>>(),
+        &args.table,
     )?;
     let physics = batch_physics.as_physics();
     let plotted = match &args.plot {
@@ -183,6 +184,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let rules = args.rules.map(|r| match r {
         RulesArg::NineBall => Rules::NineBall,
         RulesArg::EightBall => Rules::EightBall,
+        RulesArg::ThreeCushion => Rules::ThreeCushion,
     });
     // the game's part of each context (8-ball: every shot but the break is called)
     let contexts: Vec<Context> = match rules {

@@ -4,7 +4,9 @@
 //! game:
 //!
 //! - [`nine_ball`]: 9-ball (`pooltool.ruleset.nine_ball`);
-//! - [`eight_ball`]: 8-ball (`pooltool.ruleset.eight_ball`).
+//! - [`eight_ball`]: 8-ball (`pooltool.ruleset.eight_ball`);
+//! - [`three_cushion`]: three-cushion billiards (`pooltool.ruleset.three_cushion`: the
+//!   point).
 //!
 //! A shot's context ([`Context`]) is what the player was allowed and asked to do: whether
 //! it is a break, the balls they may hit first, and their call.
@@ -27,6 +29,7 @@ use crate::simulate::events::{Event, EventKind};
 
 pub mod eight_ball;
 pub mod nine_ball;
+pub mod three_cushion;
 
 /// A game whose rules judge shots.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -35,14 +38,20 @@ pub enum Rules {
     NineBall,
     /// 8-ball ([`eight_ball`]).
     EightBall,
+    /// Three-cushion billiards ([`three_cushion`]).
+    ThreeCushion,
 }
 
 impl Rules {
     /// Every game, with its name.
-    pub const ALL: [(Rules, &'static str); 2] =
-        [(Rules::NineBall, "9-ball"), (Rules::EightBall, "8-ball")];
+    pub const ALL: [(Rules, &'static str); 3] = [
+        (Rules::NineBall, "9-ball"),
+        (Rules::EightBall, "8-ball"),
+        (Rules::ThreeCushion, "three-cushion"),
+    ];
 
-    /// The game named `name` (`9-ball`, `8-ball`); the error lists the names.
+    /// The game named `name` (`9-ball`, `8-ball`, `three-cushion`); the error lists the
+    /// names.
     pub fn from_name(name: &str) -> Result<Rules, String> {
         Rules::ALL
             .iter()
@@ -68,6 +77,7 @@ impl Rules {
         match self {
             Rules::NineBall => nine_ball::judge(shot, context.break_shot),
             Rules::EightBall => eight_ball::judge(shot, context),
+            Rules::ThreeCushion => three_cushion::judge(shot),
         }
     }
 }

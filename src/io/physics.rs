@@ -433,8 +433,25 @@ pub fn read_physics(path: &Path) -> Result<SimParams, Error> {
 /// TOML file's one set, or a `.csv` file's set per table ([`parse_physics_csv`]: pooltool's
 /// defaults with each table's row in place); pooltool's defaults without a path.
 pub fn read_batch_physics(path: Option<&Path>, table_ids: &[i64]) -> Result<BatchPhysics, Error> {
+    read_batch_physics_on(path, table_ids, "9ft")
+}
+
+/// [`read_batch_physics`] for tables `table_name` (a `--table` value): without a path, the
+/// balls that table's game is played with
+/// ([`crate::io::table_json::default_ball_params`]: snooker balls on `snooker`, carom balls
+/// on `carom`, pool balls elsewhere), as pooltool's `BallParams.default(game_type)`. A
+/// given file's keys fill the rest with pooltool's class defaults, as `BallParams(...)`
+/// does.
+pub fn read_batch_physics_on(
+    path: Option<&Path>,
+    table_ids: &[i64],
+    table_name: &str,
+) -> Result<BatchPhysics, Error> {
     let Some(path) = path else {
-        return Ok(BatchPhysics::Shared(SimParams::default()));
+        return Ok(BatchPhysics::Shared(SimParams {
+            ball: crate::io::table_json::default_ball_params(table_name),
+            ..SimParams::default()
+        }));
     };
     let is_csv = path
         .extension()

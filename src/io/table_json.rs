@@ -7,6 +7,7 @@
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
 use crate::error::{Error, InputError, SimError};
+use crate::model::sim_params::BallParams;
 use crate::model::table::MAX_TABLE_ITEMS;
 use crate::model::table::{
     CircularCushion, LinearCushion, POCKET_DEPTH, Pocket, PocketTableSpecs, Table,
@@ -103,13 +104,21 @@ impl<'de> Visitor<'de> for JsonVisitor {
 }
 
 /// The names of the built-in tables ([`table_by_name`]).
-pub const BUILTIN_TABLES: [&str; 3] = ["9ft", "7ft", "rectangle"];
+pub const BUILTIN_TABLES: [&str; 5] = ["9ft", "7ft", "rectangle", "snooker", "carom"];
+
+/// pooltool's snooker table, `Table.from_game_type(GameType.SNOOKER)` ("Generic Snooker"),
+/// as `data/tables/make_tables.py` wrote it.
+const SNOOKER_JSON: &str = include_str!("../../data/tables/snooker.json");
+/// pooltool's carom table, `Table.from_game_type(GameType.THREECUSHION)` (no pockets).
+const CAROM_JSON: &str = include_str!("../../data/tables/billiard.json");
 
 /// The table a name gives, as `kisstime simulate --table` and a study's `[table]` take
 /// it: `9ft` is pooltool's 9-ft pocket table ([`Table::nine_foot`]), `7ft` pooltool's
 /// default table, `pt.Table.default()` ([`Table::seven_foot`]), `rectangle` the 9-ft
-/// playing surface with four plain rails and no pockets, and anything else the path of a
-/// JSON table ([`Table::from_json`]). Errors name the file.
+/// playing surface with four plain rails and no pockets, `snooker` and `carom` pooltool's
+/// snooker table and three-cushion (billiard) table (`data/tables/snooker.json`,
+/// `billiard.json`, built in), and anything else the path of a JSON table
+/// ([`Table::from_json`]). Errors name the file.
 pub fn table_by_name(name: &str) -> Result<Table, Error> {
     match name {
         "9ft" => Ok(Table::nine_foot()),
@@ -118,6 +127,8 @@ pub fn table_by_name(name: &str) -> Result<Table, Error> {
             let s = PocketTableSpecs::default();
             Table::rectangle(s.w, s.l, s.cushion_height).map_err(Error::from)
         }
+        "snooker" => table_from_json_text(SNOOKER_JSON, "the built-in snooker table"),
+        "carom" => table_from_json_text(CAROM_JSON, "the built-in carom table"),
         path => {
             let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
                 path: path.to_owned(),
@@ -125,6 +136,19 @@ pub fn table_by_name(name: &str) -> Result<Table, Error> {
             })?;
             table_from_json_text(&text, path)
         }
+    }
+}
+
+/// The balls a table is played with, as pooltool's `BallParams.default(game_type)` gives
+/// them for the table's game: snooker balls ([`BallParams::snooker`]) on `snooker`, carom
+/// balls ([`BallParams::carom`]) on `carom`, pool balls ([`BallParams::default`]) on every
+/// other table (the pocket tables and any file). What `simulate` and a study use when no
+/// physics is given.
+pub fn default_ball_params(table_name: &str) -> BallParams {
+    match table_name {
+        "snooker" => BallParams::snooker(),
+        "carom" => BallParams::carom(),
+        _ => BallParams::default(),
     }
 }
 

@@ -68,6 +68,35 @@ impl Default for BallParams {
 }
 
 impl BallParams {
+    /// pooltool's `PrebuiltBallParams.SNOOKER_GENERIC` (`objects/ball/params.py`), the
+    /// balls of `GameType.SNOOKER`: m 0.140 kg, R 26.19375 mm (2 1/16 in), u_s 0.5,
+    /// f_c 0.5; the rest the class defaults.
+    pub fn snooker() -> Self {
+        let r = 0.02619375;
+        BallParams {
+            m: 0.140,
+            r,
+            u_s: 0.5,
+            u_sp: DEFAULT_U_SP_PROPORTIONALITY * r,
+            f_c: 0.5,
+            ..BallParams::default()
+        }
+    }
+
+    /// pooltool's `PrebuiltBallParams.BILLIARD_GENERIC`, the balls of
+    /// `GameType.THREECUSHION` (carom): m 0.210 kg, R 30.75 mm (61.5 mm across), f_c 0.15;
+    /// the rest the class defaults.
+    pub fn carom() -> Self {
+        let r = 0.0615 / 2.0;
+        BallParams {
+            m: 0.210,
+            r,
+            u_sp: DEFAULT_U_SP_PROPORTIONALITY * r,
+            f_c: 0.15,
+            ..BallParams::default()
+        }
+    }
+
     /// Checks that every constant is finite, the positive ones (m, R, μ_s, μ_r, μ_sp, g)
     /// strictly positive, as are the decelerations μ_s g, μ_r g, μ_sp g (no underflow to 0),
     /// and the restitutions and friction coefficients in `[0, 1]`

@@ -10,7 +10,8 @@
 //!
 //! ```toml
 //! [table]            # optional: "9ft" (the default), "7ft" (pooltool's default table),
-//! kind = "9ft"       #   "rectangle", or a JSON table file (the format of
+//! kind = "9ft"       #   "rectangle", "snooker", "carom" (their game's balls without
+//!                    #   [physics]), or a JSON table file (the format of
 //!                    #   data/fullshots/table.json; relative paths are taken from the
 //!                    #   study file's folder)
 //! # l = 2.54         # optional, a built-in table only: the playing surface's length and
@@ -427,11 +428,10 @@ impl StudyConfig {
             }
             builtin if BUILTIN_TABLES.contains(&builtin) => table_by_name(builtin)?,
             _ if sized => {
-                return Err(err(
-                    "keys `table.l`, `table.w`: a table file has its own size (they size the \
-                     built-in tables)"
-                        .to_owned(),
-                ));
+                return Err(err(format!(
+                    "keys `table.l`, `table.w`: the table {table_name} has its own size (they \
+                     size the pocket tables 9ft and 7ft and the rectangle)"
+                )));
             }
             file => {
                 let path = match dir {
@@ -461,7 +461,11 @@ impl StudyConfig {
                 };
                 physics_from_entries(&entries, &src, true)?
             }
-            None => SimParams::default(),
+            // the balls of the table's game (snooker, carom), as pooltool's defaults
+            None => SimParams {
+                ball: crate::io::table_json::default_ball_params(&table_name),
+                ..SimParams::default()
+            },
         };
 
         let balls = raw
