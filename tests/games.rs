@@ -10,7 +10,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use kisstime::game::{Context, Foul, Shot, eight_ball, nine_ball};
+use kisstime::game::{Context, Foul, Rules, Shot, eight_ball, nine_ball};
 use kisstime::simulate::{
     BallState, BatchOptions, CueStrike, EventRecord, SimParams, Table, simulate_batch,
 };
@@ -270,7 +270,13 @@ fn check_set(
 fn nine_ball_verdicts_are_pooltools() {
     check_set(
         "nine_ball",
-        |shot, s| nine_ball::judge(shot, s.break_shot).unwrap(),
+        |shot, s| {
+            let context = Context {
+                break_shot: s.break_shot,
+                ..Context::default()
+            };
+            Rules::NineBall.judge(shot, &context).unwrap()
+        },
         nine_ball::pooltool_reason,
         &[
             "cue_pocketed",
@@ -289,7 +295,7 @@ fn nine_ball_verdicts_are_pooltools() {
 fn eight_ball_verdicts_are_pooltools() {
     check_set(
         "eight_ball",
-        |shot, s| eight_ball::judge(shot, &s.context).unwrap(),
+        |shot, s| Rules::EightBall.judge(shot, &s.context).unwrap(),
         eight_ball::pooltool_reason,
         &[
             "cue_pocketed",
@@ -319,7 +325,9 @@ fn a_shot_that_is_not_a_pool_game_is_an_error() {
             start: &start,
             events: &[],
         };
-        nine_ball::judge(&shot, false).map_err(|e| e.to_string())
+        Rules::NineBall
+            .judge(&shot, &Context::default())
+            .map_err(|e| e.to_string())
     };
     assert!(judge(&[1, 2]).unwrap_err().contains("no cue ball"));
     assert!(judge(&[0, 0]).unwrap_err().contains("second cue ball"));

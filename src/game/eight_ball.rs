@@ -31,14 +31,13 @@
 //! ball's pocket outranks the other fouls in the reason given.
 
 use super::nine_ball::break_foul;
-use super::{Context, Foul, Shot, Verdict, bit, is_cushion};
+use super::{Context, Foul, Played, Verdict, bit};
 use crate::error::SimError;
-use crate::simulate::events::EventKind;
 
 /// The verdict on `shot` in `context`. Errors: the shot's balls are not a pool game's
 /// ([`Shot::pool_cue`]). (A call of a ball or pocket the table lacks is the caller's to
 /// refuse: here it is a call that cannot come true.)
-pub fn judge(shot: &Shot<'_>, context: &Context) -> Result<Verdict, SimError> {
+pub fn judge(shot: &Played<'_>, context: &Context) -> Result<Verdict, SimError> {
     let cue = shot.pool_cue()?;
     let pocketed = shot.pocketed();
     let cue_pocketed = pocketed & bit(cue as u32) != 0;
@@ -46,15 +45,11 @@ pub fn judge(shot: &Shot<'_>, context: &Context) -> Result<Verdict, SimError> {
     let mut foul = if context.break_shot {
         break_foul(shot, cue, cue_pocketed, pocketed != 0)
     } else {
-        shot_foul(shot, context, cue, cue_pocketed, object_pocketed)
+        shot_foul(shot, context, cue_pocketed, object_pocketed)
     };
     // the 8's first pocket, if it went down
     let eight = shot.index_of(8);
-    let eight_pocket = eight.and_then(|i| {
-        shot.events()
-            .find(|e| e.kind == EventKind::BallPocket && e.ball as usize == i)
-            .map(|e| e.other as usize)
-    });
+    let eight_pocket = eight.and_then(|i| shot.pocket_of(i));
     if !context.break_shot
         && let Some(pocket) = eight_pocket
         && (context.hittable & (1 << 8) == 0 || context.pocket_call != Some(pocket))
@@ -84,19 +79,18 @@ pub fn pooltool_reason(foul: Foul) -> &'static str {
 /// A shot's foul other than a break's (pooltool's `is_legal` before its 8-ball check), if
 /// any.
 fn shot_foul(
-    shot: &Shot<'_>,
+    shot: &Played<'_>,
     context: &Context,
-    cue: usize,
     cue_pocketed: bool,
     object_pocketed: bool,
 ) -> Option<Foul> {
     if cue_pocketed {
         return Some(Foul::CuePocketed);
     }
-    if !shot.events().any(|e| e.kind == EventKind::BallBall) {
+    if !shot.facts.any_ball_ball {
         return Some(Foul::NoHit);
     }
-    let first = shot.first_contact(cue);
+    let first = shot.first_contact();
     let hittable = |i: usize| {
         let n = shot.ids[i];
         (1..=15).contains(&n) && context.hittable & (1 << n) != 0
@@ -104,7 +98,7 @@ fn shot_foul(
     if !first.is_some_and(|(_, ball)| hittable(ball)) {
         return Some(Foul::WrongBallFirst);
     }
-    let cushion_after = first.is_some_and(|(t, _)| shot.events().any(|e| is_cushion(e) && e.t > t));
+    let cushion_after = first.is_some() && shot.facts.cushion_after_first;
     if !cushion_after && !object_pocketed {
         return Some(Foul::NoRail);
     }
@@ -115,7 +109,7 @@ fn shot_foul(
 /// Whether a legal shot keeps the player at the table (pooltool's `is_turn_over` after a
 /// legal shot): without a call, a hittable ball pocketed; with one, the called ball in the
 /// called pocket. `object_pocketed` is the set of balls pocketed (indices).
-fn keeps_table(shot: &Shot<'_>, context: &Context, object_pocketed: u64) -> bool {
+fn keeps_table(shot: &Played<'_>, context: &Context, object_pocketed: u64) -> bool {
     if !context.call_shot {
         return (0..shot.ids.len()).any(|i| {
             let n = shot.ids[i];
@@ -130,7 +124,5 @@ fn keeps_table(shot: &Shot<'_>, context: &Context, object_pocketed: u64) -> bool
     let Some(i) = shot.index_of(ball) else {
         return false;
     };
-    shot.events().any(|e| {
-        e.kind == EventKind::BallPocket && e.ball as usize == i && e.other as usize == pocket
-    })
+    shot.pocket_of(i) == Some(pocket)
 }

@@ -26,6 +26,7 @@ use crate::model::MotionState;
 use crate::model::ball_state::BallState;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::events::{Event, EventKind};
+use crate::simulate::watch::{NO_POCKET, ShotFacts};
 
 pub mod eight_ball;
 pub mod nine_ball;
@@ -72,12 +73,34 @@ impl Rules {
         }
     }
 
-    /// The verdict on `shot` in `context` (see [`nine_ball::judge`], [`eight_ball::judge`]).
+    /// The verdict on `shot` in `context` (see [`nine_ball::judge`], [`eight_ball::judge`],
+    /// [`three_cushion::judge`]): the shot's facts ([`ShotFacts`]) following the game's cue
+    /// ball (pool: the ball with id 0; three-cushion: the ball struck), then
+    /// [`Rules::judge_played`].
     pub fn judge(self, shot: &Shot<'_>, context: &Context) -> Result<Verdict, SimError> {
+        let cue = match self {
+            Rules::ThreeCushion => shot.struck()?,
+            Rules::NineBall | Rules::EightBall => shot.pool_cue()?,
+        };
+        let facts = ShotFacts::of(shot.events(), cue as u32);
+        self.judge_played(
+            &Played {
+                ids: shot.ids,
+                start: shot.start,
+                cue,
+                facts: &facts,
+            },
+            context,
+        )
+    }
+
+    /// The verdict on a shot known by its facts (what a watched study keeps of each
+    /// sample), in `context`.
+    pub fn judge_played(self, played: &Played<'_>, context: &Context) -> Result<Verdict, SimError> {
         match self {
-            Rules::NineBall => nine_ball::judge(shot, context.break_shot),
-            Rules::EightBall => eight_ball::judge(shot, context),
-            Rules::ThreeCushion => three_cushion::judge(shot),
+            Rules::NineBall => nine_ball::judge(played, context.break_shot),
+            Rules::EightBall => eight_ball::judge(played, context),
+            Rules::ThreeCushion => three_cushion::judge(played),
         }
     }
 }
@@ -200,49 +223,101 @@ pub struct Shot<'a> {
 }
 
 impl Shot<'_> {
-    /// Checks the shot for a pool game (8-ball, 9-ball): one ball per index, exactly one
-    /// cue ball (id 0), the others numbered 1 to 15, at most [`u64::BITS`] balls. Returns
-    /// the cue ball's index.
+    /// Checks the shot for a pool game (8-ball, 9-ball): see [`pool_cue`]. Returns the cue
+    /// ball's index.
     pub fn pool_cue(&self) -> Result<usize, SimError> {
-        if self.ids.len() != self.start.len() {
-            return Err(SimError::Table(format!(
-                "{} ball ids for {} balls",
-                self.ids.len(),
-                self.start.len()
-            )));
-        }
-        if self.ids.len() > u64::BITS as usize {
-            return Err(SimError::Table(format!(
-                "{} balls: the rules take at most {}",
-                self.ids.len(),
-                u64::BITS
-            )));
-        }
-        let mut cue = None;
-        for (index, &id) in self.ids.iter().enumerate() {
-            match id {
-                0 if cue.is_some() => {
-                    return Err(SimError::Ball {
-                        index,
-                        reason: "a second cue ball (id 0)".to_owned(),
-                    });
-                }
-                0 => cue = Some(index),
-                1..=15 => {}
-                other => {
-                    return Err(SimError::Ball {
-                        index,
-                        reason: format!("id {other}: pool balls are the cue ball (0) and 1 to 15"),
-                    });
-                }
-            }
-        }
-        cue.ok_or_else(|| SimError::Table("no cue ball (id 0) on the table".to_owned()))
+        pool_cue(self.ids, self.start)
+    }
+
+    /// The ball the strike (the first event) hit; a shot without a strike is an error.
+    pub fn struck(&self) -> Result<usize, SimError> {
+        self.events
+            .first()
+            .map(|r| &r.event)
+            .filter(|e| e.kind == EventKind::StickBall)
+            .map(|e| e.ball as usize)
+            .ok_or_else(|| {
+                SimError::Table(
+                    "the shot has no strike (its first event must be the cue's)".to_owned(),
+                )
+            })
     }
 
     /// The events, in order.
     fn events(&self) -> impl Iterator<Item = &Event> + '_ {
         self.events.iter().map(|r| &r.event)
+    }
+}
+
+/// Checks the balls of a pool game (8-ball, 9-ball): one id per ball, exactly one cue ball
+/// (id 0), the others numbered 1 to 15, at most [`u64::BITS`] balls. Returns the cue
+/// ball's index.
+pub fn pool_cue(ids: &[i64], start: &[BallState]) -> Result<usize, SimError> {
+    if ids.len() != start.len() {
+        return Err(SimError::Table(format!(
+            "{} ball ids for {} balls",
+            ids.len(),
+            start.len()
+        )));
+    }
+    if ids.len() > u64::BITS as usize {
+        return Err(SimError::Table(format!(
+            "{} balls: the rules take at most {}",
+            ids.len(),
+            u64::BITS
+        )));
+    }
+    let mut cue = None;
+    for (index, &id) in ids.iter().enumerate() {
+        match id {
+            0 if cue.is_some() => {
+                return Err(SimError::Ball {
+                    index,
+                    reason: "a second cue ball (id 0)".to_owned(),
+                });
+            }
+            0 => cue = Some(index),
+            1..=15 => {}
+            other => {
+                return Err(SimError::Ball {
+                    index,
+                    reason: format!("id {other}: pool balls are the cue ball (0) and 1 to 15"),
+                });
+            }
+        }
+    }
+    cue.ok_or_else(|| SimError::Table("no cue ball (id 0) on the table".to_owned()))
+}
+
+/// A shot as the judges read it: each ball's identity and state at the start, the ball
+/// the facts follow (`cue`), and the facts of its events ([`ShotFacts`]: from recorded
+/// events, [`Rules::judge`], or kept by a study's watch as the events went by).
+#[derive(Clone, Copy, Debug)]
+pub struct Played<'a> {
+    /// Each ball's identity, index for index: 0 the cue ball, object balls their numbers.
+    pub ids: &'a [i64],
+    /// Each ball's state at the start of the shot (pocketed ones are off the table).
+    pub start: &'a [BallState],
+    /// The ball `facts` follow.
+    pub cue: usize,
+    /// The facts of the shot's events.
+    pub facts: &'a ShotFacts,
+}
+
+impl Played<'_> {
+    /// The cue ball of a pool game ([`pool_cue`]), which must be the ball the facts follow.
+    fn pool_cue(&self) -> Result<usize, SimError> {
+        let cue = pool_cue(self.ids, self.start)?;
+        if cue != self.cue {
+            return Err(SimError::Ball {
+                index: self.cue,
+                reason: format!(
+                    "the shot's facts follow ball {}, but the cue ball (id 0) is ball {cue}",
+                    self.cue
+                ),
+            });
+        }
+        Ok(cue)
     }
 
     /// Whether ball `i` was on the table at the start.
@@ -257,36 +332,25 @@ impl Shot<'_> {
 
     /// The balls pocketed during the shot, as a bit set of indices.
     fn pocketed(&self) -> u64 {
-        self.events()
-            .filter(|e| e.kind == EventKind::BallPocket)
-            .fold(0, |set, e| set | bit(e.ball))
+        self.facts.pocketed
+    }
+
+    /// The pocket ball `i` fell into, if it did.
+    fn pocket_of(&self, i: usize) -> Option<usize> {
+        self.facts
+            .pocket_of
+            .get(i)
+            .filter(|&&p| p != NO_POCKET)
+            .map(|&p| p as usize)
     }
 
     /// The cue ball's first ball–ball event: its time and the other ball's index.
-    fn first_contact(&self, cue: usize) -> Option<(f64, usize)> {
-        self.events().find_map(|e| {
-            let involves = e.ball as usize == cue || e.other as usize == cue;
-            (e.kind == EventKind::BallBall && involves).then(|| {
-                let other = if e.ball as usize == cue {
-                    e.other
-                } else {
-                    e.ball
-                };
-                (e.t, other as usize)
-            })
-        })
+    fn first_contact(&self) -> Option<(f64, usize)> {
+        self.facts.first_ball.map(|(t, other)| (t, other as usize))
     }
 }
 
 /// The bit of ball index `i` in a set of balls.
 fn bit(i: u32) -> u64 {
     1u64.checked_shl(i).unwrap_or(0)
-}
-
-/// Whether `e` is a ball hitting a cushion (a straight one or a jaw).
-fn is_cushion(e: &Event) -> bool {
-    matches!(
-        e.kind,
-        EventKind::BallLinearCushion | EventKind::BallCircularCushion
-    )
 }

@@ -23,13 +23,12 @@
 //! re-spots it; pooltool's game loop re-spots a ball only when none is left, which is not
 //! part of the verdict); there is no push-out after the break.
 
-use super::{Foul, Shot, Verdict, bit, is_cushion};
+use super::{Foul, Played, Verdict, bit};
 use crate::error::SimError;
-use crate::simulate::events::EventKind;
 
 /// The verdict on `shot`, a break where `break_shot`. Errors: the shot's balls are not a
 /// pool game's ([`Shot::pool_cue`]), or no object ball was on the table at the start.
-pub fn judge(shot: &Shot<'_>, break_shot: bool) -> Result<Verdict, SimError> {
+pub fn judge(shot: &Played<'_>, break_shot: bool) -> Result<Verdict, SimError> {
     let cue = shot.pool_cue()?;
     let on_table = |i: usize| i != cue && shot.on_table_at_start(i);
     let numbers = || (0..shot.ids.len()).filter(|&i| on_table(i));
@@ -46,7 +45,7 @@ pub fn judge(shot: &Shot<'_>, break_shot: bool) -> Result<Verdict, SimError> {
     let foul = if break_shot {
         break_foul(shot, cue, cue_pocketed, pocketed != 0)
     } else {
-        shot_foul(shot, cue, lowest, cue_pocketed, object_pocketed)
+        shot_foul(shot, lowest, cue_pocketed, object_pocketed)
     };
     let legal = foul.is_none();
     let game_over = legal && pocketed & bit(highest as u32) != 0;
@@ -66,7 +65,7 @@ pub fn pooltool_reason(foul: Foul) -> &'static str {
 
 /// A break's foul (pooltool's `_is_legal_break`, the same in 8-ball), if any.
 pub(super) fn break_foul(
-    shot: &Shot<'_>,
+    shot: &Played<'_>,
     cue: usize,
     cue_pocketed: bool,
     any_pocketed: bool,
@@ -74,23 +73,19 @@ pub(super) fn break_foul(
     if cue_pocketed {
         return Some(Foul::CuePocketed);
     }
-    let at_cushion = shot
-        .events()
-        .filter(|e| is_cushion(e) && e.ball as usize != cue)
-        .fold(0u64, |set, e| set | bit(e.ball));
+    let at_cushion = shot.facts.at_cushion & !bit(cue as u32);
     (!any_pocketed && at_cushion.count_ones() < 4).then_some(Foul::BreakRails)
 }
 
 /// A shot's foul other than a break's (pooltool's `is_legal`), if any.
 fn shot_foul(
-    shot: &Shot<'_>,
-    cue: usize,
+    shot: &Played<'_>,
     lowest: usize,
     cue_pocketed: bool,
     object_pocketed: bool,
 ) -> Option<Foul> {
-    let any_contact = shot.events().any(|e| e.kind == EventKind::BallBall);
-    let first = shot.first_contact(cue);
+    let any_contact = shot.facts.any_ball_ball;
+    let first = shot.first_contact();
     if !any_contact {
         return Some(Foul::NoHit);
     }
@@ -100,6 +95,6 @@ fn shot_foul(
     if cue_pocketed {
         return Some(Foul::CuePocketed);
     }
-    let cushion_after = first.is_some_and(|(t, _)| shot.events().any(|e| is_cushion(e) && e.t > t));
+    let cushion_after = first.is_some() && shot.facts.cushion_after_first;
     (!cushion_after && !object_pocketed).then_some(Foul::NoRail)
 }

@@ -19,52 +19,20 @@
 //! Reference: `data/carom`'s `shots.csv` has pooltool's own `is_point` on each of its 40
 //! shots; `tests/sim_tables.rs` checks this judge on kisstime's replays of them.
 
-use super::{Shot, Verdict};
+use super::{Played, Verdict};
 use crate::error::SimError;
-use crate::simulate::events::EventKind;
 
-/// Whether `shot` scores a point (see the module's docs). The cue ball is the one the
-/// strike (the first event) hit; a shot without a strike is an error.
-pub fn is_point(shot: &Shot<'_>) -> Result<bool, SimError> {
-    let strike = shot.events.first().map(|r| &r.event);
-    let Some(cue) = strike
-        .filter(|e| e.kind == EventKind::StickBall)
-        .map(|e| e.ball)
-    else {
-        return Err(SimError::Table(
-            "three-cushion: the shot has no strike (the first event must be the cue's)".to_owned(),
-        ));
-    };
-    let mut first_ball = None;
-    let mut second_at = None;
-    for e in shot.events() {
-        if e.kind != EventKind::BallBall || (e.ball != cue && e.other != cue) {
-            continue;
-        }
-        let other = if e.ball == cue { e.other } else { e.ball };
-        match first_ball {
-            None => first_ball = Some(other),
-            Some(first) if first != other => {
-                second_at = Some(e.t);
-                break;
-            }
-            Some(_) => {}
-        }
-    }
-    let Some(t) = second_at else {
-        return Ok(false);
-    };
-    let cushions = shot
-        .events()
-        .take_while(|e| e.t < t)
-        .filter(|e| e.kind == EventKind::BallLinearCushion && e.ball == cue)
-        .count();
-    Ok(cushions >= 3)
+/// Whether the shot scores a point (see the module's docs), from its facts following the
+/// ball struck (`played.cue`).
+pub fn is_point(played: &Played<'_>) -> bool {
+    let f = played.facts;
+    f.first_ball.is_some() && f.second_ball_t.is_some() && f.cue_cushions >= 3
 }
 
-/// The verdict on `shot` (see the module's docs): legal, the turn over unless it scored.
-pub fn judge(shot: &Shot<'_>) -> Result<Verdict, SimError> {
-    let point = is_point(shot)?;
+/// The verdict on `played` (see the module's docs): legal, the turn over unless it
+/// scored. (It cannot fail; the `Result` is the judges' common form.)
+pub fn judge(played: &Played<'_>) -> Result<Verdict, SimError> {
+    let point = is_point(played);
     Ok(Verdict {
         legal: true,
         foul: None,

@@ -85,6 +85,119 @@ pub fn first_contact_of(kind: EventKind, ball: u32, other: u32, cue: u32) -> boo
     involves && kind != EventKind::StickBall && kind != EventKind::SlidingRolling
 }
 
+/// No pocket: [`ShotFacts::pocket_of`]'s mark for a ball that was not pocketed.
+pub const NO_POCKET: u16 = u16::MAX;
+
+/// What the games' rules take from a shot's events (pooltool 0.6.0's rule sets: 9-ball,
+/// 8-ball, three-cushion), kept as the events go by ([`ShotFacts::observe`]), so that a
+/// shot can be judged without its events: from a recorded shot (`game::Shot`) and from a
+/// watched one alike. Balls are indices (below 64); `cue` is the ball the facts follow
+/// (the struck one). Copy, no allocation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShotFacts {
+    /// Whether any two balls touched (a ball–ball event of any balls).
+    pub any_ball_ball: bool,
+    /// The cue ball's first ball–ball contact: its time and the other ball.
+    pub first_ball: Option<(f64, u32)>,
+    /// Whether some ball reached a cushion or a jaw strictly after `first_ball`'s time.
+    pub cushion_after_first: bool,
+    /// The balls that reached a cushion or a jaw at any time (bit `i` for ball `i`).
+    pub at_cushion: u64,
+    /// The balls pocketed (bit `i` for ball `i`).
+    pub pocketed: u64,
+    /// The pocket (index in the table's pockets) each ball first fell into, or
+    /// [`NO_POCKET`].
+    pub pocket_of: [u16; 64],
+    /// The time the cue ball first met a second, other ball (three-cushion).
+    pub second_ball_t: Option<f64>,
+    /// The cue ball's straight-cushion contacts strictly before `second_ball_t` (before
+    /// it is known: so far).
+    pub cue_cushions: u32,
+    /// The time of the cue ball's last counted straight-cushion contact, and how many of
+    /// the counted ones came at that very time (so that those at `second_ball_t` itself
+    /// can be taken back: pooltool counts strictly before).
+    last_cushion: (f64, u32),
+}
+
+impl Default for ShotFacts {
+    fn default() -> Self {
+        ShotFacts {
+            any_ball_ball: false,
+            first_ball: None,
+            cushion_after_first: false,
+            at_cushion: 0,
+            pocketed: 0,
+            pocket_of: [NO_POCKET; 64],
+            second_ball_t: None,
+            cue_cushions: 0,
+            last_cushion: (f64::NEG_INFINITY, 0),
+        }
+    }
+}
+
+impl ShotFacts {
+    /// The facts of a whole event sequence (in order), following ball `cue`.
+    pub fn of<'e>(events: impl IntoIterator<Item = &'e Event>, cue: u32) -> ShotFacts {
+        let mut facts = ShotFacts::default();
+        for e in events {
+            facts.observe(e, cue);
+        }
+        facts
+    }
+
+    /// Takes in the next event `e` of the shot (events come in time order), following
+    /// ball `cue`.
+    pub fn observe(&mut self, e: &Event, cue: u32) {
+        let bit = |i: u32| 1u64.checked_shl(i).unwrap_or(0);
+        match e.kind {
+            EventKind::BallBall => {
+                self.any_ball_ball = true;
+                if e.ball != cue && e.other != cue {
+                    return;
+                }
+                let other = if e.ball == cue { e.other } else { e.ball };
+                match self.first_ball {
+                    None => self.first_ball = Some((e.t, other)),
+                    Some((_, first)) if first != other && self.second_ball_t.is_none() => {
+                        self.second_ball_t = Some(e.t);
+                        if self.last_cushion.0 == e.t {
+                            self.cue_cushions -= self.last_cushion.1;
+                        }
+                    }
+                    Some(_) => {}
+                }
+            }
+            EventKind::BallLinearCushion | EventKind::BallCircularCushion => {
+                self.at_cushion |= bit(e.ball);
+                if let Some((t, _)) = self.first_ball
+                    && e.t > t
+                {
+                    self.cushion_after_first = true;
+                }
+                if e.kind == EventKind::BallLinearCushion
+                    && e.ball == cue
+                    && self.second_ball_t.is_none()
+                {
+                    self.cue_cushions += 1;
+                    self.last_cushion = match self.last_cushion {
+                        (t, k) if t == e.t => (t, k + 1),
+                        _ => (e.t, 1),
+                    };
+                }
+            }
+            EventKind::BallPocket => {
+                self.pocketed |= bit(e.ball);
+                if let Some(p) = self.pocket_of.get_mut(e.ball as usize)
+                    && *p == NO_POCKET
+                {
+                    *p = u16::try_from(e.other).unwrap_or(NO_POCKET - 1);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
 /// The CPU's watch of one table at a time (WGSL: `watch_event` and its workgroup state),
 /// reused across tables: [`Watcher::start`], then [`Watcher::before`] and
 /// [`Watcher::watch_event`] around each step, then [`Watcher::first`]. Pots go to the
@@ -160,5 +273,61 @@ impl Watcher {
     /// The first contact seen since [`Watcher::start`].
     pub fn first(&self) -> Option<WatchedContact> {
         self.first
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ev(kind: EventKind, t: f64, ball: u32, other: u32) -> Event {
+        Event {
+            kind,
+            t,
+            ball,
+            other,
+        }
+    }
+
+    #[test]
+    fn facts_count_strictly_before_and_after_as_pooltool() {
+        use EventKind::*;
+        let events = [
+            ev(StickBall, 0.0, 0, u32::MAX),
+            ev(BallLinearCushion, 0.5, 0, 3),
+            ev(BallLinearCushion, 0.7, 0, 9),
+            // the first contact at 1.0, and a cushion at the very same time: not after it
+            ev(BallBall, 1.0, 0, 1),
+            ev(BallLinearCushion, 1.0, 2, 6),
+            ev(BallLinearCushion, 1.5, 0, 12),
+            // a cushion of the cue ball at the second contact's very time: not before it
+            ev(BallLinearCushion, 2.0, 0, 15),
+            ev(BallBall, 2.0, 2, 0),
+            ev(BallLinearCushion, 2.5, 0, 3),
+            ev(BallPocket, 3.0, 1, 4),
+            ev(BallPocket, 3.5, 2, 0),
+        ];
+        let f = ShotFacts::of(events.iter().take(5), 0);
+        assert_eq!(f.first_ball, Some((1.0, 1)));
+        assert!(
+            !f.cushion_after_first,
+            "a cushion at the contact's time is not after it"
+        );
+        assert_eq!(f.at_cushion, 0b101);
+        let f = ShotFacts::of(&events, 0);
+        assert!(f.any_ball_ball && f.cushion_after_first);
+        assert_eq!(f.second_ball_t, Some(2.0));
+        assert_eq!(
+            f.cue_cushions, 3,
+            "0.5, 0.7 and 1.5: not the one at 2.0, nor 2.5"
+        );
+        assert_eq!(f.pocketed, 0b110);
+        assert_eq!(
+            (f.pocket_of[1], f.pocket_of[2], f.pocket_of[0]),
+            (4, 0, NO_POCKET)
+        );
+        // another ball's contacts are no first contact of the cue ball
+        let f = ShotFacts::of(&[ev(BallBall, 1.0, 1, 2)], 0);
+        assert!(f.any_ball_ball && f.first_ball.is_none());
     }
 }
