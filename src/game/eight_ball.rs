@@ -35,7 +35,7 @@ use super::{Context, Foul, Played, Verdict, bit};
 use crate::error::SimError;
 
 /// The verdict on `shot` in `context`. Errors: the shot's balls are not a pool game's
-/// ([`Shot::pool_cue`]). (A call of a ball or pocket the table lacks is the caller's to
+/// ([`super::pool_cue`]). (A call of a ball or pocket the table lacks is the caller's to
 /// refuse: here it is a call that cannot come true.)
 pub fn judge(shot: &Played<'_>, context: &Context) -> Result<Verdict, SimError> {
     let cue = shot.pool_cue()?;

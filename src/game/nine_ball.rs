@@ -27,7 +27,7 @@ use super::{Foul, Played, Verdict, bit};
 use crate::error::SimError;
 
 /// The verdict on `shot`, a break where `break_shot`. Errors: the shot's balls are not a
-/// pool game's ([`Shot::pool_cue`]), or no object ball was on the table at the start.
+/// pool game's ([`super::pool_cue`]), or no object ball was on the table at the start.
 pub fn judge(shot: &Played<'_>, break_shot: bool) -> Result<Verdict, SimError> {
     let cue = shot.pool_cue()?;
     let on_table = |i: usize| i != cue && shot.on_table_at_start(i);
