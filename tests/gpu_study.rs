@@ -218,6 +218,7 @@ fn the_watch_is_the_same_on_both_backends() {
             watch: Some(WatchOptions {
                 cue: config.cue,
                 stop_at_first_contact: stop,
+                facts: false,
             }),
             ..BatchOptions::default()
         };

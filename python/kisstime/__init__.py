@@ -623,7 +623,9 @@ def scenario(
 #: in :attr:`Study.ball_ids` (or the cushion's, jaw's or pocket's in the table), else -1;
 #: ``result``: 0 pot, 1 pot + scratch, 2 scratch, 3 miss (-1 with ``until="first-contact"``);
 #: ``intended_pocket``, ``cue_pocket``: a pocket index in :attr:`Study.pocket_ids`, or -1;
-#: ``cut``: 0 none, 1 max_events, 2 max_time.
+#: ``cut``: 0 none, 1 max_events, 2 max_time. With a game (the scenario's ``game``
+#: section) the verdict: ``legal``, ``turn_over``, ``game_over``, ``won`` 0 or 1, ``foul``
+#: an index in :data:`FOULS` or -1; all -1 without a game.
 SAMPLE_FIELDS = (
     ("sample", "<i8"),
     ("V0", "<f8"),
@@ -644,6 +646,11 @@ SAMPLE_FIELDS = (
     ("n_events", "<i8"),
     ("duration", "<f8"),
     ("cut", "<i8"),
+    ("legal", "<i8"),
+    ("foul", "<i8"),
+    ("turn_over", "<i8"),
+    ("game_over", "<i8"),
+    ("won", "<i8"),
 )
 _SAMPLE_DTYPE = np.dtype(list(SAMPLE_FIELDS))
 

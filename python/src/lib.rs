@@ -17,7 +17,7 @@ use pyo3::types::{PyBytes, PyDict};
 
 use kisstime::batch::Batch;
 use kisstime::engine::ShotEngine;
-use kisstime::game::{Context, Rules, Shot, Verdict};
+use kisstime::game::{Context, Foul, Rules, Shot, Verdict};
 use kisstime::io::context::{default_context, parse_contexts};
 use kisstime::io::npy::{batch_from_columns, batch_from_records};
 use kisstime::io::physics::{BatchPhysics, PhysicsColumns, PhysicsValue};
@@ -929,6 +929,40 @@ fn encode(out: &mut Vec<u8>, id: i64, s: &Sample) {
             Some(kisstime::simulate::Cut::MaxTime) => 2,
         },
     );
+    put_u(out, verdict_code(s.verdict));
+}
+
+/// A sample's verdict as one number: 0 none; else bit 0 set, then legal, turn over, game
+/// over and won in bits 1 to 4, and the foul's index in `Foul::ALL` plus one from bit 8.
+fn verdict_code(v: Option<Verdict>) -> u64 {
+    let Some(v) = v else { return 0 };
+    let foul = v
+        .foul
+        .and_then(|f| Foul::ALL.iter().position(|&g| g == f))
+        .map_or(0, |i| i as u64 + 1);
+    1 | u64::from(v.legal) << 1
+        | u64::from(v.turn_over) << 2
+        | u64::from(v.game_over) << 3
+        | u64::from(v.won) << 4
+        | foul << 8
+}
+
+/// [`verdict_code`] read back; `None` inside when it is not one.
+fn verdict_of(code: u64) -> Option<Option<Verdict>> {
+    if code == 0 {
+        return Some(None);
+    }
+    let foul = match code >> 8 {
+        0 => None,
+        k => Some(*Foul::ALL.get(k as usize - 1)?),
+    };
+    Some(Some(Verdict {
+        legal: code & 2 != 0,
+        foul,
+        turn_over: code & 4 != 0,
+        game_over: code & 8 != 0,
+        won: code & 16 != 0,
+    }))
 }
 
 /// Reads the blob back; `None` if it is not one.
@@ -994,6 +1028,7 @@ fn decode(blob: &[u8], ids: &mut Vec<i64>, out: &mut Vec<Sample>) -> Option<()> 
             2 => Some(kisstime::simulate::Cut::MaxTime),
             _ => return None,
         };
+        let verdict = verdict_of(r.u()?)?;
         out.push(Sample {
             strike,
             first,
@@ -1007,6 +1042,7 @@ fn decode(blob: &[u8], ids: &mut Vec<i64>, out: &mut Vec<Sample>) -> Option<()> 
             n_events,
             duration,
             cut,
+            verdict,
         });
     }
     Some(())
@@ -1187,6 +1223,26 @@ fn study_merge<'py>(
         Some(kisstime::simulate::Cut::MaxTime) => 2,
     };
     cols.set_item("cut", PyArray1::from_vec(py, col_i(&cut)))?;
+    // the game's verdict (-1 everywhere without a game)
+    let flag =
+        |f: fn(&Verdict) -> bool| move |s: &Sample| s.verdict.map_or(-1, |v| i64::from(f(&v)));
+    cols.set_item("legal", PyArray1::from_vec(py, col_i(&flag(|v| v.legal))))?;
+    let foul = |s: &Sample| {
+        s.verdict
+            .and_then(|v| v.foul)
+            .and_then(|f| Foul::ALL.iter().position(|&g| g == f))
+            .map_or(-1, |i| i as i64)
+    };
+    cols.set_item("foul", PyArray1::from_vec(py, col_i(&foul)))?;
+    cols.set_item(
+        "turn_over",
+        PyArray1::from_vec(py, col_i(&flag(|v| v.turn_over))),
+    )?;
+    cols.set_item(
+        "game_over",
+        PyArray1::from_vec(py, col_i(&flag(|v| v.game_over))),
+    )?;
+    cols.set_item("won", PyArray1::from_vec(py, col_i(&flag(|v| v.won))))?;
     let potted = samples
         .iter()
         .map(|s| kisstime::study::reference::potted_field(&config, s))

@@ -145,3 +145,33 @@ def test_three_cushion_points_through_python_are_pooltools():
     assert 5 <= points.sum() <= len(shots) - 5
     assert res.outcomes["legal"].all()
     assert ((res.outcomes["turn_over"] == 0) == points).all()
+
+
+def test_a_study_with_a_game_reports_its_verdicts_through_python_and_chunks():
+    """A scenario dict with a ``game`` section: the summary's ``game`` counts are the
+    samples' verdict fields, the same whatever the chunking (the blob Dask's tasks return
+    carries the verdicts), and they equal the command line's."""
+    import tomllib
+
+    root = DATA.parents[2]
+    with open(root / "examples" / "study.toml", "rb") as f:
+        scen = tomllib.load(f)
+    scen["game"] = {"rules": "8-ball", "hittable": [1, 2, 3, 4, 5, 7], "ball_call": 7,
+                    "pocket_call": "lb"}
+    study = kisstime.shot_study(scen, samples=2000, seed=5)
+    g = study.summary["game"]
+    rows = study.samples
+    assert g["rules"] == "8-ball"
+    assert g["legal"]["count"] == int((rows["legal"] == 1).sum())
+    assert g["turn_kept"]["count"] == int((rows["turn_over"] == 0).sum())
+    cue = kisstime.FOULS.index("cue_pocketed")
+    assert g["fouls"]["cue_pocketed"]["count"] == int((rows["foul"] == cue).sum()) > 0
+    assert ((rows["legal"] == 1) == (rows["foul"] == -1)).all()
+    again = kisstime.shot_study(scen, samples=2000, seed=5, chunk=300)
+    assert again.summary["game"] == g
+    assert (again.samples == rows).all()
+    # without a game every verdict field is -1
+    del scen["game"]
+    plain = kisstime.shot_study(scen, samples=50, seed=5)
+    assert "game" not in plain.summary or plain.summary["game"] is None
+    assert (plain.samples["legal"] == -1).all()

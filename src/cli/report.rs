@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use kisstime::game::{Foul, Rules};
 use kisstime::io::csv::format_finite;
 use kisstime::study::reference::{first_contact_word, potted_field};
 use kisstime::study::{
@@ -102,6 +103,25 @@ fn count_rows(config: &StudyConfig, s: &Summary) -> Vec<(&'static str, String, u
         rows.push(("potted", format!("ball {} potted", config.balls[b].id), k));
     }
     rows.push(("potted", "no ball hit (foul)".to_owned(), s.no_ball_hit));
+    if let Some(g) = &s.game {
+        let name = g.rules.name();
+        rows.push(("game", format!("legal shot ({name})"), g.legal));
+        for (f, &k) in Foul::ALL.iter().zip(&g.fouls) {
+            if k > 0 {
+                rows.push(("game", format!("  foul: {}", f.code()), k));
+            }
+        }
+        let kept = if g.rules == Rules::ThreeCushion {
+            "point (turn kept)"
+        } else {
+            "turn kept (the player shoots again)"
+        };
+        rows.push(("game", kept.to_owned(), g.turn_kept));
+        if g.rules != Rules::ThreeCushion {
+            rows.push(("game", "game won".to_owned(), g.won));
+            rows.push(("game", "game lost".to_owned(), g.lost));
+        }
+    }
     if let (Some(t), Some(k)) = (config.target, s.in_target) {
         rows.push((
             "position",
@@ -206,6 +226,7 @@ pub fn summary_text(run: &Run<'_>, s: &Summary) -> String {
                 "first contact" => "first contact",
                 "outcome" => "outcome (every ball at rest)",
                 "potted" => "balls potted",
+                "game" => "game (the rules' verdict)",
                 _ => "position play",
             };
             let _ = writeln!(
@@ -314,6 +335,9 @@ pub fn summary_json(run: &Run<'_>, s: &Summary) -> String {
 /// The per-sample CSV's columns.
 pub const SAMPLE_COLUMNS: &str = "sample,V0,phi,theta,a,b,first_contact,first_ball,first_cushion,first_t,contact_cue_x,contact_cue_y,speed,contact_x,contact_y,cut_angle,result,intended_potted,intended_pocket,cue_potted,potted,cue_x,cue_y,in_target,n_events,duration,cut";
 
+/// The verdict columns a study with a game adds to [`SAMPLE_COLUMNS`].
+pub const GAME_COLUMNS: &str = "legal,foul,turn_over,game_over,won";
+
 /// The text of a first contact's segment, jaw or pocket id.
 fn first_cushion(c: &StudyConfig, f: &FirstContact) -> String {
     match *f {
@@ -337,8 +361,10 @@ fn first_cushion(c: &StudyConfig, f: &FirstContact) -> String {
 /// intended ball potted and where, the cue ball potted, every ball potted as `ball@pocket`
 /// in order, the cue ball's final position, whether it is in the target circle, and for
 /// every sample the event count, the duration and the cap that cut it (`max_events`,
-/// `max_time`, empty). Empty fields where they do not apply; numbers are the shortest
-/// decimals that read back as the same f64.
+/// `max_time`, empty). With a game (`[game]`) five more columns, [`GAME_COLUMNS`]: the
+/// verdict (`legal`, `foul` code or empty, `turn_over`, `game_over`, `won`, as
+/// `simulate --rules` writes them). Empty fields where they do not apply; numbers are the
+/// shortest decimals that read back as the same f64.
 pub fn write_samples_csv(
     out: &mut dyn std::io::Write,
     c: &StudyConfig,
@@ -346,7 +372,10 @@ pub fn write_samples_csv(
     samples: &[Sample],
     until: Until,
 ) -> std::io::Result<()> {
-    writeln!(out, "{SAMPLE_COLUMNS}")?;
+    match c.game {
+        Some(_) => writeln!(out, "{SAMPLE_COLUMNS},{GAME_COLUMNS}")?,
+        None => writeln!(out, "{SAMPLE_COLUMNS}")?,
+    }
     let mut buf = ryu::Buffer::new();
     let mut num = |v: f64| -> String { format_finite(v, &mut buf).to_owned() };
     for (id, s) in ids.iter().zip(samples) {
@@ -408,6 +437,22 @@ pub fn write_samples_csv(
             None => "",
         };
         let _ = write!(row, ",{},{},{cut}", s.n_events, num(s.duration));
+        if c.game.is_some() {
+            match s.verdict {
+                Some(v) => {
+                    let _ = write!(
+                        row,
+                        ",{},{},{},{},{}",
+                        u8::from(v.legal),
+                        v.foul.map_or("", |f| f.code()),
+                        u8::from(v.turn_over),
+                        u8::from(v.game_over),
+                        u8::from(v.won)
+                    );
+                }
+                None => row.push_str(",,,,,"),
+            }
+        }
         writeln!(out, "{row}")?;
     }
     Ok(())

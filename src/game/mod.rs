@@ -51,6 +51,14 @@ impl Rules {
         (Rules::ThreeCushion, "three-cushion"),
     ];
 
+    /// Its name (`9-ball`, `8-ball`, `three-cushion`).
+    pub fn name(self) -> &'static str {
+        Rules::ALL
+            .iter()
+            .find(|(r, _)| *r == self)
+            .map_or("", |(_, n)| n)
+    }
+
     /// The game named `name` (`9-ball`, `8-ball`, `three-cushion`); the error lists the
     /// names.
     pub fn from_name(name: &str) -> Result<Rules, String> {

@@ -54,7 +54,9 @@ use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::check::check_layout;
 use crate::simulate::event_loop::{EventLoop, Limits, MAX_BALLS};
 use crate::simulate::events::{Event, EventKind, Outcome};
-use crate::simulate::watch::{TableWatch, WatchOptions, WatchedContact, WatchedPot, Watcher};
+use crate::simulate::watch::{
+    ShotFacts, TableWatch, WatchOptions, WatchedContact, WatchedPot, Watcher,
+};
 
 /// Tables per chunk by default: enough to keep every core busy (128 tasks of 8 tables),
 /// few enough that a chunk of breaks (~200 events each, ~200 bytes an event kept) holds
@@ -170,6 +172,7 @@ pub struct Chunk {
     /// per table, and the pots flat.
     watched: bool,
     firsts: Vec<Option<WatchedContact>>,
+    facts: Vec<Option<ShotFacts>>,
     pots: Vec<WatchedPot>,
     pot_start: Vec<usize>,
 }
@@ -225,6 +228,7 @@ impl Chunk {
             watch: self.watched.then(|| TableWatch {
                 first: self.firsts[i],
                 pots: &self.pots[self.pot_start[i]..self.pot_start[i + 1]],
+                facts: self.facts[i].as_ref(),
             }),
         })
     }
@@ -248,6 +252,7 @@ impl Chunk {
         self.balls.push(cue);
         self.outcomes.push(outcome);
         self.firsts.push(watch.first);
+        self.facts.push(watch.facts.copied());
         self.pots.extend_from_slice(watch.pots);
         self.end_table();
     }
@@ -277,6 +282,7 @@ impl Chunk {
         self.balls.clear();
         self.outcomes.clear();
         self.firsts.clear();
+        self.facts.clear();
         self.pots.clear();
         for v in [
             &mut self.event_start,
@@ -293,6 +299,7 @@ impl Chunk {
         let n = total(|c| c.outcomes.len());
         self.outcomes.reserve(n);
         self.firsts.reserve(total(|c| c.firsts.len()));
+        self.facts.reserve(total(|c| c.facts.len()));
         for v in [
             &mut self.event_start,
             &mut self.ball_start,
@@ -312,6 +319,7 @@ impl Chunk {
         self.balls.extend(other.balls);
         self.outcomes.extend(other.outcomes);
         self.firsts.extend(other.firsts);
+        self.facts.extend(other.facts);
         self.pots.extend(other.pots);
         self.event_start
             .extend(other.event_start[1..].iter().map(|s| s + e0));
@@ -454,6 +462,7 @@ fn run_tables(
     if out.watched {
         out.balls.reserve(n);
         out.firsts.reserve(n);
+        out.facts.reserve(n);
     } else {
         out.balls.reserve(n * 16);
     }
@@ -490,6 +499,7 @@ fn run_tables(
         out.balls.push(lp.balls()[cue]);
         out.outcomes.push(lp.outcome());
         out.firsts.push(watcher.first());
+        out.facts.push(Some(*watcher.facts()));
         out.end_table();
     }
     Ok(out)
@@ -739,6 +749,7 @@ mod tests {
             watch: Some(WatchOptions {
                 cue: 0,
                 stop_at_first_contact: stop,
+                facts: false,
             }),
             chunk_tables: 7,
             ..BatchOptions::default()

@@ -25,6 +25,10 @@ pub struct WatchOptions {
     pub cue: usize,
     /// End each table at the watched ball's first contact.
     pub stop_at_first_contact: bool,
+    /// The games' rules' facts are wanted ([`TableWatch::facts`]): the CPU keeps them; the
+    /// GPU's watch does not yet, so such a batch runs on the CPU (`auto`), and asking the
+    /// GPU for it is an error.
+    pub facts: bool,
 }
 
 /// The watched ball's first contact, as the watch saw it.
@@ -56,6 +60,9 @@ pub struct TableWatch<'a> {
     pub first: Option<WatchedContact>,
     /// Every pot, in order.
     pub pots: &'a [WatchedPot],
+    /// What the games' rules need of the table's events ([`ShotFacts`], following the
+    /// watched ball), where the backend kept them (the CPU does; the GPU does not yet).
+    pub facts: Option<&'a ShotFacts>,
 }
 
 /// One table's watch, owned (what the GPU's readback makes of a watch block).
@@ -73,6 +80,7 @@ impl Watch {
         TableWatch {
             first: self.first,
             pots: &self.pots,
+            facts: None,
         }
     }
 }
@@ -208,6 +216,7 @@ pub struct Watcher {
     /// The watched ball's state and the clock before this step's event.
     before: (BallState, f64),
     first: Option<WatchedContact>,
+    facts: ShotFacts,
 }
 
 impl Watcher {
@@ -217,12 +226,14 @@ impl Watcher {
             options,
             before: (BallState::at_rest(0.0, 0.0, 0.0), 0.0),
             first: None,
+            facts: ShotFacts::default(),
         }
     }
 
     /// Starts a table (its watch blank).
     pub fn start(&mut self) {
         self.first = None;
+        self.facts = ShotFacts::default();
     }
 
     /// Keeps the watched ball's state `balls[cue]` and the clock `t` before a step.
@@ -249,6 +260,7 @@ impl Watcher {
             pots.push((number, *ev));
         }
         let cue = self.options.cue;
+        self.facts.observe(ev, cue as u32);
         if self.first.is_some() || !first_contact_of(ev.kind, ev.ball, ev.other, cue as u32) {
             return false;
         }
@@ -273,6 +285,11 @@ impl Watcher {
     /// The first contact seen since [`Watcher::start`].
     pub fn first(&self) -> Option<WatchedContact> {
         self.first
+    }
+
+    /// The rules' facts of the events seen since [`Watcher::start`].
+    pub fn facts(&self) -> &ShotFacts {
+        &self.facts
     }
 }
 

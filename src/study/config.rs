@@ -71,6 +71,7 @@
 use serde::Deserialize;
 
 use crate::error::{Error, InputError, SimError};
+use crate::game::{Context, Rules};
 use crate::io::physics::{PhysicsSource, PhysicsValue, physics_from_entries, toml_error};
 use crate::io::table_json::{BUILTIN_TABLES, table_by_name};
 use crate::model::ball_state::BallState;
@@ -244,6 +245,22 @@ pub struct StudyConfig {
     pub noise_factor: f64,
     /// The file's standard deviations (before `noise_factor`).
     pub noise: Noise,
+    /// The game every sample is judged by (`[game]`), if any.
+    pub game: Option<StudyGame>,
+}
+
+/// A study's game (`[game]`): the rules that judge every sample, as `kisstime simulate
+/// --rules` judges a shot, and the shot's context.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyGame {
+    /// The rules.
+    pub rules: Rules,
+    /// The shot's context (with the rules' own part: 8-ball asks a call after the break).
+    pub context: Context,
+    /// Each ball's identity for the rules, in the study's ball order: pool games number
+    /// the cue ball 0 and the object balls by their ids (1 to 15); three-cushion needs
+    /// none (the balls' indices).
+    pub ids: Vec<i64>,
 }
 
 /// A ball id in TOML: a name or an integer.
@@ -274,6 +291,19 @@ struct RawFile {
     target: Option<RawTarget>,
     #[serde(default)]
     noise: RawNoise,
+    game: Option<RawGame>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawGame {
+    rules: String,
+    #[serde(default, rename = "break")]
+    break_shot: bool,
+    #[serde(default)]
+    hittable: Vec<RawId>,
+    ball_call: Option<RawId>,
+    pocket_call: Option<String>,
 }
 
 #[derive(Deserialize, Default)]
@@ -507,7 +537,7 @@ impl StudyConfig {
             },
         };
         let noise_factor = non_negative("noise.factor", n.factor.unwrap_or(1.0))?;
-        StudyConfig::assemble(Parts {
+        let config = StudyConfig::assemble(Parts {
             source: source.to_owned(),
             table_name,
             table,
@@ -527,7 +557,18 @@ impl StudyConfig {
                 balls: "balls",
                 shot: "shot",
             },
-        })
+        })?;
+        match &raw.game {
+            Some(g) => {
+                let game = study_game(g, &config)
+                    .map_err(|m| Error::from(InputError::new(m).in_file(source)))?;
+                Ok(StudyConfig {
+                    game: Some(game),
+                    ..config
+                })
+            }
+            None => Ok(config),
+        }
     }
 
     /// Checks the parts every format shares and builds the study: at least two balls with
@@ -652,6 +693,7 @@ impl StudyConfig {
             target: p.target,
             noise_factor: p.noise_factor,
             noise: p.noise,
+            game: None,
         })
     }
 
@@ -855,4 +897,80 @@ pub(crate) fn ball_field(p: &mut SimParams, k: usize) -> &mut f64 {
         8 => &mut b.f_c,
         _ => &mut b.g,
     }
+}
+
+/// A study's `[game]` checked against its balls and table: the rules by name, pool games'
+/// ball numbers (the cue ball 0, the others their ids, 1 to 15), the hittable balls and
+/// the call among the balls, the called pocket among the table's. Errors name the key.
+fn study_game(g: &RawGame, config: &StudyConfig) -> Result<StudyGame, String> {
+    let rules = Rules::from_name(&g.rules).map_err(|e| format!("key `game.rules`: {e}"))?;
+    let pool = rules != Rules::ThreeCushion;
+    let mut ids = Vec::with_capacity(config.balls.len());
+    for (i, b) in config.balls.iter().enumerate() {
+        let id = if i == config.cue {
+            0
+        } else if !pool {
+            i as i64
+        } else {
+            match b.id.parse::<i64>() {
+                Ok(n) if (1..=15).contains(&n) => n,
+                _ => {
+                    return Err(format!(
+                        "key `balls[{i}].id` is \"{}\": {} numbers its object balls 1 to 15 \
+                         (the cue ball, \"{}\", is its 0)",
+                        b.id, g.rules, config.balls[config.cue].id
+                    ));
+                }
+            }
+        };
+        ids.push(id);
+    }
+    let number = |key: &str, id: &RawId| {
+        let text = id.text();
+        config
+            .balls
+            .iter()
+            .position(|b| b.id == text)
+            .map(|i| ids[i])
+            .ok_or_else(|| {
+                format!("key `{key}` is \"{text}\", which is not the id of any of the balls")
+            })
+    };
+    let mut hittable = Vec::with_capacity(g.hittable.len());
+    for (k, h) in g.hittable.iter().enumerate() {
+        hittable.push(number(&format!("game.hittable[{k}]"), h)?);
+    }
+    let ball_call = match &g.ball_call {
+        Some(b) => Some(number("game.ball_call", b)?),
+        None => None,
+    };
+    let pocket_call = match &g.pocket_call {
+        Some(p) => Some(
+            config
+                .table
+                .pocket_ids
+                .iter()
+                .position(|q| q == p)
+                .ok_or_else(|| {
+                    format!(
+                        "key `game.pocket_call` is \"{p}\", which is not a pocket of the table \
+                         (its pockets: {})",
+                        config.table.pocket_ids.join(", ")
+                    )
+                })?,
+        ),
+        None => None,
+    };
+    let context = rules.context(Context {
+        break_shot: g.break_shot,
+        hittable: Context::balls(hittable),
+        call_shot: false,
+        ball_call,
+        pocket_call,
+    });
+    Ok(StudyGame {
+        rules,
+        context,
+        ids,
+    })
 }

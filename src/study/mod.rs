@@ -22,11 +22,13 @@ pub mod reference;
 pub mod run;
 pub mod stats;
 
-pub use config::{BUILTIN_NAME, BUILTIN_TOML, Noise, PhysicsSpread, Spot, StudyConfig, Target};
+pub use config::{
+    BUILTIN_NAME, BUILTIN_TOML, Noise, PhysicsSpread, Spot, StudyConfig, StudyGame, Target,
+};
 pub use noise::{clamped, noisy_strike, sample_physics};
 pub use reference::{REFERENCE_COLUMNS, write_reference_csv};
 pub use run::{
     CHUNK, FirstContact, Pot, RunOptions, Sample, Samples, Until, run, run_samples, run_strikes,
     run_study, sample_of,
 };
-pub use stats::{Class, Result4, Stats, Summary, potted_as_called, wilson};
+pub use stats::{Class, GameCounts, Result4, Stats, Summary, potted_as_called, wilson};

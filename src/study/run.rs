@@ -17,6 +17,7 @@ use super::config::{Noise, StudyConfig};
 use super::noise::{noisy_strike, sample_physics};
 use crate::engine::{Backend, Precision, ShotEngine};
 use crate::error::{Error, InputError, SimError};
+use crate::game::{Played, Verdict};
 use crate::model::ball_state::BallState;
 use crate::model::sim_params::{BallParams, Physics, SimParams};
 use crate::motion::evolve::evolve;
@@ -105,6 +106,8 @@ pub struct Sample {
     pub duration: f64,
     /// Why the sample was cut short, if a cap stopped it.
     pub cut: Option<Cut>,
+    /// The game's verdict on it, where the study has a game (`[game]`; to rest only).
+    pub verdict: Option<Verdict>,
 }
 
 impl Sample {
@@ -209,6 +212,13 @@ pub fn run(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
     let n = samples.len();
+    if config.game.is_some() && options.until == Until::FirstContact {
+        return Err(Error::Unsupported(
+            "a study with a [game] runs to rest: the rules judge the whole shot (leave out \
+             --until first-contact)"
+                .into(),
+        ));
+    }
     let each = std::mem::size_of::<Sample>() + std::mem::size_of::<CueStrike>();
     crate::limits::check_memory(
         &format!("a study of {n} samples"),
@@ -238,6 +248,7 @@ pub fn run(
         watch: Some(WatchOptions {
             cue,
             stop_at_first_contact: options.until == Until::FirstContact,
+            facts: config.game.is_some(),
         }),
     };
     let draw = |j: usize| samples.physics(config, j).unwrap_or(config.params);
@@ -269,6 +280,7 @@ pub fn run(
                 watch,
                 (end.x, end.y),
                 run.outcome,
+                &initial,
             )
         }));
         progress(out.len(), n);
@@ -363,7 +375,10 @@ fn first_contact_kind(ev: &Event, cue: u32) -> FirstContact {
 /// What one sample came to, from its watch ([`TableWatch`], either backend's): `strike`
 /// played with the ball parameters `ball`, run [`Until`] the end asked for; `cue_final` is
 /// the cue ball's centre at the end and `outcome` how the run ended (both ignored where
-/// the sample ends at its first contact).
+/// the sample ends at its first contact); `start` holds the balls at the start, for the
+/// game's verdict (where the study has a game and the watch kept the rules' facts).
+// every argument is one part of what a sample came to; a struct of them would only rename them
+#[allow(clippy::too_many_arguments)]
 pub fn sample_of(
     config: &StudyConfig,
     until: Until,
@@ -372,6 +387,7 @@ pub fn sample_of(
     watch: TableWatch<'_>,
     cue_final: (f64, f64),
     outcome: Outcome,
+    start: &[BallState],
 ) -> Sample {
     let cue = config.cue;
     let potted = watch
@@ -396,7 +412,18 @@ pub fn sample_of(
         n_events: outcome.n_events,
         duration: outcome.t_end,
         cut: outcome.cut,
+        verdict: None,
     };
+    // the game's verdict, from the facts the watch kept (the CPU's), on the balls at the start
+    if let (Some(game), Some(facts)) = (&config.game, watch.facts) {
+        let played = Played {
+            ids: &game.ids,
+            start,
+            cue,
+            facts,
+        };
+        s.verdict = game.rules.judge_played(&played, &game.context).ok();
+    }
     let Some(f) = watch.first else {
         return s;
     };

@@ -6,6 +6,7 @@ use serde_json::{Value, json};
 
 use super::config::StudyConfig;
 use super::run::{FirstContact, Sample, Until};
+use crate::game::{Foul, Rules};
 
 /// Summary statistics of a set of values.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -211,6 +212,49 @@ pub struct Summary {
     pub events: Option<Stats>,
     /// Duration of a sample, s.
     pub duration: Option<Stats>,
+    /// The game's verdicts, where the study has a game (to rest).
+    pub game: Option<GameCounts>,
+}
+
+/// A study's game verdicts counted over its samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GameCounts {
+    /// The rules that judged them.
+    pub rules: Rules,
+    /// Legal shots.
+    pub legal: usize,
+    /// Each foul's count, in [`Foul::ALL`]'s order.
+    pub fouls: [usize; Foul::ALL.len()],
+    /// Shots after which the player stays at the table (three-cushion: a point).
+    pub turn_kept: usize,
+    /// Shots that ended the game, won by the player who shot.
+    pub won: usize,
+    /// Shots that ended the game, lost by the player who shot.
+    pub lost: usize,
+}
+
+impl GameCounts {
+    /// The verdicts of `samples` under `rules`.
+    fn of(rules: Rules, samples: &[Sample]) -> GameCounts {
+        let mut g = GameCounts {
+            rules,
+            legal: 0,
+            fouls: [0; Foul::ALL.len()],
+            turn_kept: 0,
+            won: 0,
+            lost: 0,
+        };
+        for v in samples.iter().filter_map(|s| s.verdict) {
+            g.legal += usize::from(v.legal);
+            if let Some(k) = v.foul.and_then(|f| Foul::ALL.iter().position(|&x| x == f)) {
+                g.fouls[k] += 1;
+            }
+            g.turn_kept += usize::from(!v.turn_over);
+            g.won += usize::from(v.game_over && v.won);
+            g.lost += usize::from(v.game_over && !v.won);
+        }
+        g
+    }
 }
 
 impl Summary {
@@ -311,6 +355,10 @@ impl Summary {
             cut,
             events: Stats::of(&events),
             duration: Stats::of(&durations),
+            game: match (&config.game, until) {
+                (Some(g), Until::Rest) => Some(GameCounts::of(g.rules, samples)),
+                _ => None,
+            },
         }
     }
 
@@ -413,6 +461,18 @@ impl Summary {
                 "cue_final_y": stats_json(s.cue_final.as_ref().map(|p| &p.1)),
                 "target": c.target.map(|t| json!({"x": t.x, "y": t.y, "radius": t.radius})),
                 "in_target": s.in_target.map(|k| count_json(k, n)),
+                "game": s.game.as_ref().map(|g| json!({
+                    "rules": g.rules.name(),
+                    "legal": count_json(g.legal, n),
+                    "fouls": Foul::ALL
+                        .iter()
+                        .zip(g.fouls)
+                        .map(|(f, k)| (f.code().to_owned(), count_json(k, n)))
+                        .collect::<serde_json::Map<String, Value>>(),
+                    "turn_kept": count_json(g.turn_kept, n),
+                    "won": count_json(g.won, n),
+                    "lost": count_json(g.lost, n),
+                })),
             });
             if let (Value::Object(m), Value::Object(e)) = (&mut v, extra) {
                 m.extend(e);

@@ -1,0 +1,233 @@
+//! Shot studies judged by a game's rules (`[game]`, issue 28): every sample's verdict,
+//! judged from the facts the study's watch kept as the events went by, is the verdict the
+//! same shot gets when it is simulated again with its events recorded and judged from them
+//! (`Rules::judge`, the path `kisstime simulate --rules` takes, whose verdicts equal
+//! pooltool's on the reference sets: `tests/games.rs`). Checked for 8-ball, 9-ball and
+//! three-cushion on noisy strikes; the summary's counts are the samples'; a bad `[game]`
+//! names its key; the GPU and `--until first-contact` are refused with a reason.
+
+mod common;
+
+use kisstime::game::{Foul, Rules, Shot};
+use kisstime::simulate::{BatchOptions, Limits, simulate_batch};
+use kisstime::study::{RunOptions, StudyConfig, Summary, Until, run_study};
+
+const STUDY: &str = include_str!("../examples/study.toml");
+
+fn config(game: &str) -> StudyConfig {
+    StudyConfig::parse(&format!("{STUDY}\n{game}"), "study.toml", None).unwrap()
+}
+
+/// Runs `samples` noisy samples of `config` and checks each verdict against the replay's;
+/// returns the samples' verdict counts (legal, turn kept).
+fn check(config: &StudyConfig, samples: usize) -> (usize, usize) {
+    let options = RunOptions {
+        until: Until::Rest,
+        limits: Limits::default(),
+    };
+    let run = run_study(config, &config.noise, samples, 11, &options, &mut |_, _| {}).unwrap();
+    let game = config.game.as_ref().unwrap();
+    let initial = config.initial();
+    let input = |k: usize, balls: &mut Vec<_>| {
+        balls.clear();
+        balls.extend_from_slice(&initial);
+        Ok(Some((config.cue, run[k].strike)))
+    };
+    let mut replayed = Vec::new();
+    simulate_batch(
+        &config.table,
+        config.params,
+        &BatchOptions::default(),
+        samples,
+        input,
+        |chunk| {
+            for t in chunk.iter() {
+                let shot = Shot {
+                    ids: &game.ids,
+                    start: &initial,
+                    events: t.events,
+                };
+                replayed.push(game.rules.judge(&shot, &game.context).unwrap());
+            }
+            Ok::<(), ()>(())
+        },
+    )
+    .unwrap();
+    for (k, (s, r)) in run.iter().zip(&replayed).enumerate() {
+        assert_eq!(
+            s.verdict,
+            Some(*r),
+            "sample {k}: the watch's verdict against the replay's"
+        );
+    }
+    let summary = Summary::of(config, &run, Until::Rest);
+    let g = summary.game.expect("a game's counts");
+    let legal = replayed.iter().filter(|v| v.legal).count();
+    let kept = replayed.iter().filter(|v| !v.turn_over).count();
+    assert_eq!((g.legal, g.turn_kept), (legal, kept));
+    assert_eq!(
+        g.fouls.iter().sum::<usize>(),
+        samples - legal,
+        "every illegal shot has its foul"
+    );
+    (legal, kept)
+}
+
+#[test]
+fn eight_ball_verdicts_of_a_study_are_the_replays() {
+    let c = config(
+        "[game]\nrules = \"8-ball\"\nhittable = [1, 2, 3, 4, 5, 7]\nball_call = 7\n\
+         pocket_call = \"lb\"\n",
+    );
+    let (legal, kept) = check(&c, 3000);
+    // the cut scratches in the side about a third of the time; the 7 drops in lb on half
+    assert!((1500..2500).contains(&legal), "{legal} legal");
+    assert!((1000..2300).contains(&kept), "{kept} kept the table");
+    // an open call: the 7 into another pocket keeps nothing
+    let other = config(
+        "[game]\nrules = \"8-ball\"\nhittable = [1, 2, 3, 4, 5, 7]\nball_call = 7\n\
+         pocket_call = \"rt\"\n",
+    );
+    let (_, kept) = check(&other, 500);
+    assert_eq!(kept, 0, "the 7 never drops in rt");
+}
+
+#[test]
+fn nine_ball_and_three_cushion_verdicts_of_a_study_are_the_replays() {
+    // 9-ball: the 1 is on the table, so hitting the 7 first is a foul on every sample
+    let (legal, _) = check(&config("[game]\nrules = \"9-ball\"\n"), 500);
+    assert_eq!(legal, 0);
+    let c = config("[game]\nrules = \"three-cushion\"\n");
+    let run = run_study(
+        &c,
+        &c.noise,
+        200,
+        3,
+        &RunOptions {
+            until: Until::Rest,
+            limits: Limits::default(),
+        },
+        &mut |_, _| {},
+    )
+    .unwrap();
+    assert!(run.iter().all(|s| s.verdict.is_some_and(|v| v.legal)));
+    check(&c, 300);
+}
+
+#[test]
+fn a_bad_game_names_its_key() {
+    let bad = |game: &str, want: &str| {
+        let e = StudyConfig::parse(&format!("{STUDY}\n{game}"), "study.toml", None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(want), "{want:?} not in {e}");
+    };
+    bad("[game]\nrules = \"snooker\"\n", "key `game.rules`");
+    bad(
+        "[game]\nrules = \"8-ball\"\nhittable = [9]\n",
+        "key `game.hittable[0]`",
+    );
+    bad(
+        "[game]\nrules = \"8-ball\"\npocket_call = \"xx\"\n",
+        "key `game.pocket_call`",
+    );
+    bad(
+        "[game]\nrules = \"8-ball\"\nball_call = \"cue2\"\n",
+        "key `game.ball_call`",
+    );
+    bad("[game]\nrules = \"8-ball\"\nbreaks = true\n", "breaks");
+    let named = STUDY.replacen("id = 5 # the screen", "id = \"five\"", 1);
+    assert_ne!(named, STUDY);
+    let e = StudyConfig::parse(
+        &format!("{named}\n[game]\nrules = \"9-ball\"\n"),
+        "s.toml",
+        None,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("key `balls[2].id`") && e.contains("1 to 15"),
+        "{e}"
+    );
+    assert_eq!(Foul::ALL.len(), 7);
+    assert_eq!(Rules::from_name("8-ball"), Ok(Rules::EightBall));
+}
+
+#[test]
+fn the_cli_reports_the_game_and_refuses_what_it_cannot_judge() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("s.toml");
+    std::fs::write(
+        &scenario,
+        format!(
+            "{}\n[game]\nrules = \"8-ball\"\nhittable = [1, 2, 3, 4, 5, 7]\nball_call = 7\n\
+             pocket_call = \"lb\"\n",
+            STUDY
+        ),
+    )
+    .unwrap();
+    let s = scenario.to_str().unwrap();
+    let samples = dir.path().join("samples.csv");
+    let out = common::run_kisstime(
+        &[
+            "shots",
+            s,
+            "--samples",
+            "400",
+            "-o",
+            samples.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("game (the rules' verdict)"), "{text}");
+    assert!(text.contains("legal shot (8-ball)"), "{text}");
+    let csv = std::fs::read_to_string(&samples).unwrap();
+    let head = csv.lines().next().unwrap();
+    assert!(
+        head.ends_with(",cut,legal,foul,turn_over,game_over,won"),
+        "{head}"
+    );
+    assert_eq!(csv.lines().count(), 401);
+    // JSON
+    let out = common::run_kisstime(&["shots", s, "--samples", "100", "--json"], &[]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["game"]["rules"], "8-ball");
+    let legal = v["game"]["legal"]["count"].as_u64().unwrap();
+    let fouls: u64 = v["game"]["fouls"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|f| f["count"].as_u64().unwrap())
+        .sum();
+    assert_eq!(legal + fouls, 100);
+    // what cannot be judged is refused with a reason
+    let out = common::run_kisstime(
+        &["shots", s, "--samples", "10", "--until", "first-contact"],
+        &[],
+    );
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("runs to rest"));
+    // the GPU's watch keeps no rules' facts yet: `gpu` is refused with that reason (where
+    // a GPU opens; CI's lavapipe does), `auto` runs on the CPU
+    let out = common::run_kisstime(&["shots", s, "--samples", "10", "--backend", "gpu"], &[]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    if std::env::var("KISSTIME_REQUIRE_GPU").as_deref() == Ok("1") {
+        assert!(err.contains("runs on the CPU for now"), "{err}");
+    }
+    let out = common::run_kisstime(
+        &["shots", s, "--samples", "10", "--backend", "auto"],
+        &[("KISSTIME_AUTO_GPU", "always")],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
