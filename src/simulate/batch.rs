@@ -499,7 +499,7 @@ fn run_tables(
         out.balls.push(lp.balls()[cue]);
         out.outcomes.push(lp.outcome());
         out.firsts.push(watcher.first());
-        out.facts.push(Some(*watcher.facts()));
+        out.facts.push(watcher.facts().copied());
         out.end_table();
     }
     Ok(out)

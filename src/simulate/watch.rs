@@ -260,7 +260,9 @@ impl Watcher {
             pots.push((number, *ev));
         }
         let cue = self.options.cue;
-        self.facts.observe(ev, cue as u32);
+        if self.options.facts {
+            self.facts.observe(ev, cue as u32);
+        }
         if self.first.is_some() || !first_contact_of(ev.kind, ev.ball, ev.other, cue as u32) {
             return false;
         }
@@ -287,9 +289,10 @@ impl Watcher {
         self.first
     }
 
-    /// The rules' facts of the events seen since [`Watcher::start`].
-    pub fn facts(&self) -> &ShotFacts {
-        &self.facts
+    /// The rules' facts of the events seen since [`Watcher::start`], where
+    /// [`WatchOptions::facts`] asks for them.
+    pub fn facts(&self) -> Option<&ShotFacts> {
+        self.options.facts.then_some(&self.facts)
     }
 }
 
