@@ -523,17 +523,6 @@ impl ShotEngine {
         // a watched batch is a study's: `auto` chooses for it by the study's rule
         let study = options.watch.is_some();
         self.last_on_cpu = false;
-        if options.watch.is_some_and(|w| w.facts) && self.chosen.gpu.is_some() {
-            if self.chosen.backend == Backend::Gpu {
-                return Err(BatchError::Sink(E::from(Error::Unsupported(
-                    "a study judged by a game's rules runs on the CPU for now (the GPU's \
-                     watch does not keep the rules' facts yet): use --backend cpu or auto"
-                        .into(),
-                ))));
-            }
-            self.last_on_cpu = true;
-            return simulate_batch(table, physics, options, n_tables, input, sink);
-        }
         if self.cpu_for(n_tables, study) {
             self.last_on_cpu = self.chosen.gpu.is_some();
             return simulate_batch(table, physics, options, n_tables, input, sink);

@@ -218,7 +218,8 @@ fn the_watch_is_the_same_on_both_backends() {
             watch: Some(WatchOptions {
                 cue: config.cue,
                 stop_at_first_contact: stop,
-                facts: false,
+                // to rest, the rules' facts too
+                facts: !stop,
             }),
             ..BatchOptions::default()
         };
@@ -243,6 +244,7 @@ fn the_watch_is_the_same_on_both_backends() {
                             let watch = Watch {
                                 first: w.first,
                                 pots: w.pots.to_vec(),
+                                facts: w.facts.copied(),
                             };
                             runs.push((watch, t.balls.to_vec(), t.outcome));
                         }
@@ -266,6 +268,34 @@ fn the_watch_is_the_same_on_both_backends() {
                 (first, pots)
             };
             assert_eq!(agents(&a.0), agents(&b.0), "{at}");
+            // the rules' facts: every count and ball exactly, the times within 1e-9
+            assert_eq!(a.0.facts.is_some(), !stop, "{at}");
+            if let (Some(x), Some(y)) = (a.0.facts, b.0.facts) {
+                let discrete = |f: &kisstime::simulate::ShotFacts| {
+                    (
+                        f.any_ball_ball,
+                        f.first_ball.map(|b| b.1),
+                        f.cushion_after_first,
+                        f.at_cushion,
+                        f.pocketed,
+                        f.pocket_of,
+                        f.second_ball_t.is_some(),
+                        f.cue_cushions,
+                    )
+                };
+                assert_eq!(discrete(&x), discrete(&y), "{at}: the rules' facts");
+                let times = |f: &kisstime::simulate::ShotFacts| {
+                    [
+                        f.first_ball.map_or(0.0, |b| b.0),
+                        f.second_ball_t.unwrap_or(0.0),
+                    ]
+                };
+                for (s, t) in times(&x).into_iter().zip(times(&y)) {
+                    assert!((s - t).abs() <= 1e-9, "{at}: fact times CPU {s}, GPU {t}");
+                }
+            } else {
+                assert_eq!(b.0.facts.is_some(), !stop, "{at}: GPU facts");
+            }
             assert_eq!((a.2.n_events, a.2.cut), (b.2.n_events, b.2.cut), "{at}");
             let reals = |r: &(Watch, Vec<BallState>, kisstime::simulate::Outcome)| {
                 let mut v = vec![r.2.t_end, r.1[0].r.x, r.1[0].r.y];
@@ -282,4 +312,117 @@ fn the_watch_is_the_same_on_both_backends() {
             }
         }
     }
+}
+
+/// A study judged by a game's rules (`[game]`) on the GPU: the GPU's watch keeps the
+/// rules' facts (its `observe_facts`, the twin of `ShotFacts::observe`), so every sample's
+/// verdict equals the CPU's: 8-ball with a call on the reference strikes, and
+/// three-cushion on `data/carom`'s shots (points and misses, pooltool's own `is_point`).
+#[test]
+fn game_verdicts_on_the_gpu_are_the_cpus() {
+    let Some(mut gpu) = open("gpu_game_study") else {
+        return;
+    };
+    let (config, strikes) = reference();
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/study.toml"))
+        .unwrap();
+    let game = StudyConfig::parse(
+        &format!(
+            "{text}\n[game]\nrules = \"8-ball\"\nhittable = [1, 2, 3, 4, 5, 7]\nball_call = 7\n\
+             pocket_call = \"lb\"\n"
+        ),
+        "study.toml",
+        None,
+    )
+    .unwrap();
+    let _ = config;
+    let options = RunOptions {
+        until: Until::Rest,
+        limits: kisstime::simulate::Limits::default(),
+    };
+    let strikes = &strikes[..400];
+    let on_gpu = run_strikes_gpu(&mut gpu, &game, strikes, &options, &mut |_, _| {}).unwrap();
+    let mut cpu = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let on_cpu = run(
+        &mut cpu,
+        &game,
+        Samples::Given(strikes),
+        &options,
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let verdicts = |s: &[Sample]| s.iter().map(|s| s.verdict).collect::<Vec<_>>();
+    assert!(on_cpu.iter().all(|s| s.verdict.is_some()));
+    assert_eq!(verdicts(&on_gpu), verdicts(&on_cpu), "8-ball verdicts");
+    let kept = on_cpu
+        .iter()
+        .filter(|s| s.verdict.is_some_and(|v| !v.turn_over))
+        .count();
+    assert!(kept > 100 && kept < 350, "{kept} kept the table");
+}
+
+/// Three-cushion on the GPU: `data/carom`'s 40 shots (pooltool's own points and misses)
+/// watched with the rules' facts on the GPU score exactly where pooltool's `is_point` did.
+#[test]
+fn three_cushion_points_on_the_gpu_are_pooltools() {
+    use kisstime::game::{Context, Played, Rules};
+    use kisstime::io::shot_set::{read_shots, read_table};
+    use kisstime::simulate::{BatchOptions, WatchOptions};
+    let Some(mut gpu) = open("gpu_three_cushion") else {
+        return;
+    };
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/carom");
+    let params = kisstime::io::physics::read_physics(&dir.join("physics.toml")).unwrap();
+    let table = read_table(&dir).unwrap();
+    let shots = read_shots(&dir, params.ball.r).unwrap();
+    let text = std::fs::read_to_string(dir.join("shots.csv")).unwrap();
+    let mut lines = text.lines();
+    let col = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|h| h == "point")
+        .unwrap();
+    let points: Vec<bool> = lines.map(|l| l.split(',').nth(col) == Some("1")).collect();
+    assert!(
+        shots.iter().all(|s| s.cue == 0),
+        "the white is every shot's first ball"
+    );
+    let options = BatchOptions {
+        watch: Some(WatchOptions {
+            cue: 0,
+            stop_at_first_contact: false,
+            facts: true,
+        }),
+        ..BatchOptions::default()
+    };
+    let input = |k: usize, balls: &mut Vec<kisstime::simulate::BallState>| {
+        balls.clear();
+        balls.extend_from_slice(&shots[k].balls);
+        Ok(Some((0, shots[k].strike)))
+    };
+    let ids = [0i64, 1, 2];
+    let mut scored = Vec::new();
+    gpu.simulate_with(&table, params, &options, shots.len(), input, |chunk| {
+        for t in chunk.iter() {
+            let facts = t
+                .watch
+                .and_then(|w| w.facts)
+                .expect("the GPU kept the facts");
+            let played = Played {
+                ids: &ids,
+                start: &shots[t.table].balls,
+                cue: 0,
+                facts,
+            };
+            let v = Rules::ThreeCushion
+                .judge_played(&played, &Context::default())
+                .unwrap();
+            scored.push(!v.turn_over);
+        }
+        Ok::<(), kisstime::Error>(())
+    })
+    .unwrap();
+    assert_eq!(scored, points);
+    assert!(points.iter().filter(|&&p| p).count() >= 5);
 }

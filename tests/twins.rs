@@ -445,6 +445,14 @@ const TWINS: &[Twin] = &[
             ),
             ("record", "writes an event record for the host"),
             (
+                "clear_watch",
+                "the watch on the device: simulate::watch's Watcher::start (its CPU twin)",
+            ),
+            (
+                "observe_facts",
+                "the watch on the device: simulate::watch's ShotFacts::observe (its CPU twin)",
+            ),
+            (
                 "first_contact_of",
                 "the watch on the device: simulate::watch's first_contact_of (its CPU twin)",
             ),

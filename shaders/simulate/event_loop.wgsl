@@ -83,18 +83,27 @@ const CACHE_U_ITEMS: u32 = GPU_MAX_PAIRS + GPU_ROWS;
 const CACHE_UINTS: u32 = GPU_MAX_PAIRS + 2u * GPU_ROWS;
 // Watch reals: the first contact's time, the clock before it, the cue ball's r, v, w, t
 // before it (10), the cue ball's and the other ball's centres after it (3 each), then
-// each pot's time (GPU_MAX_BALLS).
+// each pot's time (GPU_MAX_BALLS), then the rules' facts (Rust: simulate::watch's
+// ShotFacts): the first and second ball contacts' times and the cue ball's last counted
+// cushion's.
 const WATCH_R_BEFORE: u32 = 2u;
 const WATCH_R_CUE: u32 = 12u;
 const WATCH_R_OTHER: u32 = 15u;
 const WATCH_R_POTS: u32 = 18u;
-const WATCH_REALS: u32 = WATCH_R_POTS + GPU_MAX_BALLS;
+const WATCH_FACT_REALS: u32 = 3u;
+const WATCH_R_FACTS: u32 = WATCH_R_POTS + GPU_MAX_BALLS;
+const WATCH_REALS: u32 = WATCH_R_FACTS + WATCH_FACT_REALS;
 // Watch u32s: the pots so far, the first contact's event number (0: none yet), kind, ball,
 // other and the cue ball's motion state before it, then each pot's event number, ball and
-// pocket (GPU_MAX_BALLS each).
+// pocket (GPU_MAX_BALLS each), then the rules' facts: any ball–ball contact, the first ball
+// contact's other ball + 1 (0: none), a cushion after it, the balls at a cushion (two
+// words), the second contact seen, the cue ball's cushions before it, and how many of
+// them came at the last one's time.
 const WATCH_U_FIRST: u32 = 1u;
 const WATCH_U_POTS: u32 = 6u;
-const WATCH_UINTS: u32 = WATCH_U_POTS + 3u * GPU_MAX_BALLS;
+const WATCH_FACT_UINTS: u32 = 8u;
+const WATCH_U_FACTS: u32 = WATCH_U_POTS + 3u * GPU_MAX_BALLS;
+const WATCH_UINTS: u32 = WATCH_U_FACTS + WATCH_FACT_UINTS;
 // Reals of one parameter block in `sim` (ball 10, resolver 8, max_time) and where max_time is.
 const SIM_REALS: u32 = 19u;
 const SIM_R_MAX_TIME: u32 = 18u;
@@ -319,9 +328,7 @@ fn load_table(table: u32, lid: u32) {
         status = state_u[u0 + IO_U_N + 2u];
         n_recorded = 0u;
         if fresh && cfg.watch_cue != NO_AGENT {
-            let w_u = watch_u(table);
-            state_u[w_u] = 0u;
-            state_u[w_u + WATCH_U_FIRST] = 0u;
+            clear_watch(table);
         }
     }
 }
@@ -698,6 +705,65 @@ fn record(table: u32) {
     n_recorded = k + 1u;
 }
 
+// A table's watch blank: no pot, no first contact, no fact (Rust: Watcher::start).
+fn clear_watch(table: u32) {
+    let w_u = watch_u(table);
+    state_u[w_u] = 0u;
+    state_u[w_u + WATCH_U_FIRST] = 0u;
+    for (var k = 0u; k < WATCH_FACT_UINTS; k = k + 1u) {
+        state_u[w_u + WATCH_U_FACTS + k] = 0u;
+    }
+}
+
+// The rules' facts of the event just resolved (Rust: simulate::watch's
+// ShotFacts::observe): any ball–ball contact; the cue ball's first ball contact and its
+// time, and the first with another ball (its time); a cushion or jaw strictly after the
+// first contact; the balls at a cushion; the cue ball's straight-cushion contacts strictly
+// before the second contact (those at its very time taken back). The pockets come from
+// the pots.
+fn observe_facts(w_r: u32, w_u: u32, cue: u32) {
+    let f = w_u + WATCH_U_FACTS;
+    let fr = w_r + WATCH_R_FACTS;
+    if win_kind == EVENT_BALL_BALL {
+        state_u[f] = 1u;
+        if win_ball != cue && win_other != cue {
+            return;
+        }
+        let other = select(win_ball, win_other, win_ball == cue);
+        if state_u[f + 1u] == 0u {
+            state_u[f + 1u] = other + 1u;
+            state_r[fr] = win_t;
+        } else if state_u[f + 1u] != other + 1u && state_u[f + 5u] == 0u {
+            state_u[f + 5u] = 1u;
+            state_r[fr + 1u] = win_t;
+            if state_u[f + 7u] != 0u && state_r[fr + 2u] == win_t {
+                state_u[f + 6u] = state_u[f + 6u] - state_u[f + 7u];
+            }
+        }
+        return;
+    }
+    if win_kind == EVENT_LINEAR_CUSHION || win_kind == EVENT_CIRCULAR_CUSHION {
+        // two words of 32 balls each
+        let word = win_ball / 32u;
+        let mask = 1u << (win_ball % 32u);
+        if word < 2u {
+            state_u[f + 3u + word] = state_u[f + 3u + word] | mask;
+        }
+        if state_u[f + 1u] != 0u && win_t > state_r[fr] {
+            state_u[f + 2u] = 1u;
+        }
+        if win_kind == EVENT_LINEAR_CUSHION && win_ball == cue && state_u[f + 5u] == 0u {
+            state_u[f + 6u] = state_u[f + 6u] + 1u;
+            if state_u[f + 7u] != 0u && state_r[fr + 2u] == win_t {
+                state_u[f + 7u] = state_u[f + 7u] + 1u;
+            } else {
+                state_r[fr + 2u] = win_t;
+                state_u[f + 7u] = 1u;
+            }
+        }
+    }
+}
+
 // Whether event (kind, ball, other) is the cue ball's first contact, if none came before
 // (Rust: simulate::watch::first_contact_of): ball–ball with the cue ball, a
 // cushion or jaw, a pocket, or the cue ball stopping; not the strike, nor the cue ball's
@@ -725,6 +791,7 @@ fn watch_event(table: u32) {
             state_u[w_u] = k + 1u;
         }
     }
+    observe_facts(w_r, w_u, cue);
     if state_u[w_u + WATCH_U_FIRST] != 0u || !first_contact_of(win_kind, win_ball, win_other, cue) {
         return;
     }
@@ -786,8 +853,7 @@ fn simulate_tables(
                 events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = 0u;
             }
             if cfg.first_dispatch != 0u && cfg.watch_cue != NO_AGENT {
-                state_u[watch_u(table)] = 0u;
-                state_u[watch_u(table) + WATCH_U_FIRST] = 0u;
+                clear_watch(table);
             }
         }
         return;

@@ -28,7 +28,7 @@ use crate::resolve::stick_ball::{CueStrike, cue_strike};
 use crate::simulate::Limits;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
-use crate::simulate::watch::{Watch, WatchedContact};
+use crate::simulate::watch::{ShotFacts, Watch, WatchedContact, WatchedPot};
 
 use super::device::gpu_error;
 
@@ -108,6 +108,14 @@ pub struct SimLayout {
     pub watch_u_first: usize,
     /// Where the pots start in the watch u32s.
     pub watch_u_pots: usize,
+    /// Where the rules' facts start in the watch reals: the first and second ball
+    /// contacts' times and the cue ball's last counted cushion's (`WATCH_R_FACTS`).
+    pub watch_r_facts: usize,
+    /// Where the rules' facts start in the watch u32s: any ball–ball contact, the first
+    /// ball contact's other ball + 1 (0: none), a cushion after it, the balls at a cushion
+    /// (two words), the second contact seen, the cue ball's cushions before it, and how
+    /// many of them came at the last one's time (`WATCH_U_FACTS`).
+    pub watch_u_facts: usize,
 }
 
 impl SimLayout {
@@ -136,14 +144,16 @@ impl SimLayout {
             cache_uints: pairs + 2 * rows,
             cache_u_rows: pairs,
             cache_u_items: pairs + rows,
-            watch_reals: watch_r_pots + n,
+            watch_reals: watch_r_pots + n + WATCH_FACT_REALS,
             watch_r_before: 2,
             watch_r_cue: 12,
             watch_r_other: 15,
             watch_r_pots,
-            watch_uints: watch_u_pots + 3 * n,
+            watch_uints: watch_u_pots + 3 * n + WATCH_FACT_UINTS,
             watch_u_first: 1,
             watch_u_pots,
+            watch_r_facts: watch_r_pots + n,
+            watch_u_facts: watch_u_pots + 3 * n,
         }
     }
 
@@ -182,6 +192,10 @@ impl SimLayout {
             ("WATCH_UINTS", self.watch_uints),
             ("WATCH_U_FIRST", self.watch_u_first),
             ("WATCH_U_POTS", self.watch_u_pots),
+            ("WATCH_R_FACTS", self.watch_r_facts),
+            ("WATCH_U_FACTS", self.watch_u_facts),
+            ("WATCH_FACT_REALS", WATCH_FACT_REALS),
+            ("WATCH_FACT_UINTS", WATCH_FACT_UINTS),
             ("EVENT_REALS", EVENT_REALS),
             ("EVENT_UINTS", EVENT_UINTS),
             ("SIM_REALS", SIM_REALS),
@@ -189,6 +203,11 @@ impl SimLayout {
         ]
     }
 }
+
+/// Reals of the rules' facts in a watch block (`WATCH_FACT_REALS`).
+pub const WATCH_FACT_REALS: usize = 3;
+/// u32s of the rules' facts in a watch block (`WATCH_FACT_UINTS`).
+pub const WATCH_FACT_UINTS: usize = 8;
 
 /// The largest bucket's layout: the sizes of the host's scratch blocks.
 pub(super) const MAX_LAYOUT: SimLayout = SimLayout::for_balls(GPU_MAX_BALLS);
@@ -421,6 +440,7 @@ pub(super) fn read_watch(
     sr: &[f64],
     su: &[u32],
     n_balls: usize,
+    with_facts: bool,
 ) -> Result<Watch, Error> {
     let l = layout;
     let v3 = |at: usize| Vec3::new(sr[at], sr[at + 1], sr[at + 2]);
@@ -460,6 +480,30 @@ pub(super) fn read_watch(
                 },
             )
         })
-        .collect();
-    Ok(Watch { first, pots })
+        .collect::<Vec<_>>();
+    let facts = with_facts.then(|| read_facts(l, sr, su, &pots));
+    Ok(Watch { first, pots, facts })
+}
+
+/// The rules' facts of a watch block (the shader's `observe_facts`); the pockets from the
+/// pots.
+fn read_facts(l: &SimLayout, sr: &[f64], su: &[u32], pots: &[WatchedPot]) -> ShotFacts {
+    let (r, u) = (l.watch_r_facts, l.watch_u_facts);
+    let mut facts = ShotFacts {
+        any_ball_ball: su[u] != 0,
+        first_ball: (su[u + 1] != 0).then(|| (sr[r], su[u + 1] - 1)),
+        cushion_after_first: su[u + 2] != 0,
+        at_cushion: u64::from(su[u + 3]) | u64::from(su[u + 4]) << 32,
+        second_ball_t: (su[u + 5] != 0).then_some(sr[r + 1]),
+        cue_cushions: su[u + 6],
+        last_cushion: match su[u + 7] {
+            0 => (f64::NEG_INFINITY, 0),
+            k => (sr[r + 2], k),
+        },
+        ..ShotFacts::default()
+    };
+    for (_, e) in pots {
+        facts.observe(e, u32::MAX);
+    }
+    facts
 }

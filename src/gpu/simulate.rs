@@ -183,6 +183,8 @@ struct ChunkCall<'c> {
     /// contact.
     watch_cue: u32,
     watch_stop: bool,
+    /// Whether the rules' facts of the watch are read back.
+    watch_facts: bool,
 }
 
 /// A packed chunk: the strikes' event records (with their tables' places in the chunk)
@@ -473,10 +475,10 @@ impl GpuSimulator {
             .max(4 * (1 + per * EVENT_UINTS));
         let fit = (self.max_binding / per_table as u64).max(1) as usize;
         let chunk = self.max_tables_per_chunk.max(1).min(fit);
-        let (record, watch_cue, watch_stop) = match &mode {
-            GpuOutput::Finals => (false, NO_WATCH, false),
-            GpuOutput::Events(_) => (true, NO_WATCH, false),
-            GpuOutput::Watch(w) => (false, w.cue as u32, w.stop_at_first_contact),
+        let (record, watch_cue, watch_stop, watch_facts) = match &mode {
+            GpuOutput::Finals => (false, NO_WATCH, false, false),
+            GpuOutput::Events(_) => (true, NO_WATCH, false, false),
+            GpuOutput::Watch(w) => (false, w.cue as u32, w.stop_at_first_contact, w.facts),
         };
         let mut runs = Vec::with_capacity(n);
         let mut watches = Vec::new();
@@ -495,6 +497,7 @@ impl GpuSimulator {
                 record,
                 watch_cue,
                 watch_stop,
+                watch_facts,
             };
             let done = self.simulate_chunk(&call, capacity, &mut mode);
             let (r, w) = done.inspect_err(|_| self.total.add(&self.timings))?;
@@ -873,7 +876,7 @@ impl GpuSimulator {
         let clock = std::time::Instant::now();
         let len_r = io_reals + if watching { watch_reals } else { 0 };
         let len_u = io_uints + if watching { watch_uints } else { 0 };
-        let watched_cue = watching.then_some(watch_cue as usize);
+        let watched_cue = watching.then_some((watch_cue as usize, call.watch_facts));
         let out = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
             unpack(precision, l, runs, views[0], views[1], watched_cue)
         })??;
@@ -1022,8 +1025,8 @@ fn read_mapped<T>(
     out
 }
 
-/// The runs (final states and outcomes) from the I/O blocks, or with `watch = Some(cue)`
-/// the watched runs from the I/O and watch blocks (the watch blocks follow the I/O
+/// The runs (final states and outcomes) from the I/O blocks, or with `watch = Some((cue,
+/// facts))` the watched runs (with the rules' facts where `facts`) from the I/O and watch blocks (the watch blocks follow the I/O
 /// blocks), Rayon over tables.
 fn unpack(
     precision: Precision,
@@ -1031,10 +1034,10 @@ fn unpack(
     runs: &mut [GpuRun],
     back_r: &[u8],
     back_u: &[u8],
-    watch: Option<usize>,
+    watch: Option<(usize, bool)>,
 ) -> Result<Vec<WatchedRun>, Error> {
     let real = precision.real_size();
-    let Some(cue) = watch else {
+    let Some((cue, facts)) = watch else {
         let n = runs.len();
         let (io_r, io_u) = (
             &back_r[..n * l.io_reals * real],
@@ -1077,7 +1080,13 @@ fn unpack(
             Ok(WatchedRun {
                 cue: final_ball(sr, su, cue)?,
                 outcome: table_outcome(l, sr, su),
-                watch: read_watch(l, &wsr[..l.watch_reals], &wsu[..l.watch_uints], n_balls)?,
+                watch: read_watch(
+                    l,
+                    &wsr[..l.watch_reals],
+                    &wsu[..l.watch_uints],
+                    n_balls,
+                    facts,
+                )?,
             })
         })
         .collect()

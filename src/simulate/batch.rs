@@ -765,6 +765,7 @@ mod tests {
                 let watch = crate::simulate::Watch {
                     first: w.first,
                     pots: w.pots.to_vec(),
+                    facts: w.facts.copied(),
                 };
                 seen.push((watch, t.balls[0], t.outcome));
             }

@@ -73,4 +73,4 @@ pub use batch::{
 pub use check::{LAYOUT_TOLERANCE, check_layout};
 pub use event_loop::{EventLoop, Limits, MAX_BALLS, simulate};
 pub use events::{Cut, Event, EventKind, NO_AGENT, Outcome};
-pub use watch::{TableWatch, Watch, WatchOptions, WatchedContact, WatchedPot};
+pub use watch::{ShotFacts, TableWatch, Watch, WatchOptions, WatchedContact, WatchedPot};

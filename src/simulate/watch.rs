@@ -1,6 +1,7 @@
 //! The watch: what a shot study takes from a table's events without keeping them — the
 //! watched (cue) ball's first contact, with the state it had and the clock just before it
-//! and the centres just after it, and every pot in order.
+//! and the centres just after it, and every pot in order; and, where asked, the games'
+//! rules' facts ([`ShotFacts`]).
 //!
 //! Both backends keep it as the events go by: the CPU's batch ([`super::batch`], with
 //! [`BatchOptions::watch`](super::BatchOptions::watch)) through [`Watcher`], the GPU's event
@@ -25,9 +26,9 @@ pub struct WatchOptions {
     pub cue: usize,
     /// End each table at the watched ball's first contact.
     pub stop_at_first_contact: bool,
-    /// The games' rules' facts are wanted ([`TableWatch::facts`]): the CPU keeps them; the
-    /// GPU's watch does not yet, so such a batch runs on the CPU (`auto`), and asking the
-    /// GPU for it is an error.
+    /// The games' rules' facts are wanted ([`TableWatch::facts`]): both backends keep them
+    /// as the events go by (the GPU's `observe_facts`, the twin of
+    /// [`ShotFacts::observe`]).
     pub facts: bool,
 }
 
@@ -61,7 +62,7 @@ pub struct TableWatch<'a> {
     /// Every pot, in order.
     pub pots: &'a [WatchedPot],
     /// What the games' rules need of the table's events ([`ShotFacts`], following the
-    /// watched ball), where the backend kept them (the CPU does; the GPU does not yet).
+    /// watched ball), where [`WatchOptions::facts`] asked for them.
     pub facts: Option<&'a ShotFacts>,
 }
 
@@ -72,6 +73,8 @@ pub struct Watch {
     pub first: Option<WatchedContact>,
     /// Every pot, in order.
     pub pots: Vec<WatchedPot>,
+    /// The rules' facts, where they were asked for ([`WatchOptions::facts`]).
+    pub facts: Option<ShotFacts>,
 }
 
 impl Watch {
@@ -80,7 +83,7 @@ impl Watch {
         TableWatch {
             first: self.first,
             pots: &self.pots,
-            facts: None,
+            facts: self.facts.as_ref(),
         }
     }
 }
@@ -124,7 +127,7 @@ pub struct ShotFacts {
     /// The time of the cue ball's last counted straight-cushion contact, and how many of
     /// the counted ones came at that very time (so that those at `second_ball_t` itself
     /// can be taken back: pooltool counts strictly before).
-    last_cushion: (f64, u32),
+    pub(crate) last_cushion: (f64, u32),
 }
 
 impl Default for ShotFacts {
