@@ -155,6 +155,11 @@ pub struct SimulateArgs {
     /// `lb`; see docs/games.md). Tables without a row: not a break, an open table, no call.
     #[arg(long, value_name = "CSV", requires = "rules")]
     pub context: Option<PathBuf>,
+    /// With --rules, the WPA's reading where pooltool departs from it and the verdict can
+    /// tell: 9-ball's break must hit the 1 first; 8-ball's 8 on the break ends no game
+    /// (see docs/games.md). The default is pooltool's.
+    #[arg(long, requires = "rules")]
+    pub wpa: bool,
     /// Print the table, the batch size, the backend and the cut tables on stderr.
     #[arg(short, long)]
     pub verbose: bool,

@@ -188,7 +188,10 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     });
     // the game's part of each context (8-ball: every shot but the break is called)
     let contexts: Vec<Context> = match rules {
-        Some(rules) => contexts.into_iter().map(|c| rules.context(c)).collect(),
+        Some(rules) => contexts
+            .into_iter()
+            .map(|c| rules.context(Context { wpa: args.wpa, ..c }))
+            .collect(),
         None => contexts,
     };
     if args.verbose {

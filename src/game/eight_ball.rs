@@ -24,8 +24,10 @@
 //! pocket. The game is over whenever the 8 is pocketed (the break included): won by the
 //! player who shot if the shot was legal, lost otherwise.
 //!
-//! Where pooltool departs from the WPA rules (kisstime follows pooltool): the 8 pocketed on
-//! the break ends the game (WPA: re-spot or re-rack); the break needs no call, and a
+//! Where pooltool departs from the WPA rules (kisstime follows pooltool by default): the 8
+//! pocketed on the break ends the game — with [`Context::wpa`](super::Context::wpa) it ends
+//! none (WPA 8-ball rule 3.4: the 8 is re-spotted or the table re-racked, after a legal
+//! break or a scratch alike), and a legal break with the 8 down keeps the table; the break needs no call, and a
 //! legal break keeps the table only if a ball other than the 8 is pocketed; an open table
 //! after the break takes any ball but the 8 first; no combination or safety call; the cue
 //! ball's pocket outranks the other fouls in the reason given.
@@ -57,8 +59,13 @@ pub fn judge(shot: &Played<'_>, context: &Context) -> Result<Verdict, SimError> 
         foul = Some(Foul::EightIllegal);
     }
     let legal = foul.is_none();
-    let turn_over = !legal || !keeps_table(shot, context, pocketed & !bit(cue as u32));
-    let game_over = eight_pocket.is_some();
+    // WPA 3.4: the 8 on the break ends no game (it is re-spotted, or the table re-racked),
+    // and after a legal break with the 8 down the breaker shoots again
+    let wpa_break = context.wpa && context.break_shot;
+    let kept = keeps_table(shot, context, pocketed & !bit(cue as u32))
+        || (wpa_break && eight_pocket.is_some());
+    let turn_over = !legal || !kept;
+    let game_over = eight_pocket.is_some() && !wpa_break;
     Ok(Verdict {
         legal,
         foul,

@@ -106,7 +106,7 @@ impl Rules {
     /// sample), in `context`.
     pub fn judge_played(self, played: &Played<'_>, context: &Context) -> Result<Verdict, SimError> {
         match self {
-            Rules::NineBall => nine_ball::judge(played, context.break_shot),
+            Rules::NineBall => nine_ball::judge_with(played, context.break_shot, context.wpa),
             Rules::EightBall => eight_ball::judge(played, context),
             Rules::ThreeCushion => three_cushion::judge(played),
         }
@@ -191,6 +191,10 @@ pub struct Context {
     pub ball_call: Option<i64>,
     /// The called pocket's index in the table's pockets, if any.
     pub pocket_call: Option<usize>,
+    /// Judge by the WPA rules where pooltool departs from them and the verdict can tell
+    /// (9-ball: the break must hit the 1 first; 8-ball: the 8 pocketed on a legal break
+    /// ends no game). `false`: pooltool's reading, the default.
+    pub wpa: bool,
 }
 
 impl Context {

@@ -17,11 +17,14 @@
 //! after a legal shot that pocketed the highest-numbered ball on the table at the start
 //! (the 9), the break included, and won by the player who shot.
 //!
-//! Where pooltool departs from the WPA rules (kisstime follows pooltool; the WPA reading
-//! is not offered yet): the break need not hit the 1 first; a ball driven off the table is
-//! no foul (pooltool's tables have no such event); a 9 pocketed on a foul stays down (WPA
-//! re-spots it; pooltool's game loop re-spots a ball only when none is left, which is not
-//! part of the verdict); there is no push-out after the break.
+//! Where pooltool departs from the WPA rules (kisstime follows pooltool by default): the
+//! break need not hit the 1 first — with [`Context::wpa`](super::Context::wpa) it must
+//! (WPA 9-ball rule 3.2: the cue ball's first contact on the break is the 1, else
+//! [`Foul::WrongBallFirst`], checked after the cue ball's pocket); a ball driven off the
+//! table is no foul (pooltool's tables have no such event); a 9 pocketed on a foul stays
+//! down (WPA re-spots it; pooltool's game loop re-spots a ball only when none is left,
+//! which is not part of the verdict: the game is not over either way); there is no
+//! push-out after the break (a choice of the next shot, not part of this one's verdict).
 
 use super::{Foul, Played, Verdict, bit};
 use crate::error::SimError;
@@ -29,6 +32,11 @@ use crate::error::SimError;
 /// The verdict on `shot`, a break where `break_shot`. Errors: the shot's balls are not a
 /// pool game's ([`super::pool_cue`]), or no object ball was on the table at the start.
 pub fn judge(shot: &Played<'_>, break_shot: bool) -> Result<Verdict, SimError> {
+    judge_with(shot, break_shot, false)
+}
+
+/// [`judge`], with the WPA's break (`wpa`: the break must hit the lowest ball first).
+pub fn judge_with(shot: &Played<'_>, break_shot: bool, wpa: bool) -> Result<Verdict, SimError> {
     let cue = shot.pool_cue()?;
     let on_table = |i: usize| i != cue && shot.on_table_at_start(i);
     let numbers = || (0..shot.ids.len()).filter(|&i| on_table(i));
@@ -43,7 +51,10 @@ pub fn judge(shot: &Played<'_>, break_shot: bool) -> Result<Verdict, SimError> {
     let cue_pocketed = pocketed & bit(cue as u32) != 0;
     let object_pocketed = pocketed & !bit(cue as u32) != 0;
     let foul = if break_shot {
-        break_foul(shot, cue, cue_pocketed, pocketed != 0)
+        break_foul(shot, cue, cue_pocketed, pocketed != 0).or_else(|| {
+            (wpa && shot.first_contact().map(|(_, b)| b) != Some(lowest))
+                .then_some(Foul::WrongBallFirst)
+        })
     } else {
         shot_foul(shot, lowest, cue_pocketed, object_pocketed)
     };

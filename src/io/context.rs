@@ -152,6 +152,7 @@ pub fn parse_contexts<'a>(
             call_shot: false,
             ball_call,
             pocket_call,
+            wpa: false,
         };
     }
     Ok(out)
@@ -181,6 +182,7 @@ mod tests {
                 call_shot: false,
                 ball_call: Some(9),
                 pocket_call: Some(1),
+                wpa: false,
             }
         );
         let c = parse(&format!("{head}10,1,,,\n")).unwrap();

@@ -304,6 +304,8 @@ struct RawGame {
     hittable: Vec<RawId>,
     ball_call: Option<RawId>,
     pocket_call: Option<String>,
+    #[serde(default)]
+    wpa: bool,
 }
 
 #[derive(Deserialize, Default)]
@@ -962,6 +964,7 @@ fn study_game(g: &RawGame, config: &StudyConfig) -> Result<StudyGame, String> {
         None => None,
     };
     let context = rules.context(Context {
+        wpa: g.wpa,
         break_shot: g.break_shot,
         hittable: Context::balls(hittable),
         call_shot: false,
