@@ -69,6 +69,16 @@ struct RefShot {
     events: Vec<(String, f64, String, String)>,
 }
 
+impl RefShot {
+    /// Its balls at rest, as the judge reads them.
+    fn start(&self, radius: f64) -> Vec<BallState> {
+        self.xy
+            .iter()
+            .map(|&(x, y)| BallState::at_rest(x, y, radius))
+            .collect()
+    }
+}
+
 fn read_set(game: &str) -> Vec<RefShot> {
     let d = dir(game);
     let pockets = Table::seven_foot().pocket_ids;
@@ -213,10 +223,7 @@ fn check_set(
                 continue;
             }
         }
-        let start: Vec<BallState> =
-            s.xy.iter()
-                .map(|&(x, y)| BallState::at_rest(x, y, p.ball.r))
-                .collect();
+        let start = s.start(p.ball.r);
         let shot = Shot {
             ids: &s.ids,
             start: &start,
@@ -359,10 +366,7 @@ fn the_wpa_reading_departs_only_where_documented() {
         let p = SimParams::default();
         let mut departed = 0;
         for (k, (s, events)) in shots.iter().zip(&runs).enumerate() {
-            let start: Vec<BallState> =
-                s.xy.iter()
-                    .map(|&(x, y)| BallState::at_rest(x, y, p.ball.r))
-                    .collect();
+            let start = s.start(p.ball.r);
             let shot = Shot {
                 ids: &s.ids,
                 start: &start,

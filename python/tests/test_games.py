@@ -27,9 +27,9 @@ def rows(name: str) -> list[dict]:
         return list(csv.DictReader(f))
 
 
-def reference():
-    shots = rows("shots.csv")
-    balls = rows("balls.csv")
+def arrays(shots, balls, strike_columns):
+    """The balls (rows with shot, ball, x, y) and the strikes (one row a shot, the strike's
+    fields under `strike_columns`' names) as kisstime's arrays, one table a shot."""
     b = np.zeros(len(balls), dtype=kisstime.BALL_DTYPE)
     b["table"] = [int(r["shot"]) for r in balls]
     b["ball"] = [int(r["ball"]) for r in balls]
@@ -37,8 +37,14 @@ def reference():
     b["y"] = [float(r["y"]) for r in balls]
     s = np.zeros(len(shots), dtype=kisstime.STRIKE_DTYPE)
     s["table"] = [int(r["shot"]) for r in shots]
-    for k, c in [("V0", "v0"), ("phi", "phi"), ("theta", "theta"), ("a", "a"), ("b", "b")]:
+    for k, c in zip(("V0", "phi", "theta", "a", "b"), strike_columns):
         s[k] = [float(r[c]) for r in shots]
+    return b, s
+
+
+def reference():
+    shots = rows("shots.csv")
+    b, s = arrays(shots, rows("balls.csv"), ("v0", "phi", "theta", "a", "b"))
     return shots, b, s
 
 
@@ -131,15 +137,7 @@ def test_three_cushion_points_through_python_are_pooltools():
         shots = list(csv.DictReader(f))
     with open(carom / "initial.csv", newline="") as f:
         balls = list(csv.DictReader(f))
-    b = np.zeros(len(balls), dtype=kisstime.BALL_DTYPE)
-    b["table"] = [int(r["shot"]) for r in balls]
-    b["ball"] = [int(r["ball"]) for r in balls]
-    b["x"] = [float(r["x"]) for r in balls]
-    b["y"] = [float(r["y"]) for r in balls]
-    s = np.zeros(len(shots), dtype=kisstime.STRIKE_DTYPE)
-    s["table"] = [int(r["shot"]) for r in shots]
-    for k in ("V0", "phi", "theta", "a", "b"):
-        s[k] = [float(r[k]) for r in shots]
+    b, s = arrays(shots, balls, ("V0", "phi", "theta", "a", "b"))
     res = kisstime.simulate(b, s, table="carom", rules="three-cushion", events=False)
     points = np.array([r["point"] == "1" for r in shots])
     assert 5 <= points.sum() <= len(shots) - 5

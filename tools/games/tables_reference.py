@@ -54,6 +54,9 @@ from pooltool.ruleset import three_cushion
 
 from kisstime.pooltool import table_json
 
+# the game sets' generator, beside this file: its clear spots on the cloth
+from reference import clear_spot  # noqa: E402
+
 SETS = {
     "snooker": dict(game=GameType.SNOOKER, seed=28, breaks=10, ordinary=30, cue="white"),
     "carom": dict(game=GameType.THREECUSHION, seed=29, breaks=0, ordinary=40, cue="white"),
@@ -61,21 +64,6 @@ SETS = {
 # the checker's perturbations (check_fullshots.CAL_PERTS + BAR_PERTS)
 PERTS = ("d1e-12", "d1e-9", "d1e-9b", "V0_1e-12", "d1e-6", "d1e-6b")
 FIELDS = ("same_events", "first_div", "same_pocketed", "max_dfinal", "n_events", "pocketed")
-
-
-def clear_spot(rng, table, placed, R):
-    """A random centre on the cloth 1 mm clear of the placed balls, 2 mm from the cushion
-    noses, and (on a pocket table) away from the pockets' mouths."""
-    pockets = [p.center[:2] for p in table.pockets.values()]
-    for _ in range(100_000):
-        x = rng.uniform(R + 0.002, table.w - R - 0.002)
-        y = rng.uniform(R + 0.002, table.l - R - 0.002)
-        if any(math.dist((x, y), q) < 2 * R + 0.001 for q in placed):
-            continue
-        if any(math.dist((x, y), p) < 0.12 for p in pockets):
-            continue
-        return x, y
-    raise RuntimeError("no room")
 
 
 def strike_at(rng, cue_xy, target_xy, R, speed, spin, elevation, cut=0.9):
