@@ -389,6 +389,7 @@ def simulate(
     physics: PhysicsLike = None,
     rules: Optional[str] = None,
     context: Union[None, str, os.PathLike, Mapping] = None,
+    wpa: bool = False,
     _rule_ids: Optional[Mapping[int, int]] = None,
 ) -> SimResult:
     """Whole shots from the cue strike to rest with pooltool 0.6.0's physics
@@ -404,7 +405,9 @@ def simulate(
     ``;``, per table; ``ball_call`` -1 or ``None`` for none, ``pocket_call`` a pocket id such
     as ``"lb"`` or ``""``); tables without one play an ordinary shot on an open table with
     no call. Errors (an unknown game, a table not in the input, a ball not on the table, a
-    pocket the table lacks) raise ``ValueError``. (``_rule_ids``, for the pooltool bridge:
+    pocket the table lacks) raise ``ValueError``. ``wpa=True`` takes the WPA's reading
+    where pooltool departs from it (``--wpa``: 9-ball's break must hit the 1 first; 8-ball's
+    8 on the break ends no game). (``_rule_ids``, for the pooltool bridge:
     each ball id's id in the game, where they differ.)
 
     ``physics`` sets the balls' and the cue's parameters (``kisstime simulate
@@ -473,6 +476,7 @@ def simulate(
             np.ascontiguousarray(list(_rule_ids.keys()), dtype="<i8"),
             np.ascontiguousarray(list(_rule_ids.values()), dtype="<i8"),
         ),
+        bool(wpa),
     )
     return SimResult(_load(ev) if ev is not None else None, _load(fin), _load(oc))
 

@@ -36,6 +36,10 @@ def simulate(
     physics: _Physics = None,
     physics_columns: Optional[tuple[_I, list[tuple[str, _F]]]] = None,
     table_json: Optional[str] = None,
+    rules: Optional[str] = None,
+    context: Optional[str] = None,
+    rule_ids: Optional[tuple[_I, _I]] = None,
+    wpa: bool = False,
 ) -> tuple[Optional[bytes], bytes, bytes]: ...
 # positions as tables 0..P-1 (names: their balls' ids); shots (position, cue ball index or
 # -1, [V0, phi, theta, a, b]); physics: one, or one a position; report: check every shot

@@ -405,7 +405,7 @@ fn physics_entries(physics: &PhysicsArg) -> PyResult<Vec<(String, PhysicsValue)>
 /// Whole shots from the strike to rest: `(events, final, outcomes)` as the `.npy` bytes of
 /// `kisstime simulate -o … --final … --outcomes …` (`events` is `None` unless asked).
 #[pyfunction]
-#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None, physics_columns=None, table_json=None, rules=None, context=None, rule_ids=None))]
+#[pyo3(signature = (batch, strikes, table_name, max_events, max_time, events, backend, precision, physics=None, physics_columns=None, table_json=None, rules=None, context=None, rule_ids=None, wpa=false))]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -423,6 +423,7 @@ fn simulate<'py>(
     rules: Option<&str>,
     context: Option<&str>,
     rule_ids: Option<(I64s<'py>, I64s<'py>)>,
+    wpa: bool,
 ) -> PyResult<(
     Option<Bound<'py, PyBytes>>,
     Bound<'py, PyBytes>,
@@ -507,7 +508,10 @@ fn simulate<'py>(
                 }
                 None => vec![default_context(); n],
             };
-            let contexts: Vec<Context> = contexts.into_iter().map(|c| rules.context(c)).collect();
+            let contexts: Vec<Context> = contexts
+                .into_iter()
+                .map(|c| rules.context(Context { wpa, ..c }))
+                .collect();
             Some((rules, contexts, game_ids))
         }
         None if context.is_some() => {

@@ -173,3 +173,42 @@ def test_a_study_with_a_game_reports_its_verdicts_through_python_and_chunks():
     plain = kisstime.shot_study(scen, samples=50, seed=5)
     assert "game" not in plain.summary or plain.summary["game"] is None
     assert (plain.samples["legal"] == -1).all()
+
+
+def test_the_wpa_reading_through_python():
+    """``wpa=True`` (``--wpa``) on the 8-ball reference set: the verdicts are pooltool's but
+    on the breaks that pocket the 8, where the WPA ends no game (and a legal one keeps
+    the table); the set has such a break."""
+    eight = DATA.parent / "eight_ball"
+    with open(eight / "shots.csv", newline="") as f:
+        shots = list(csv.DictReader(f))
+    with open(eight / "balls.csv", newline="") as f:
+        balls = list(csv.DictReader(f))
+    b, s = arrays(shots, balls, ("v0", "phi", "theta", "a", "b"))
+    on = {}
+    for r in balls:
+        on.setdefault(r["shot"], set()).add(int(r["ball"]))
+    context = {
+        "table": [int(r["shot"]) for r in shots],
+        "break": [r["break"] == "1" for r in shots],
+        # the group, less its balls no longer on the table
+        "hittable": [[h for h in r["hittable"].split(";") if h and int(h) in on[r["shot"]]]
+                     for r in shots],
+        "ball_call": [int(r["ball_call"]) if r["ball_call"] else -1 for r in shots],
+        "pocket_call": [r["pocket_call"] for r in shots],
+    }
+    run = lambda wpa: kisstime.simulate(b, s, table="7ft", rules="8-ball", context=context,
+                                        wpa=wpa)
+    plain, wpa = run(False), run(True)
+    eight_down = np.zeros(len(shots), dtype=bool)
+    fin = plain.final
+    down = fin[(fin["ball"] == 8) & (fin["state"] == 4)]["table"]
+    eight_down[np.searchsorted(plain.outcomes["table"], down)] = True
+    breaks = np.array([r["break"] == "1" for r in shots])
+    parts = breaks & eight_down
+    assert parts.sum() >= 1
+    p, w = plain.outcomes, wpa.outcomes
+    for f in ("legal", "foul", "turn_over", "game_over", "won"):
+        assert (p[f][~parts] == w[f][~parts]).all(), f
+    assert (w["game_over"][parts] == 0).all() and (p["game_over"][parts] == 1).all()
+    assert (w["turn_over"][parts] == 1 - w["legal"][parts]).all()
