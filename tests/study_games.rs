@@ -249,3 +249,43 @@ fn the_cli_reports_the_game_and_refuses_what_it_cannot_judge() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// With a game, `--plot` colours the heat map by the verdict (the table kept or not) and
+/// adds the verdict's bars: the picture differs from the same study's without a game.
+#[test]
+fn the_picture_shows_the_verdict() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut pictures = Vec::new();
+    for (name, game) in [
+        ("plain", ""),
+        (
+            "game",
+            "[game]\nrules = \"8-ball\"\nhittable = [1, 2, 3, 4, 5, 7]\nball_call = 7\n\
+             pocket_call = \"rt\"\n",
+        ),
+    ] {
+        let scenario = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&scenario, format!("{STUDY}\n{game}")).unwrap();
+        let png = dir.path().join(format!("{name}.png"));
+        let out = common::run_kisstime(
+            &[
+                "shots",
+                scenario.to_str().unwrap(),
+                "--samples",
+                "2000",
+                "--plot",
+                png.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let bytes = std::fs::read(&png).unwrap();
+        assert!(bytes.starts_with(b"\x89PNG"), "{name}: a PNG");
+        pictures.push(bytes);
+    }
+    assert_ne!(pictures[0], pictures[1], "the verdict shows in the picture");
+}

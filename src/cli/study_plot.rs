@@ -1,6 +1,7 @@
 //! The picture of a shot study (`kisstime shots --plot study.png`): the table from above
 //! with its real pockets, cushions and jaws, the balls, the intended shot's paths to rest,
-//! and a heat map of where the cue ball came to rest, coloured by outcome (pot, miss);
+//! and a heat map of where the cue ball came to rest, coloured by outcome (pot, miss; with
+//! a game, by the verdict: the table kept or not, and the verdict's bars beside);
 //! scratches are counted at the pocket they went into. Beside it the outcome fractions with
 //! their 95 % intervals; below, the first contacts and the histogram of the cut angle on
 //! the intended ball. Drawn with `plotters` into memory as PNG bytes (the command writes
@@ -131,7 +132,9 @@ fn draw_table_panel(area: &Area, c: &StudyConfig, samples: &[Sample], s: &Summar
     draw_table(&mut chart, table)?;
 
     // the heat map: where the cue ball stopped on the table, per cell, coloured by the
-    // outcome most of that cell's samples had, stronger where more samples stopped
+    // outcome most of that cell's samples had (with a game: the verdict, the table kept or
+    // not), stronger where more samples stopped
+    let judged = s.game.is_some();
     if s.until == Until::Rest {
         let mut cells: std::collections::HashMap<(i64, i64), [usize; 2]> =
             std::collections::HashMap::new();
@@ -141,7 +144,10 @@ fn draw_table_panel(area: &Area, c: &StudyConfig, samples: &[Sample], s: &Summar
             }
             let (x, y) = smp.cue_final;
             let key = ((x / CELL).floor() as i64, (y / CELL).floor() as i64);
-            let slot = usize::from(!potted_as_called(c, smp));
+            let slot = match smp.verdict {
+                Some(v) if judged => usize::from(v.turn_over),
+                _ => usize::from(!potted_as_called(c, smp)),
+            };
             cells.entry(key).or_default()[slot] += 1;
         }
         let most = cells.values().map(|v| v[0] + v[1]).max().unwrap_or(1) as f64;
@@ -257,7 +263,16 @@ fn draw_table_panel(area: &Area, c: &StudyConfig, samples: &[Sample], s: &Summar
     let mut at = x;
     let pocket = c.pocket_id().map_or(String::new(), |p| format!(" in {p}"));
     let intended = c.intended_id();
-    let entries: Vec<(RGBColor, String)> = if s.until == Until::Rest {
+    let entries: Vec<(RGBColor, String)> = if let (Until::Rest, Some(g)) = (s.until, &s.game) {
+        vec![
+            (
+                POT,
+                format!("cue ball stopped here, the table kept ({})", g.rules.name()),
+            ),
+            (MISS, "stopped here, the turn passes".to_owned()),
+            (SCRATCH, "scratch (cue ball potted)".to_owned()),
+        ]
+    } else if s.until == Until::Rest {
         vec![
             (
                 POT,
@@ -358,6 +373,20 @@ fn draw_outcomes(area: &Area, c: &StudyConfig, s: &Summary) -> DrawResult {
                 k,
                 RGBColor(40, 140, 90),
             ));
+        }
+        if let Some(g) = &s.game {
+            let name = g.rules.name();
+            rows.push((
+                format!("legal shot ({name})"),
+                g.legal,
+                RGBColor(40, 140, 90),
+            ));
+            for (f, &k) in kisstime::game::Foul::ALL.iter().zip(&g.fouls) {
+                if k > 0 {
+                    rows.push((format!("foul: {}", f.code()), k, MISS));
+                }
+            }
+            rows.push(("table kept".to_owned(), g.turn_kept, POT));
         }
         if s.cut > 0 {
             rows.push(("cut by a cap".to_owned(), s.cut, BLACK));
