@@ -720,7 +720,8 @@ fn clear_watch(table: u32) {
 // time, and the first with another ball (its time); a cushion or jaw strictly after the
 // first contact; the balls at a cushion; the cue ball's straight-cushion contacts strictly
 // before the second contact (those at its very time taken back). The pockets come from
-// the pots.
+// the pots. Kept on every watched table; the host reads them where they were asked for
+// (WatchOptions::facts), as the CPU keeps them only then.
 fn observe_facts(w_r: u32, w_u: u32, cue: u32) {
     let f = w_u + WATCH_U_FACTS;
     let fr = w_r + WATCH_R_FACTS;

@@ -106,7 +106,7 @@ impl Rules {
     /// sample), in `context`.
     pub fn judge_played(self, played: &Played<'_>, context: &Context) -> Result<Verdict, SimError> {
         match self {
-            Rules::NineBall => nine_ball::judge_with(played, context.break_shot, context.wpa),
+            Rules::NineBall => nine_ball::judge(played, context.break_shot, context.wpa),
             Rules::EightBall => eight_ball::judge(played, context),
             Rules::ThreeCushion => three_cushion::judge(played),
         }
@@ -192,8 +192,9 @@ pub struct Context {
     /// The called pocket's index in the table's pockets, if any.
     pub pocket_call: Option<usize>,
     /// Judge by the WPA rules where pooltool departs from them and the verdict can tell
-    /// (9-ball: the break must hit the 1 first; 8-ball: the 8 pocketed on a legal break
-    /// ends no game). `false`: pooltool's reading, the default.
+    /// (9-ball: the break must hit the 1 first; 8-ball: the 8 pocketed on the break ends
+    /// no game, and a legal such break keeps the table). `false`: pooltool's reading, the
+    /// default.
     pub wpa: bool,
 }
 

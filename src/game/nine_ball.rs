@@ -29,14 +29,10 @@
 use super::{Foul, Played, Verdict, bit};
 use crate::error::SimError;
 
-/// The verdict on `shot`, a break where `break_shot`. Errors: the shot's balls are not a
-/// pool game's ([`super::pool_cue`]), or no object ball was on the table at the start.
-pub fn judge(shot: &Played<'_>, break_shot: bool) -> Result<Verdict, SimError> {
-    judge_with(shot, break_shot, false)
-}
-
-/// [`judge`], with the WPA's break (`wpa`: the break must hit the lowest ball first).
-pub fn judge_with(shot: &Played<'_>, break_shot: bool, wpa: bool) -> Result<Verdict, SimError> {
+/// The verdict on `shot`, a break where `break_shot`, with the WPA's break where `wpa`
+/// (the 1 first). Errors: the shot's balls are not a pool game's ([`super::pool_cue`]), or
+/// no object ball was on the table at the start.
+pub fn judge(shot: &Played<'_>, break_shot: bool, wpa: bool) -> Result<Verdict, SimError> {
     let cue = shot.pool_cue()?;
     let on_table = |i: usize| i != cue && shot.on_table_at_start(i);
     let numbers = || (0..shot.ids.len()).filter(|&i| on_table(i));
