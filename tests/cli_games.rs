@@ -1,8 +1,9 @@
-//! `kisstime simulate --rules 9-ball|8-ball --context FILE --outcomes OUT`: the game
+//! `kisstime simulate --rules 9-ball|8-ball|snooker --context FILE --outcomes OUT`: the game
 //! reference sets (`data/games/`, pooltool 0.6.0's own verdicts) turned into the
 //! simulator's input files (balls, strikes, contexts) and judged through the command line:
 //! every shot's verdict columns are pooltool's (on the shots whose event count is
-//! pooltool's: all of 9-ball's, all but a chaotic break of 8-ball's); bad contexts are
+//! pooltool's: all of 9-ball's and snooker's, all but a chaotic break of 8-ball's), the
+//! points and the winner too; three-cushion's points on `data/carom`; bad contexts are
 //! refused naming the file, the line and the table, with nothing written.
 
 mod common;
@@ -57,7 +58,13 @@ fn inputs(game: &str, dir: &Path) -> (PathBuf, PathBuf, PathBuf, Vec<String>) {
         ));
     }
     let mut strikes = String::from("table,ball,V0,phi,theta,a,b\n");
-    let mut contexts = String::from("table,break,hittable,ball_call,pocket_call\n");
+    let scored = shots.first().is_some_and(|s| s.contains_key("score"));
+    let mut contexts = String::from("table,break,hittable,ball_call,pocket_call");
+    contexts.push_str(if scored {
+        ",score,opponent_score\n"
+    } else {
+        "\n"
+    });
     let mut unsaid = Vec::new();
     for s in &shots {
         strikes.push_str(&format!(
@@ -68,14 +75,16 @@ fn inputs(game: &str, dir: &Path) -> (PathBuf, PathBuf, PathBuf, Vec<String>) {
         let (ball, pocket) = (cell("ball_call"), cell("pocket_call"));
         // 8-ball: the command line asks every shot but the break to be called, as
         // pooltool's game does; the set's few uncalled ordinary shots it cannot say
-        if cell("call_shot") == "0" && s["break"] == "0" {
+        if game == "eight_ball" && cell("call_shot") == "0" && s["break"] == "0" {
             unsaid.push(s["shot"].clone());
         }
-        // the group's balls on the table
+        // the group's balls on the table (snooker's by number: pooltool's names, which the
+        // context also takes, are left to ball_call)
         let here = &on_table[&s["shot"]];
         let group = cell("hittable");
-        let hittable: Vec<&str> = group
+        let hittable: Vec<String> = group
             .split(';')
+            .map(|b| kisstime::game::snooker::id_of(b).map_or(b.to_owned(), |id| id.to_string()))
             .filter(|b| here.iter().any(|h| h == b))
             .collect();
         if !group.is_empty() && hittable.is_empty() {
@@ -83,9 +92,13 @@ fn inputs(game: &str, dir: &Path) -> (PathBuf, PathBuf, PathBuf, Vec<String>) {
         }
         let hittable = hittable.join(";");
         contexts.push_str(&format!(
-            "{},{},{hittable},{ball},{pocket}\n",
+            "{},{},{hittable},{ball},{pocket}",
             s["shot"], s["break"]
         ));
+        if scored {
+            contexts.push_str(&format!(",{},{}", s["score"], s["opponent_score"]));
+        }
+        contexts.push('\n');
     }
     let path = |name: &str, text: &str| {
         let p = dir.join(name);
@@ -100,11 +113,13 @@ fn inputs(game: &str, dir: &Path) -> (PathBuf, PathBuf, PathBuf, Vec<String>) {
     )
 }
 
-/// `kisstime simulate BALLS --strikes STRIKES --table 7ft --rules RULES --context CONTEXT
-/// --outcomes OUT [extra]`, with `files` = [BALLS, STRIKES, CONTEXT, OUT].
+/// `kisstime simulate BALLS --strikes STRIKES --table TABLE --rules RULES --context
+/// CONTEXT --outcomes OUT [extra]`, with `files` = [BALLS, STRIKES, CONTEXT, OUT], the
+/// table `snooker` for snooker and `7ft` for the others.
 fn judge_cli(files: [&Path; 4], rules: &str, extra: &[&str]) -> std::process::Output {
     let [balls, strikes, context, out] = files.map(|p| p.to_str().unwrap().to_owned());
-    let mut args = vec!["simulate", &balls, "--strikes", &strikes, "--table", "7ft"];
+    let table = if rules == "snooker" { "snooker" } else { "7ft" };
+    let mut args = vec!["simulate", &balls, "--strikes", &strikes, "--table", table];
     args.extend(["--rules", rules, "--context", &context, "--outcomes", &out]);
     args.extend(extra);
     common::run_kisstime(&args, &[])
@@ -112,12 +127,12 @@ fn judge_cli(files: [&Path; 4], rules: &str, extra: &[&str]) -> std::process::Ou
 
 /// pooltool's reason for a foul code, per game.
 fn reason(game: &str, code: &str) -> &'static str {
-    use kisstime::game::{Foul, eight_ball, nine_ball};
+    use kisstime::game::{Foul, eight_ball, nine_ball, snooker};
     let foul = Foul::ALL.into_iter().find(|f| f.code() == code).unwrap();
-    if game == "eight_ball" {
-        eight_ball::pooltool_reason(foul)
-    } else {
-        nine_ball::pooltool_reason(foul)
+    match game {
+        "eight_ball" => eight_ball::pooltool_reason(foul),
+        "snooker" => snooker::pooltool_reason(foul),
+        _ => nine_ball::pooltool_reason(foul),
     }
 }
 
@@ -156,6 +171,10 @@ fn judged_through_the_cli(game: &str, rules: &str, percent: usize) {
         if let Some(won) = t.get("won") {
             assert_eq!(&m["won"], won, "shot {}", t["shot"]);
         }
+        for points in ["points", "foul_points"] {
+            let want = t.get(points).map_or("0", |p| p.as_str());
+            assert_eq!(m[points], want, "shot {}: {points}", t["shot"]);
+        }
     }
     println!(
         "{judged} of {} shots judged as pooltool judged them",
@@ -176,6 +195,13 @@ fn nine_ball_through_the_cli() {
 #[test]
 fn eight_ball_through_the_cli() {
     judged_through_the_cli("eight_ball", "8-ball", 85);
+}
+
+/// Snooker on `--table snooker`: the context's hittable balls by number, the call by
+/// pooltool's name, the score columns; every verdict, the points and the winner pooltool's.
+#[test]
+fn snooker_through_the_cli() {
+    judged_through_the_cli("snooker", "snooker", 99);
 }
 
 #[test]
@@ -212,10 +238,10 @@ fn bad_contexts_and_rules_are_refused_naming_the_file_line_and_table() {
         }
         assert!(!out.exists(), "{context}: an output was written");
     }
-    let r = run("snooker", "5,0,,,");
+    let r = run("pyramid", "5,0,,,");
     assert_eq!(r.status.code(), Some(2));
     let err = String::from_utf8_lossy(&r.stderr);
-    assert!(err.contains("9-ball") && err.contains("8-ball"), "{err}");
+    assert!(err.contains("9-ball") && err.contains("snooker"), "{err}");
     // the rules need the outcomes to write the verdict to
     let r = common::run_kisstime(&["simulate", &s(&balls), "--rules", "9-ball"], &[]);
     assert_eq!(r.status.code(), Some(2));
@@ -336,6 +362,14 @@ fn three_cushion_points_through_the_cli() {
         let point = r["point"] == "1";
         points += usize::from(point);
         assert_eq!(v["turn_over"] == "0", point, "shot {}", r["shot"]);
+        assert_eq!(
+            v["points"],
+            if point { "1" } else { "0" },
+            "shot {}",
+            r["shot"]
+        );
+        // no score given: one point wins no game
+        assert_eq!((v["game_over"].as_str(), v["won"].as_str()), ("0", "0"));
     }
     assert!(points >= 5, "{points} points");
 }

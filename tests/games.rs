@@ -4,13 +4,16 @@
 //! event sequence (each event's type and balls) must be pooltool's for all but 1 % of the
 //! shots (a break is chaotic: a drift of 1e-9 s can grow into another sequence late in
 //! it), with times within 1e-6 s for 99 % of them; on every shot whose sequence is
-//! pooltool's, kisstime's verdict — legal, the foul, turn over, game over — must be
-//! pooltool's.
+//! pooltool's, kisstime's verdict — legal, the foul, turn over, game over, and where the
+//! game keeps score the points and the winner — must be pooltool's. The pool sets play on
+//! pooltool's default table with pool balls, the snooker set on `snooker` with snooker
+//! balls.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use kisstime::game::{Context, Foul, Rules, Shot, eight_ball, nine_ball};
+use kisstime::game::{Context, Foul, Rules, Shot, eight_ball, nine_ball, snooker};
+use kisstime::io::table_json::{default_ball_params, table_by_name};
 use kisstime::simulate::{
     BallState, BatchOptions, CueStrike, EventRecord, SimParams, Table, simulate_batch,
 };
@@ -63,9 +66,11 @@ struct RefShot {
     reason: String,
     turn_over: bool,
     game_over: bool,
-    /// 8-ball: the shot's context and whether the player who shot won.
+    /// 8-ball and snooker: the shot's context and whether the player who shot won.
     context: Context,
     won: Option<bool>,
+    /// Snooker: the points to the player who shot and to the opponent.
+    points: Option<(u32, u32)>,
     events: Vec<(String, f64, String, String)>,
 }
 
@@ -79,24 +84,40 @@ impl RefShot {
     }
 }
 
+/// The table a set plays on (`snooker` for snooker, pooltool's default `7ft` for pool).
+fn table_name(game: &str) -> &'static str {
+    if game == "snooker" { "snooker" } else { "7ft" }
+}
+
+/// A ball id as a set writes it: a number, or (snooker) pooltool's name.
+fn ball_id(text: &str) -> i64 {
+    text.parse()
+        .ok()
+        .or_else(|| snooker::id_of(text))
+        .unwrap_or_else(|| panic!("ball {text:?}"))
+}
+
 fn read_set(game: &str) -> Vec<RefShot> {
     let d = dir(game);
-    let pockets = Table::seven_foot().pocket_ids;
+    let pockets = table_by_name(table_name(game)).unwrap().pocket_ids;
+    let count = |r: &BTreeMap<String, String>, key: &str| -> u32 {
+        r.get(key).map_or(0, |v| v.parse().unwrap())
+    };
     let context = |r: &BTreeMap<String, String>| Context {
         break_shot: r["break"] == "1",
         hittable: r.get("hittable").map_or(0, |h| {
-            Context::balls(
-                h.split(';')
-                    .filter(|s| !s.is_empty())
-                    .map(|n| n.parse().unwrap()),
-            )
+            Context::balls(h.split(';').filter(|s| !s.is_empty()).map(ball_id))
         }),
         call_shot: r.get("call_shot").is_some_and(|c| c == "1"),
-        ball_call: r.get("ball_call").and_then(|b| b.parse().ok()),
+        ball_call: r
+            .get("ball_call")
+            .filter(|b| !b.is_empty())
+            .map(|b| ball_id(b)),
         pocket_call: r
             .get("pocket_call")
             .and_then(|p| pockets.iter().position(|q| q == p)),
         wpa: false,
+        score: [count(r, "score"), count(r, "opponent_score")],
     };
     let mut shots: Vec<RefShot> = rows(&d.join("shots.csv"))
         .iter()
@@ -117,6 +138,9 @@ fn read_set(game: &str) -> Vec<RefShot> {
             game_over: r["game_over"] == "1",
             context: context(r),
             won: r.get("won").map(|w| w == "1"),
+            points: r
+                .get("points")
+                .map(|_| (count(r, "points"), count(r, "foul_points"))),
             events: Vec::new(),
         })
         .collect();
@@ -137,10 +161,9 @@ fn read_set(game: &str) -> Vec<RefShot> {
     shots
 }
 
-/// Every shot of the set simulated by kisstime (the cue ball, id 0, struck), in order:
-/// each one's events.
-fn replay(shots: &[RefShot], table: &Table) -> Vec<Vec<EventRecord>> {
-    let p = SimParams::default();
+/// Every shot of the set simulated by kisstime (the cue ball, id 0, struck) on `table`
+/// with the balls `p`, in order: each one's events.
+fn replay(shots: &[RefShot], table: &Table, p: SimParams) -> Vec<Vec<EventRecord>> {
     let input = |k: usize, balls: &mut Vec<BallState>| {
         let s = &shots[k];
         balls.clear();
@@ -209,10 +232,13 @@ fn check_set(
     expect: &[&str],
 ) {
     let shots = read_set(game);
-    assert!(shots.len() >= 500, "{} shots", shots.len());
-    let table = Table::seven_foot();
-    let runs = replay(&shots, &table);
-    let p = SimParams::default();
+    assert!(shots.len() >= 400, "{} shots", shots.len());
+    let table = table_by_name(table_name(game)).unwrap();
+    let p = SimParams {
+        ball: default_ball_params(table_name(game)),
+        ..SimParams::default()
+    };
+    let runs = replay(&shots, &table, p);
     let mut tally: BTreeMap<String, usize> = BTreeMap::new();
     let (mut differ, mut drift) = (Vec::new(), Vec::new());
     for (k, (s, events)) in shots.iter().zip(&runs).enumerate() {
@@ -234,6 +260,9 @@ fn check_set(
         if let Some(won) = s.won {
             assert_eq!(v.won, won, "shot {k}: won");
         }
+        if let Some(points) = s.points {
+            assert_eq!((v.points, v.foul_points), points, "shot {k}: points");
+        }
         let reason = v.foul.map_or("", reason);
         let want = (s.legal, s.reason.as_str(), s.turn_over, s.game_over);
         assert_eq!(
@@ -243,9 +272,14 @@ fn check_set(
             s.break_shot
         );
         let key = format!(
-            "{}{}",
+            "{}{}{}",
             if s.break_shot { "break " } else { "" },
-            v.foul.map_or("legal", Foul::code)
+            v.foul.map_or("legal", Foul::code),
+            match (v.game_over, v.won) {
+                (false, _) => "",
+                (true, true) => ", won",
+                (true, false) => ", game over, not won",
+            }
         );
         *tally.entry(key).or_default() += 1;
     }
@@ -311,7 +345,7 @@ fn eight_ball_verdicts_are_pooltools() {
             "wrong_ball_first",
             "no_rail",
             "not_called",
-            "eight_illegal",
+            "eight_illegal, game over, not won",
             "break break_rails",
             "break cue_pocketed",
             "legal",
@@ -362,8 +396,8 @@ fn the_wpa_reading_departs_only_where_documented() {
         ("eight_ball", Rules::EightBall),
     ] {
         let shots = read_set(game);
-        let runs = replay(&shots, &Table::seven_foot());
         let p = SimParams::default();
+        let runs = replay(&shots, &Table::seven_foot(), p);
         let mut departed = 0;
         for (k, (s, events)) in shots.iter().zip(&runs).enumerate() {
             let start = s.start(p.ball.r);
@@ -406,6 +440,8 @@ fn the_wpa_reading_departs_only_where_documented() {
                         turn_over: true,
                         game_over: false,
                         won: false,
+                        points: 0,
+                        foul_points: 0,
                     }
                 }
                 (Rules::EightBall, true) if eight_down => kisstime::game::Verdict {
@@ -481,5 +517,153 @@ fn the_wpa_reading_departs_only_where_documented() {
     assert!(
         v.legal && !v.game_over && !v.won && !v.turn_over,
         "WPA: re-spot, shoot on"
+    );
+}
+
+/// Snooker's judge on made-up shots, each checked against the rule it exercises (pooltool's
+/// `snooker/core.py`): the points of a legal pot, a foul's value (the largest of the
+/// white's 4, the balls pocketed, the first ball hit and the ball called), the balls on
+/// worked out from the table, and the final black's end (won, tied, lost on a foul).
+#[test]
+fn snooker_points_fouls_and_the_final_black() {
+    use kisstime::simulate::{Event, EventKind};
+    let p = SimParams {
+        ball: default_ball_params("snooker"),
+        ..SimParams::default()
+    };
+    let judge = |ids: &[i64], hits: &[(u32, u32)], pots: &[u32], context: Context| {
+        let start: Vec<BallState> = (0..ids.len())
+            .map(|i| BallState::at_rest(0.2 + 0.08 * i as f64, 1.0, p.ball.r))
+            .collect();
+        let record = |kind, t, ball, other| EventRecord {
+            event: Event {
+                kind,
+                t,
+                ball,
+                other,
+            },
+            states: [start[0]; 2],
+        };
+        let mut events = vec![record(EventKind::StickBall, 0.0, 0, u32::MAX)];
+        for (k, &(a, b)) in hits.iter().enumerate() {
+            events.push(record(EventKind::BallBall, 0.1 * (k + 1) as f64, a, b));
+        }
+        for (k, &ball) in pots.iter().enumerate() {
+            events.push(record(EventKind::BallPocket, 1.0 + k as f64, ball, 0));
+        }
+        let shot = Shot {
+            ids,
+            start: &start,
+            events: &events,
+        };
+        Rules::Snooker.judge(&shot, &Rules::Snooker.context(context))
+    };
+    let reds = Context {
+        hittable: snooker::REDS,
+        ..Context::default()
+    };
+    let colours = |call: i64| Context {
+        hittable: snooker::COLOURS,
+        ball_call: Some(call),
+        ..Context::default()
+    };
+    // white 0, red_01 1, red_02 2, blue 19, pink 20, black 21 (indices 0 to 5)
+    let ids = [0, 1, 2, 19, 20, 21];
+    // two reds down off a red: 2 points, the turn kept
+    let v = judge(&ids, &[(0, 1), (1, 2)], &[1, 2], reds).unwrap();
+    assert_eq!(
+        (v.legal, v.turn_over, v.points, v.foul_points),
+        (true, false, 2, 0)
+    );
+    // a red hit, nothing down: legal, the turn over, no points
+    let v = judge(&ids, &[(0, 1)], &[], reds).unwrap();
+    assert_eq!((v.legal, v.turn_over, v.points), (true, true, 0));
+    // a red hit and the black down: off ball pocketed, 7 to the opponent
+    let v = judge(&ids, &[(0, 1), (1, 5)], &[5], reds).unwrap();
+    assert_eq!(
+        (v.foul, v.points, v.foul_points),
+        (Some(Foul::OffBallPocketed), 0, 7)
+    );
+    // on the blue (called), the pink hit first: 6 (the pink's value beats the blue's 5)
+    let v = judge(&ids, &[(0, 4)], &[], colours(19)).unwrap();
+    assert_eq!((v.foul, v.foul_points), (Some(Foul::WrongBallFirst), 6));
+    // on the blue, the blue potted: 5 points
+    let v = judge(&ids, &[(0, 3)], &[3], colours(19)).unwrap();
+    assert_eq!((v.legal, v.turn_over, v.points), (true, false, 5));
+    // a red first on colours, nothing down: the called blue makes it 5
+    let v = judge(&ids, &[(0, 1)], &[], colours(19)).unwrap();
+    assert_eq!((v.foul, v.foul_points), (Some(Foul::WrongBallFirst), 5));
+    // no ball hit: 4 at least; the white in: 4
+    let v = judge(&ids, &[], &[], reds).unwrap();
+    assert_eq!((v.foul, v.foul_points), (Some(Foul::NoHit), 4));
+    let v = judge(&ids, &[(0, 1)], &[1, 0], reds).unwrap();
+    assert_eq!((v.foul, v.foul_points), (Some(Foul::CuePocketed), 4));
+    // no context: reds on the table make the reds on; without reds, the lowest colour
+    let v = judge(&ids, &[(0, 1)], &[1], Context::default()).unwrap();
+    assert!(v.legal && v.points == 1);
+    let no_reds = [0, 19, 20, 21];
+    let v = judge(&no_reds, &[(0, 2)], &[], Context::default()).unwrap();
+    assert_eq!((v.foul, v.foul_points), (Some(Foul::WrongBallFirst), 6));
+    let v = judge(&no_reds, &[(0, 1)], &[1], Context::default()).unwrap();
+    assert_eq!((v.legal, v.points, v.game_over), (true, 5, false));
+    // the final black: potted wins when the points then lead, ties when they are level
+    let black = |score| Context {
+        hittable: 1 << snooker::BLACK,
+        score,
+        ..Context::default()
+    };
+    let fin = [0, 21];
+    let v = judge(&fin, &[(0, 1)], &[1], black([10, 15])).unwrap();
+    assert_eq!((v.points, v.game_over, v.won), (7, true, true));
+    let v = judge(&fin, &[(0, 1)], &[1], black([10, 17])).unwrap();
+    assert_eq!((v.game_over, v.won), (true, false), "a tie has no winner");
+    let v = judge(&fin, &[(0, 1)], &[], black([30, 0])).unwrap();
+    assert_eq!((v.game_over, v.turn_over), (false, true), "missed: play on");
+    let v = judge(&fin, &[(0, 1)], &[0], black([30, 0])).unwrap();
+    assert_eq!(
+        (v.foul, v.foul_points, v.game_over, v.won),
+        (Some(Foul::CuePocketed), 7, true, true),
+        "a foul on the final black ends the game; 30 still beat 7"
+    );
+    // what cannot be judged: reds and colours on at once, several colours and no call,
+    // balls that are not snooker's
+    let mixed = Context {
+        hittable: snooker::REDS | (1 << 19),
+        ..Context::default()
+    };
+    let e = judge(&ids, &[(0, 1)], &[], mixed).unwrap_err().to_string();
+    assert!(e.contains("not both"), "{e}");
+    let uncalled = Context {
+        hittable: snooker::COLOURS,
+        ..Context::default()
+    };
+    let e = judge(&ids, &[(0, 3)], &[], uncalled)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("call one"), "{e}");
+    let e = judge(&[0, 22], &[], &[], reds).unwrap_err().to_string();
+    assert!(e.contains("16 yellow to 21 black"), "{e}");
+    let e = judge(&[0, 1, 1], &[], &[], reds).unwrap_err().to_string();
+    assert!(e.contains("a second ball with id 1"), "{e}");
+}
+
+#[test]
+fn snooker_verdicts_are_pooltools() {
+    check_set(
+        "snooker",
+        |shot, s| Rules::Snooker.judge(shot, &s.context).unwrap(),
+        snooker::pooltool_reason,
+        &[
+            "break legal",
+            "break wrong_ball_first",
+            "legal",
+            "legal, won",
+            "legal, game over, not won",
+            "wrong_ball_first",
+            "off_ball_pocketed",
+            "no_hit",
+            "cue_pocketed",
+            "cue_pocketed, game over, not won",
+        ],
     );
 }

@@ -426,3 +426,51 @@ fn three_cushion_points_on_the_gpu_are_pooltools() {
     assert_eq!(scored, points);
     assert!(points.iter().filter(|&&p| p).count() >= 5);
 }
+
+/// Snooker on the GPU: `examples/snooker.toml` (on the reds, six balls of the snooker
+/// table), 300 noisy samples judged from the GPU watch's facts — every verdict, points and
+/// foul points included, is the CPU's; and called on the black, every sample a foul worth
+/// 7 on both.
+#[test]
+fn snooker_verdicts_on_the_gpu_are_the_cpus() {
+    let Some(mut gpu) = open("gpu_snooker_study") else {
+        return;
+    };
+    let text = include_str!("../examples/snooker.toml");
+    let (head, _) = text.split_once("\n[game]").unwrap();
+    let options = RunOptions {
+        until: Until::Rest,
+        limits: kisstime::simulate::Limits::default(),
+    };
+    let mut cpu = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    for (game, samples) in [
+        (&text[head.len()..], 300),
+        (
+            "[game]\nrules = \"snooker\"\nhittable = [\"pink\", \"black\"]\nball_call = \"black\"\n",
+            60,
+        ),
+    ] {
+        let config = StudyConfig::parse(&format!("{head}\n{game}"), "snooker.toml", None).unwrap();
+        let drawn = || Samples::Drawn {
+            sigma: &config.noise,
+            seed: 9,
+            range: 0..samples,
+        };
+        let on_gpu = run(&mut gpu, &config, drawn(), &options, &mut |_, _| {}).unwrap();
+        let on_cpu = run(&mut cpu, &config, drawn(), &options, &mut |_, _| {}).unwrap();
+        let verdicts = |s: &[Sample]| s.iter().map(|s| s.verdict.unwrap()).collect::<Vec<_>>();
+        let (g, c) = (verdicts(&on_gpu), verdicts(&on_cpu));
+        assert_eq!(g, c, "{game}");
+        let points: u32 = c.iter().map(|v| v.points).sum();
+        let fouls: u32 = c.iter().map(|v| v.foul_points).sum();
+        println!("{game}: {points} points scored, {fouls} foul points");
+        if game.contains("ball_call") {
+            assert!(c.iter().all(|v| v.foul_points == 7), "{c:?}");
+        } else {
+            assert!(
+                points > 100,
+                "{points} points: the red drops on most samples"
+            );
+        }
+    }
+}

@@ -2,8 +2,8 @@
 //! judged from the facts the study's watch kept as the events went by, is the verdict the
 //! same shot gets when it is simulated again with its events recorded and judged from them
 //! (`Rules::judge`, the path `kisstime simulate --rules` takes, whose verdicts equal
-//! pooltool's on the reference sets: `tests/games.rs`). Checked for 8-ball, 9-ball and
-//! three-cushion on noisy strikes; the summary's counts are the samples'; a bad `[game]`
+//! pooltool's on the reference sets: `tests/games.rs`). Checked for 8-ball, 9-ball,
+//! snooker and three-cushion on noisy strikes; the summary's counts are the samples'; a bad `[game]`
 //! names its key; `--until first-contact` is refused with a reason; the GPU gives the
 //! CPU's counts (`tests/gpu_study.rs` compares the verdicts sample by sample).
 
@@ -14,6 +14,8 @@ use kisstime::simulate::{BatchOptions, Limits, simulate_batch};
 use kisstime::study::{RunOptions, StudyConfig, Summary, Until, run_study};
 
 const STUDY: &str = include_str!("../examples/study.toml");
+/// The `[game]` of `examples/snooker.toml`.
+const SNOOKER_GAME: &str = "[game]\nrules = \"snooker\"\nhittable = [\"red_01\", \"red_02\"]\n";
 
 fn config(game: &str) -> StudyConfig {
     StudyConfig::parse(&format!("{STUDY}\n{game}"), "study.toml", None).unwrap()
@@ -115,6 +117,73 @@ fn nine_ball_and_three_cushion_verdicts_of_a_study_are_the_replays() {
     check(&c, 300);
 }
 
+/// `examples/snooker.toml` (a snooker position on `--table snooker`: the white, two reds
+/// and three colours by pooltool's names, the white aimed to pot `red_01` in `lt`) with
+/// `game` for its `[game]`.
+fn snooker_study(game: &str) -> String {
+    let text = include_str!("../examples/snooker.toml");
+    let (head, _) = text.split_once("\n[game]").unwrap();
+    format!("{head}\n{game}")
+}
+
+#[test]
+fn snooker_verdicts_of_a_study_are_the_replays() {
+    let parse = |game: &str| StudyConfig::parse(&snooker_study(game), "snooker.toml", None);
+    // the example as it ships
+    let example = StudyConfig::parse(&snooker_study(SNOOKER_GAME), "snooker.toml", None).unwrap();
+    assert_eq!(example.game.as_ref().unwrap().rules, Rules::Snooker);
+    // on the reds: the red in lt scores 1 and keeps the table; the white may follow it
+    let c = parse("[game]\nrules = \"snooker\"\nhittable = [\"red_01\", \"red_02\"]\n").unwrap();
+    assert_eq!(c.game.as_ref().unwrap().ids, [0, 1, 2, 19, 20, 21]);
+    let (legal, kept) = check(&c, 400);
+    assert!(legal > 200 && kept > 100, "{legal} legal, {kept} kept");
+    // no hittable: the reds, worked out from the table, give the same verdicts
+    let worked_out = parse("[game]\nrules = \"snooker\"\n").unwrap();
+    assert_eq!(check(&worked_out, 400), (legal, kept));
+    // on the black (called): the red first is a foul worth 7 to the opponent on every sample
+    let c = parse(
+        "[game]\nrules = \"snooker\"\nhittable = [\"blue\", \"pink\", \"black\"]\n\
+         ball_call = \"black\"\nscore = 40\nopponent_score = 12\n",
+    )
+    .unwrap();
+    let (legal, kept) = check(&c, 200);
+    assert_eq!((legal, kept), (0, 0));
+    let run = run_study(
+        &c,
+        &c.noise,
+        50,
+        5,
+        &RunOptions {
+            until: Until::Rest,
+            limits: Limits::default(),
+        },
+        &mut |_, _| {},
+    )
+    .unwrap();
+    assert!(
+        run.iter()
+            .all(|s| s.verdict.is_some_and(|v| v.foul_points == 7))
+    );
+    let summary = Summary::of(&c, &run, Until::Rest);
+    let g = summary.game.unwrap();
+    assert_eq!(g.foul_points.map(|f| f.mean), Some(7.0));
+    assert_eq!(g.points.map(|p| p.mean), Some(0.0));
+    // what snooker cannot judge, by key
+    for (game, want) in [
+        (
+            "hittable = [\"red_01\", \"black\"]",
+            "reds or colours, not both",
+        ),
+        ("hittable = [\"pink\", \"black\"]", "call one"),
+        ("hittable = [\"green\"]", "key `game.hittable[0]`"),
+    ] {
+        let e = parse(&format!("[game]\nrules = \"snooker\"\n{game}\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(want), "{game}: {want:?} not in {e}");
+    }
+}
+
 #[test]
 fn a_bad_game_names_its_key() {
     let bad = |game: &str, want: &str| {
@@ -123,7 +192,7 @@ fn a_bad_game_names_its_key() {
             .to_string();
         assert!(e.contains(want), "{want:?} not in {e}");
     };
-    bad("[game]\nrules = \"snooker\"\n", "key `game.rules`");
+    bad("[game]\nrules = \"pyramid\"\n", "key `game.rules`");
     bad(
         "[game]\nrules = \"8-ball\"\nhittable = [9]\n",
         "key `game.hittable[0]`",
@@ -150,7 +219,7 @@ fn a_bad_game_names_its_key() {
         e.contains("key `balls[2].id`") && e.contains("1 to 15"),
         "{e}"
     );
-    assert_eq!(Foul::ALL.len(), 7);
+    assert_eq!(Foul::ALL.len(), 8);
     assert_eq!(Rules::from_name("8-ball"), Ok(Rules::EightBall));
 }
 
@@ -191,7 +260,7 @@ fn the_cli_reports_the_game_and_refuses_what_it_cannot_judge() {
     let csv = std::fs::read_to_string(&samples).unwrap();
     let head = csv.lines().next().unwrap();
     assert!(
-        head.ends_with(",cut,legal,foul,turn_over,game_over,won"),
+        head.ends_with(",cut,legal,foul,turn_over,game_over,won,points,foul_points"),
         "{head}"
     );
     assert_eq!(csv.lines().count(), 401);

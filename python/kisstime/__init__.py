@@ -395,16 +395,20 @@ def simulate(
     """Whole shots from the cue strike to rest with pooltool 0.6.0's physics
     (``kisstime simulate``).
 
-    ``rules`` (``"9-ball"`` or ``"8-ball"``) judges every shot as pooltool 0.6.0's rule
-    sets judge it (``kisstime simulate --rules``): ``outcomes`` then has the fields
-    ``legal``, ``foul`` (an index in :data:`FOULS`, -1 for none), ``turn_over``,
-    ``game_over`` and ``won`` (0/1). Ball ids are the game's: 0 the cue ball, the object
-    balls their numbers. ``context`` gives each shot's context (``--context``): the path of
-    a CSV file ``table,break,hittable,ball_call,pocket_call``, or a dict of equal-length
-    columns with those names (``hittable``: a list of ball ids, or a str of ids joined by
-    ``;``, per table; ``ball_call`` -1 or ``None`` for none, ``pocket_call`` a pocket id such
-    as ``"lb"`` or ``""``); tables without one play an ordinary shot on an open table with
-    no call. Errors (an unknown game, a table not in the input, a ball not on the table, a
+    ``rules`` (``"9-ball"``, ``"8-ball"``, ``"snooker"`` or ``"three-cushion"``) judges
+    every shot as pooltool 0.6.0's rule sets judge it (``kisstime simulate --rules``):
+    ``outcomes`` then has the fields ``legal``, ``foul`` (an index in :data:`FOULS`, -1 for
+    none), ``turn_over``, ``game_over`` and ``won`` (0/1), ``points`` (snooker's pots,
+    three-cushion's point) and ``foul_points`` (snooker's penalty to the opponent). Ball
+    ids are the game's: 0 the cue ball, the object balls their numbers (snooker: reds 1 to
+    15, yellow 16 … black 21). ``context`` gives each shot's context (``--context``): the
+    path of a CSV file ``table,break,hittable,ball_call,pocket_call[,score,opponent_score]``,
+    or a dict of equal-length columns with those names (``hittable``: a list of ball ids,
+    or a str of ids joined by ``;``, per table; ``ball_call`` -1 or ``None`` for none,
+    snooker's balls also by name (``"black"``); ``pocket_call`` a pocket id such as
+    ``"lb"`` or ``""``; ``score``, ``opponent_score`` the points before the shot); tables
+    without one play an ordinary shot on an open table (snooker: the balls on worked out
+    from the table) with no call. Errors (an unknown game, a table not in the input, a ball not on the table, a
     pocket the table lacks) raise ``ValueError``. ``wpa=True`` takes the WPA's reading
     where pooltool departs from it (``--wpa``: 9-ball's break must hit the 1 first; 8-ball's
     8 on the break ends no game). (``_rule_ids``, for the pooltool bridge:
@@ -491,6 +495,7 @@ FOULS = (
     "break_rails",
     "not_called",
     "eight_illegal",
+    "off_ball_pocketed",
 )
 
 
@@ -501,7 +506,7 @@ def _context_csv(context) -> Optional[str]:
     if not isinstance(context, Mapping):
         with open(os.fspath(context), newline="") as f:
             return f.read()
-    cols = ("table", "break", "hittable", "ball_call", "pocket_call")
+    cols = ("table", "break", "hittable", "ball_call", "pocket_call", "score", "opponent_score")
     unknown = set(context) - set(cols)
     if unknown:
         raise ValueError(f"context: unknown columns {sorted(unknown)}; the columns are {cols}")
@@ -517,10 +522,14 @@ def _context_csv(context) -> Optional[str]:
             return ""
         v = context[c][i]
         if c == "hittable":
-            return v if isinstance(v, str) else ";".join(str(int(b)) for b in v)
+            return v if isinstance(v, str) else ";".join(
+                b if isinstance(b, str) else str(int(b)) for b in v
+            )
         if c == "break":
             return "1" if bool(v) else "0"
         if c == "ball_call":
+            if isinstance(v, str):
+                return v
             return "" if v is None or int(v) < 0 else str(int(v))
         if c == "pocket_call":
             return "" if v is None else str(v)
@@ -629,7 +638,8 @@ def scenario(
 #: ``intended_pocket``, ``cue_pocket``: a pocket index in :attr:`Study.pocket_ids`, or -1;
 #: ``cut``: 0 none, 1 max_events, 2 max_time. With a game (the scenario's ``game``
 #: section) the verdict: ``legal``, ``turn_over``, ``game_over``, ``won`` 0 or 1, ``foul``
-#: an index in :data:`FOULS` or -1; all -1 without a game.
+#: an index in :data:`FOULS` or -1, ``points`` and ``foul_points`` (snooker, three-cushion;
+#: 0 in pool); all -1 without a game.
 SAMPLE_FIELDS = (
     ("sample", "<i8"),
     ("V0", "<f8"),
@@ -655,6 +665,8 @@ SAMPLE_FIELDS = (
     ("turn_over", "<i8"),
     ("game_over", "<i8"),
     ("won", "<i8"),
+    ("points", "<i8"),
+    ("foul_points", "<i8"),
 )
 _SAMPLE_DTYPE = np.dtype(list(SAMPLE_FIELDS))
 

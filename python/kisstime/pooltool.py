@@ -222,22 +222,29 @@ class Converted:
         hittable: Sequence[str] | None = None,
         ball_call: str | None = None,
         pocket_call: str | None = None,
+        score: tuple[int, int] = (0, 0),
         **kwargs: Any,
     ):
         """``kisstime.simulate`` on these balls, this strike, this table and these
         physical parameters (:attr:`physics`).
 
-        With ``rules`` (``"9-ball"``, ``"8-ball"``) the shot is judged as pooltool 0.6.0's
-        rule set judges it, in pooltool's terms: ``break_shot``, ``hittable`` (the ball
-        ids the player may hit first: 8-ball's group; ``None``: an open table; 9-ball
-        works it out), ``ball_call`` and ``pocket_call`` (pooltool's ids, e.g. ``"3"``,
-        ``"rt"``; 8-ball asks every shot but the break to be called). The verdict is in
-        the result's ``outcomes``: ``legal``, ``foul`` (an index in ``kisstime.FOULS``, -1
-        for none), ``turn_over``, ``game_over``, ``won``. The balls must be pooltool's pool
-        balls: ``"cue"`` and the numbered ``"1"`` to ``"15"``. With
-        ``rules="three-cushion"`` any balls go (the cue ball is the one struck) and the
-        context arguments are not used: the shot scores a point exactly when
-        ``turn_over`` is false (pooltool's ``three_cushion.is_point``).
+        With ``rules`` (``"9-ball"``, ``"8-ball"``, ``"snooker"``) the shot is judged as
+        pooltool 0.6.0's rule set judges it, in pooltool's terms: ``break_shot``,
+        ``hittable`` (the ball ids the player may hit first: 8-ball's group, snooker's
+        ``BallGroup.REDS.balls``, ``COLORS.balls`` or the one colour on; ``None``: an open
+        table, or snooker's balls on worked out from the table; 9-ball works it out),
+        ``ball_call`` and ``pocket_call`` (pooltool's ids, e.g. ``"3"``, ``"black"``,
+        ``"rt"``; 8-ball asks every shot but the break to be called; snooker on several
+        colours asks for ``ball_call``) and ``score`` (the points of the player who shoots
+        and of the opponent before the shot: snooker's and three-cushion's winner). The
+        verdict is in the result's ``outcomes``: ``legal``, ``foul`` (an index in
+        ``kisstime.FOULS``, -1 for none), ``turn_over``, ``game_over``, ``won``,
+        ``points``, ``foul_points``. The balls must be pooltool's pool balls (``"cue"`` and
+        the numbered ``"1"`` to ``"15"``) or snooker's (``"white"``, ``"red_01"`` to
+        ``"red_15"``, ``"yellow"`` … ``"black"``). With ``rules="three-cushion"`` any
+        balls go (the cue ball is the one struck) and of the context only ``score`` is
+        used: the shot scores a point exactly when ``turn_over`` is false (pooltool's
+        ``three_cushion.is_point``), and the game is won at 10.
 
         The table goes as JSON text (no file is written). ``kwargs`` go to
         ``kisstime.simulate`` (``max_events``, ``max_time``, ``events``, ``backend``);
@@ -250,13 +257,22 @@ class Converted:
         kwargs.setdefault("physics", self.physics or None)
         kwargs.setdefault("table", self.table)
         strikes = self.strikes if len(self.strikes) else None
+        score_cols = {"score": [int(score[0])], "opponent_score": [int(score[1])]}
         if rules == "three-cushion":
             # the point needs no ball numbers: the cue ball is the one struck
             kwargs["rules"] = rules
+            kwargs["context"] = {"table": [self.table_id], **score_cols}
         elif rules is not None:
             game = {}
             for i, b in enumerate(self.ball_ids):
-                if b == "cue":
+                if rules == "snooker":
+                    if b not in _SNOOKER_IDS:
+                        raise ValueError(
+                            f"ball {b!r}: snooker takes the balls 'white', 'red_01' to "
+                            f"'red_15', {', '.join(repr(c) for c in _SNOOKER_IDS[16:])}"
+                        )
+                    game[i] = _SNOOKER_IDS.index(b)
+                elif b == "cue":
                     game[i] = 0
                 elif b.isdigit() and 1 <= int(b) <= 15:
                     game[i] = int(b)
@@ -278,8 +294,22 @@ class Converted:
                 "hittable": [_hittable(hittable, self.ball_ids, number)],
                 "ball_call": [-1 if ball_call is None else number(ball_call, "ball_call")],
                 "pocket_call": [pocket_call or ""],
+                **score_cols,
             }
         return kisstime.simulate(self.balls, strikes, **kwargs)
+
+
+# snooker's pooltool ball ids, index = kisstime's id (kisstime.game::snooker)
+_SNOOKER_IDS = (
+    "white",
+    *(f"red_{i:02d}" for i in range(1, 16)),
+    "yellow",
+    "green",
+    "brown",
+    "blue",
+    "pink",
+    "black",
+)
 
 
 def _hittable(hittable, ball_ids, number) -> Any:

@@ -504,9 +504,10 @@ fn simulate<'py>(
             let contexts = match context {
                 Some(text) => {
                     let balls = |k: usize| game_ids[k].as_slice();
-                    parse_contexts(text, "context", &ids, balls, &tbl.pocket_ids).map_err(py_err)?
+                    parse_contexts(text, "context", rules, &ids, balls, &tbl.pocket_ids)
+                        .map_err(py_err)?
                 }
-                None => vec![default_context(); n],
+                None => vec![default_context(rules); n],
             };
             let contexts: Vec<Context> = contexts
                 .into_iter()
@@ -937,7 +938,8 @@ fn encode(out: &mut Vec<u8>, id: i64, s: &Sample) {
 }
 
 /// A sample's verdict as one number: 0 none; else bit 0 set, then legal, turn over, game
-/// over and won in bits 1 to 4, and the foul's index in `Foul::ALL` plus one from bit 8.
+/// over and won in bits 1 to 4, the foul's index in `Foul::ALL` plus one in bits 8 to 15,
+/// the points in bits 16 to 31 and the foul points from bit 32.
 fn verdict_code(v: Option<Verdict>) -> u64 {
     let Some(v) = v else { return 0 };
     let foul = v
@@ -949,6 +951,8 @@ fn verdict_code(v: Option<Verdict>) -> u64 {
         | u64::from(v.game_over) << 3
         | u64::from(v.won) << 4
         | foul << 8
+        | u64::from(v.points.min(0xFFFF)) << 16
+        | u64::from(v.foul_points) << 32
 }
 
 /// [`verdict_code`] read back; `None` inside when it is not one.
@@ -956,7 +960,7 @@ fn verdict_of(code: u64) -> Option<Option<Verdict>> {
     if code == 0 {
         return Some(None);
     }
-    let foul = match code >> 8 {
+    let foul = match (code >> 8) & 0xFF {
         0 => None,
         k => Some(*Foul::ALL.get(k as usize - 1)?),
     };
@@ -966,6 +970,8 @@ fn verdict_of(code: u64) -> Option<Option<Verdict>> {
         turn_over: code & 4 != 0,
         game_over: code & 8 != 0,
         won: code & 16 != 0,
+        points: ((code >> 16) & 0xFFFF) as u32,
+        foul_points: u32::try_from(code >> 32).ok()?,
     }))
 }
 
@@ -1247,6 +1253,16 @@ fn study_merge<'py>(
         PyArray1::from_vec(py, col_i(&flag(|v| v.game_over))),
     )?;
     cols.set_item("won", PyArray1::from_vec(py, col_i(&flag(|v| v.won))))?;
+    let points =
+        |f: fn(&Verdict) -> u32| move |s: &Sample| s.verdict.map_or(-1, |v| i64::from(f(&v)));
+    cols.set_item(
+        "points",
+        PyArray1::from_vec(py, col_i(&points(|v| v.points))),
+    )?;
+    cols.set_item(
+        "foul_points",
+        PyArray1::from_vec(py, col_i(&points(|v| v.foul_points))),
+    )?;
     let potted = samples
         .iter()
         .map(|s| kisstime::study::reference::potted_field(&config, s))

@@ -75,7 +75,7 @@ def test_nine_ball_verdicts_through_python_are_pooltools():
 def test_bad_rules_and_contexts_raise_value_error():
     shots, balls, strikes = reference()
     with pytest.raises(ValueError, match="8-ball"):
-        kisstime.simulate(balls, strikes, table="7ft", rules="snooker")
+        kisstime.simulate(balls, strikes, table="7ft", rules="pyramid")
     with pytest.raises(ValueError, match="table 9999"):
         kisstime.simulate(balls, strikes, table="7ft", rules="8-ball",
                           context={"table": [9999], "break": [False]})
@@ -165,10 +165,20 @@ def test_a_study_with_a_game_reports_its_verdicts_through_python_and_chunks():
     cue = kisstime.FOULS.index("cue_pocketed")
     assert g["fouls"]["cue_pocketed"]["count"] == int((rows["foul"] == cue).sum()) > 0
     assert ((rows["legal"] == 1) == (rows["foul"] == -1)).all()
+    assert (rows["points"] == 0).all() and (rows["foul_points"] == 0).all(), "pool scores none"
     again = kisstime.shot_study(scen, samples=2000, seed=5, chunk=300)
     assert again.summary["game"] == g
     assert (again.samples == rows).all()
     # without a game every verdict field is -1
+    # snooker's points come back through Python and through chunks
+    with open(root / "examples" / "snooker.toml", "rb") as f:
+        snooker = tomllib.load(f)
+    sn = kisstime.shot_study(snooker, samples=600, seed=5, chunk=200)
+    kept = sn.samples["turn_over"] == 0
+    assert kept.sum() > 200
+    assert (sn.samples["points"][kept] == 1).all(), "a red scores 1"
+    assert (sn.samples["foul_points"][sn.samples["legal"] == 0] == 4).all(), "the white in: 4"
+    assert sn.summary["game"]["points"]["mean"] == sn.samples["points"].mean()
     del scen["game"]
     plain = kisstime.shot_study(scen, samples=50, seed=5)
     assert "game" not in plain.summary or plain.summary["game"] is None
@@ -212,3 +222,109 @@ def test_the_wpa_reading_through_python():
         assert (p[f][~parts] == w[f][~parts]).all(), f
     assert (w["game_over"][parts] == 0).all() and (p["game_over"][parts] == 1).all()
     assert (w["turn_over"][parts] == 1 - w["legal"][parts]).all()
+
+
+SNOOKER = DATA.parent / "snooker"
+SNOOKER_REASONS = {
+    "": "",
+    "cue_pocketed": "Cue ball in pocket!",
+    "no_hit": "No ball contacted!",
+    "wrong_ball_first": "First contact made with a ball that's not on!",
+    "off_ball_pocketed": "Pocketed a ball that's not on!",
+}
+
+
+def snooker_rows(name: str) -> list[dict]:
+    with open(SNOOKER / name, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_snooker_verdicts_and_points_through_python_are_pooltools():
+    """``rules="snooker"`` on data/games/snooker (pooltool's own ``_Snooker`` verdicts) with
+    each shot's context as a dict of columns — hittable and the call by pooltool's names —
+    and the score before it: legal, the reason, turn over, game over, the points, the foul
+    points and the winner are pooltool's on every shot with pooltool's event count."""
+    shots = snooker_rows("shots.csv")
+    layout = snooker_rows("balls.csv")
+    b, s = arrays(shots, layout, ("v0", "phi", "theta", "a", "b"))
+    on = {}
+    for r in layout:
+        on.setdefault(r["shot"], set()).add(int(r["ball"]))
+    names = ["white", *(f"red_{i:02d}" for i in range(1, 16)), "yellow", "green", "brown",
+             "blue", "pink", "black"]
+    context = {
+        "table": [int(r["shot"]) for r in shots],
+        "break": [r["break"] == "1" for r in shots],
+        # the group's balls on the table, by name
+        "hittable": [[h for h in r["hittable"].split(";") if names.index(h) in on[r["shot"]]]
+                     for r in shots],
+        "ball_call": [r["ball_call"] or None for r in shots],
+        "score": [int(r["score"]) for r in shots],
+        "opponent_score": [int(r["opponent_score"]) for r in shots],
+    }
+    res = kisstime.simulate(b, s, table="snooker", events=False, rules="snooker",
+                            context=context)
+    oc = res.outcomes
+    judged = 0
+    for row, shot in zip(oc, shots):
+        if int(row["events"]) != int(shot["n_events"]):
+            continue
+        judged += 1
+        foul = kisstime.FOULS[row["foul"]] if row["foul"] >= 0 else ""
+        assert SNOOKER_REASONS[foul] == shot["reason"], shot["shot"]
+        got = tuple(int(row[k]) for k in ("legal", "turn_over", "game_over", "won", "points",
+                                          "foul_points"))
+        want = tuple(int(shot[k]) for k in ("legal", "turn_over", "game_over", "won",
+                                            "points", "foul_points"))
+        assert got == want, shot["shot"]
+    assert judged >= 396
+    assert oc["points"].max() >= 2 and set(oc["foul_points"]) >= {0, 4, 5, 6, 7}
+
+
+def test_the_pooltool_bridge_judges_snooker_in_pooltools_terms():
+    """A snooker position of the reference set through ``from_system(...).simulate(
+    rules="snooker", hittable=..., ball_call=..., score=...)``, pooltool's ball ids and
+    groups as they are: pooltool's verdict, points and winner, on a frame-ending final
+    black and on a foul."""
+    pt = pytest.importorskip("pooltool")
+    import kisstime.pooltool as kpt
+    from pooltool.game.datatypes import GameType
+
+    shots = snooker_rows("shots.csv")
+    layout = snooker_rows("balls.csv")
+    names = ["white", *(f"red_{i:02d}" for i in range(1, 16)), "yellow", "green", "brown",
+             "blue", "pink", "black"]
+    final = next(r for r in shots if r["game_over"] == "1" and r["legal"] == "1")
+    foul = next(r for r in shots if r["reason"] and r["ball_call"] and r["break"] == "0")
+    import attrs
+
+    params = attrs.asdict(pt.BallParams.default(GameType.SNOOKER))
+    for shot in (final, foul):
+        balls = {}
+        for r in layout:
+            if r["shot"] == shot["shot"]:
+                bid = names[int(r["ball"])]
+                balls[bid] = pt.Ball.create(bid, xy=(float(r["x"]), float(r["y"])), **params)
+        cue = pt.Cue(cue_ball_id="white")
+        cue.set_state(V0=float(shot["v0"]), phi=float(shot["phi"]),
+                      theta=float(shot["theta"]), a=float(shot["a"]), b=float(shot["b"]))
+        table = pt.Table.from_game_type(GameType.SNOOKER)
+        conv = kpt.from_system(pt.System(cue=cue, table=table, balls=balls))
+        res = conv.simulate(
+            rules="snooker",
+            hittable=tuple(shot["hittable"].split(";")),
+            ball_call=shot["ball_call"] or None,
+            score=(int(shot["score"]), int(shot["opponent_score"])),
+            events=False,
+        )
+        oc = res.outcomes[0]
+        for k in ("legal", "turn_over", "game_over", "won", "points", "foul_points"):
+            assert int(oc[k]) == int(shot[k]), (shot["shot"], k)
+    with pytest.raises(ValueError, match="call one"):
+        conv.simulate(rules="snooker", hittable=("yellow", "green", "brown", "blue", "pink",
+                                                 "black"), events=False)
+    with pytest.raises(ValueError, match="snooker takes the balls"):
+        kpt.from_system(pt.System(cue=pt.Cue(cue_ball_id="cue"), table=table,
+                                  balls={"cue": pt.Ball.create("cue", xy=(0.5, 0.5)),
+                                         "1": pt.Ball.create("1", xy=(0.5, 1.0))})
+                        ).simulate(rules="snooker")

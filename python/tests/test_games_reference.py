@@ -1,8 +1,8 @@
-"""The game reference sets (``data/games/``) are their generator's output: the first
-shots of each (a break and ordinary shots) are made again by ``tools/games/reference.py``
-(pooltool 0.6.0 simulating and judging, seeded) and must be the files' first rows, cell for
-cell (event times to 1e-6 s). (``tests/games.rs`` checks kisstime's judge against the
-files.)
+"""The game reference sets (``data/games/``: nine_ball, eight_ball, snooker) are their
+generator's output: the first shots of each (a break and ordinary shots) are made again by
+``tools/games/reference.py`` (pooltool 0.6.0 simulating and judging, seeded) and must be
+the files' first rows, cell for cell (event times to 1e-6 s). (``tests/games.rs`` checks
+kisstime's judge against the files.)
 
 pooltool runs in a subprocess with ``NUMBA_DISABLE_JIT=1``, as in test_bridge.py: a few
 shots cost less than numba's compilation.
@@ -29,7 +29,7 @@ def rows(path: Path) -> list[list[str]]:
         return list(csv.reader(f))
 
 
-@pytest.mark.parametrize("game", ["nine_ball", "eight_ball"])
+@pytest.mark.parametrize("game", ["nine_ball", "eight_ball", "snooker"])
 def test_each_set_is_its_generators_output(tmp_path, game):
     env = dict(os.environ, NUMBA_DISABLE_JIT="1", PYTHONPATH=os.pathsep.join(sys.path))
     run = subprocess.run(

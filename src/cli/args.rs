@@ -145,14 +145,19 @@ pub struct SimulateArgs {
     #[arg(long, value_enum, default_value_t = PrecisionArg::F64)]
     pub precision: PrecisionArg,
     /// Judge every shot by a game's rules, as pooltool 0.6.0's rule sets judge it
-    /// (`9-ball`, `8-ball`, `three-cushion`: a point exactly when the turn is not over): adds `legal,foul,turn_over,game_over,won` to `--outcomes`
-    /// (`foul`: cue_pocketed, no_hit, wrong_ball_first, no_rail, break_rails, not_called,
-    /// eight_illegal). Ball ids are the game's: 0 the cue ball, object balls their numbers.
+    /// (`9-ball`, `8-ball`, `snooker`, `three-cushion`): adds
+    /// `legal,foul,turn_over,game_over,won,points,foul_points` to `--outcomes` (`foul`:
+    /// cue_pocketed, no_hit, wrong_ball_first, no_rail, break_rails, not_called,
+    /// eight_illegal, off_ball_pocketed; `points`: snooker's pots, three-cushion's point;
+    /// `foul_points`: snooker's penalty to the opponent). Ball ids are the game's: 0 the
+    /// cue ball, object balls their numbers (snooker: reds 1 to 15, yellow 16 … black 21).
     #[arg(long, value_enum, requires = "outcomes")]
     pub rules: Option<RulesArg>,
     /// Each shot's context for `--rules`: CSV `table,break,hittable,ball_call,pocket_call`
-    /// (hittable ball ids joined by `;`, empty: any ball but the 8; the pocket's id, e.g.
-    /// `lb`; see docs/games.md). Tables without a row: not a break, an open table, no call.
+    /// and optionally `,score,opponent_score` (hittable ball ids joined by `;`, empty: any
+    /// ball but the 8, or snooker's balls on worked out from the table; the pocket's id,
+    /// e.g. `lb`; the points before the shot; see docs/games.md). Tables without a row: not
+    /// a break, an open table, no call, no points.
     #[arg(long, value_name = "CSV", requires = "rules")]
     pub context: Option<PathBuf>,
     /// With --rules, the WPA's reading where pooltool departs from it and the verdict can
@@ -381,6 +386,10 @@ pub enum RulesArg {
     /// 8-ball (pooltool's `eight_ball`): the group first, called shots, the 8 last.
     #[value(name = "8-ball")]
     EightBall,
+    /// Snooker (pooltool's `snooker`): the balls on, fouls worth 4 to 7 to the opponent,
+    /// the final black.
+    #[value(name = "snooker")]
+    Snooker,
     /// Three-cushion billiards (pooltool's `three_cushion`): a point (the turn kept) when
     /// the struck ball meets both others, three cushions or more before the second.
     #[value(name = "three-cushion")]

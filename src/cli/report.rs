@@ -119,7 +119,12 @@ fn count_rows(config: &StudyConfig, s: &Summary) -> Vec<(&'static str, String, u
         rows.push(("game", kept.to_owned(), g.turn_kept));
         if g.rules != Rules::ThreeCushion {
             rows.push(("game", "game won".to_owned(), g.won));
-            rows.push(("game", "game lost".to_owned(), g.lost));
+            let lost = if g.rules == Rules::Snooker {
+                "game lost or tied"
+            } else {
+                "game lost"
+            };
+            rows.push(("game", lost.to_owned(), g.lost));
         }
     }
     if let (Some(t), Some(k)) = (config.target, s.in_target) {
@@ -282,6 +287,18 @@ pub fn summary_text(run: &Run<'_>, s: &Summary) -> String {
             stats_row(&mut out, "y (m)", y, 4);
         }
     }
+    if let Some(g) = &s.game
+        && let Some(p) = &g.points
+    {
+        stats_head(
+            &mut out,
+            &format!("points ({}, every sample)", g.rules.name()),
+        );
+        stats_row(&mut out, "scored by the player who shot", p, 3);
+        if let Some(f) = &g.foul_points {
+            stats_row(&mut out, "foul points to the opponent", f, 3);
+        }
+    }
     if let (Some(e), Some(d)) = (&s.events, &s.duration) {
         stats_head(&mut out, "every sample");
         stats_row(&mut out, "events", e, 1);
@@ -336,7 +353,7 @@ pub fn summary_json(run: &Run<'_>, s: &Summary) -> String {
 pub const SAMPLE_COLUMNS: &str = "sample,V0,phi,theta,a,b,first_contact,first_ball,first_cushion,first_t,contact_cue_x,contact_cue_y,speed,contact_x,contact_y,cut_angle,result,intended_potted,intended_pocket,cue_potted,potted,cue_x,cue_y,in_target,n_events,duration,cut";
 
 /// The verdict columns a study with a game adds to [`SAMPLE_COLUMNS`].
-pub const GAME_COLUMNS: &str = "legal,foul,turn_over,game_over,won";
+pub const GAME_COLUMNS: &str = "legal,foul,turn_over,game_over,won,points,foul_points";
 
 /// The text of a first contact's segment, jaw or pocket id.
 fn first_cushion(c: &StudyConfig, f: &FirstContact) -> String {
@@ -361,9 +378,9 @@ fn first_cushion(c: &StudyConfig, f: &FirstContact) -> String {
 /// intended ball potted and where, the cue ball potted, every ball potted as `ball@pocket`
 /// in order, the cue ball's final position, whether it is in the target circle, and for
 /// every sample the event count, the duration and the cap that cut it (`max_events`,
-/// `max_time`, empty). With a game (`[game]`) five more columns, [`GAME_COLUMNS`]: the
-/// verdict (`legal`, `foul` code or empty, `turn_over`, `game_over`, `won`, as
-/// `simulate --rules` writes them). Empty fields where they do not apply; numbers are the
+/// `max_time`, empty). With a game (`[game]`) seven more columns, [`GAME_COLUMNS`]: the
+/// verdict (`legal`, `foul` code or empty, `turn_over`, `game_over`, `won`, `points`,
+/// `foul_points`, as `simulate --rules` writes them). Empty fields where they do not apply; numbers are the
 /// shortest decimals that read back as the same f64.
 pub fn write_samples_csv(
     out: &mut dyn std::io::Write,
@@ -442,15 +459,17 @@ pub fn write_samples_csv(
                 Some(v) => {
                     let _ = write!(
                         row,
-                        ",{},{},{},{},{}",
+                        ",{},{},{},{},{},{},{}",
                         u8::from(v.legal),
                         v.foul.map_or("", |f| f.code()),
                         u8::from(v.turn_over),
                         u8::from(v.game_over),
-                        u8::from(v.won)
+                        u8::from(v.won),
+                        v.points,
+                        v.foul_points
                     );
                 }
-                None => row.push_str(",,,,,"),
+                None => row.push_str(",,,,,,,"),
             }
         }
         writeln!(out, "{row}")?;

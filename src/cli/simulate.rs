@@ -173,19 +173,20 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         None => (Vec::new(), Vec::new()),
     };
     let n = batch.num_tables();
-    let contexts: Vec<Context> = match (&args.rules, &args.context) {
-        (Some(_), Some(path)) => {
-            let ids: Vec<i64> = (0..n).map(|k| batch.table_id(k)).collect();
-            read_contexts(path, &ids, |k| batch.ball_ids(k), &table.pocket_ids)?
-        }
-        (Some(_), None) => vec![default_context(); n],
-        (None, _) => Vec::new(),
-    };
     let rules = args.rules.map(|r| match r {
         RulesArg::NineBall => Rules::NineBall,
         RulesArg::EightBall => Rules::EightBall,
+        RulesArg::Snooker => Rules::Snooker,
         RulesArg::ThreeCushion => Rules::ThreeCushion,
     });
+    let contexts: Vec<Context> = match (rules, &args.context) {
+        (Some(rules), Some(path)) => {
+            let ids: Vec<i64> = (0..n).map(|k| batch.table_id(k)).collect();
+            read_contexts(path, rules, &ids, |k| batch.ball_ids(k), &table.pocket_ids)?
+        }
+        (Some(rules), None) => vec![default_context(rules); n],
+        (None, _) => Vec::new(),
+    };
     // the game's part of each context (8-ball: every shot but the break is called)
     let contexts: Vec<Context> = match rules {
         Some(rules) => contexts

@@ -72,6 +72,8 @@ pub fn judge(shot: &Played<'_>, context: &Context) -> Result<Verdict, SimError> 
         turn_over,
         game_over,
         won: game_over && legal,
+        points: 0,
+        foul_points: 0,
     })
 }
 

@@ -5,14 +5,16 @@
 //!
 //! - [`nine_ball`]: 9-ball (`pooltool.ruleset.nine_ball`);
 //! - [`eight_ball`]: 8-ball (`pooltool.ruleset.eight_ball`);
+//! - [`snooker`]: snooker (`pooltool.ruleset.snooker`: the fouls, the points, the final
+//!   black);
 //! - [`three_cushion`]: three-cushion billiards (`pooltool.ruleset.three_cushion`: the
 //!   point).
 //!
 //! A shot's context ([`Context`]) is what the player was allowed and asked to do: whether
-//! it is a break, the balls they may hit first, and their call.
+//! it is a break, the balls they may hit first, their call, and the score before it.
 //!
 //! A judge reads a [`Shot`]: each ball's identity (`ids`, the input's ball ids: the cue
-//! ball is 0, object balls their numbers), each ball's state at the start (which balls
+//! ball is 0, object balls their numbers; snooker's: [`snooker::id_of`]), each ball's state at the start (which balls
 //! were already pocketed), and the events in order, the strike first (what
 //! [`crate::simulate::simulate_batch`] records). It allocates nothing and loops over the
 //! events a bounded number of times, so it can sit on the hot path of a batch or a study.
@@ -30,6 +32,7 @@ use crate::simulate::watch::{NO_POCKET, ShotFacts};
 
 pub mod eight_ball;
 pub mod nine_ball;
+pub mod snooker;
 pub mod three_cushion;
 
 /// A game whose rules judge shots.
@@ -39,19 +42,22 @@ pub enum Rules {
     NineBall,
     /// 8-ball ([`eight_ball`]).
     EightBall,
+    /// Snooker ([`snooker`]).
+    Snooker,
     /// Three-cushion billiards ([`three_cushion`]).
     ThreeCushion,
 }
 
 impl Rules {
     /// Every game, with its name.
-    pub const ALL: [(Rules, &'static str); 3] = [
+    pub const ALL: [(Rules, &'static str); 4] = [
         (Rules::NineBall, "9-ball"),
         (Rules::EightBall, "8-ball"),
+        (Rules::Snooker, "snooker"),
         (Rules::ThreeCushion, "three-cushion"),
     ];
 
-    /// Its name (`9-ball`, `8-ball`, `three-cushion`).
+    /// Its name (`9-ball`, `8-ball`, `snooker`, `three-cushion`).
     pub fn name(self) -> &'static str {
         Rules::ALL
             .iter()
@@ -59,8 +65,8 @@ impl Rules {
             .map_or("", |(_, n)| n)
     }
 
-    /// The game named `name` (`9-ball`, `8-ball`, `three-cushion`); the error lists the
-    /// names.
+    /// The game named `name` (`9-ball`, `8-ball`, `snooker`, `three-cushion`); the error
+    /// lists the names.
     pub fn from_name(name: &str) -> Result<Rules, String> {
         Rules::ALL
             .iter()
@@ -73,22 +79,56 @@ impl Rules {
     }
 
     /// The game's own part of a shot's context: 8-ball asks every shot but the break to be
-    /// called (pooltool's `ShotConstraints.call_shot`); 9-ball asks none.
+    /// called (pooltool's `ShotConstraints.call_shot`); snooker, every shot on colours
+    /// (`call_shot` then marks a called ball, as the judge works out: see [`snooker`]);
+    /// 9-ball and three-cushion ask none.
     pub fn context(self, context: Context) -> Context {
         Context {
-            call_shot: self == Rules::EightBall && !context.break_shot,
+            call_shot: match self {
+                Rules::EightBall => !context.break_shot,
+                Rules::Snooker => context.hittable & snooker::COLOURS != 0,
+                Rules::NineBall | Rules::ThreeCushion => false,
+            },
             ..context
         }
     }
 
+    /// Whether the game scores points per shot ([`Verdict::points`]): snooker and
+    /// three-cushion.
+    pub fn scores(self) -> bool {
+        matches!(self, Rules::Snooker | Rules::ThreeCushion)
+    }
+
+    /// Checks `context` for what this game cannot judge (snooker: reds and colours on at
+    /// once, several colours on and none called: [`snooker::check_context`]); the error
+    /// says why.
+    pub fn check_context(self, context: &Context) -> Result<(), String> {
+        match self {
+            Rules::Snooker => snooker::check_context(context),
+            Rules::NineBall | Rules::EightBall | Rules::ThreeCushion => Ok(()),
+        }
+    }
+
+    /// The ball id pooltool's game names `name` (snooker: `white`, `red_01`, …,
+    /// `black`: [`snooker::id_of`]), for the games whose balls have names; pool balls and
+    /// three-cushion's take numbers.
+    pub fn ball_named(self, name: &str) -> Option<i64> {
+        match self {
+            Rules::Snooker => snooker::id_of(name),
+            Rules::NineBall | Rules::EightBall | Rules::ThreeCushion => None,
+        }
+    }
+
     /// The verdict on `shot` in `context` (see [`nine_ball::judge`], [`eight_ball::judge`],
-    /// [`three_cushion::judge`]): the shot's facts ([`ShotFacts`]) following the game's cue
-    /// ball (pool: the ball with id 0; three-cushion: the ball struck), then
+    /// [`snooker::judge`], [`three_cushion::judge`]): the shot's facts ([`ShotFacts`])
+    /// following the game's cue ball (pool and snooker: the ball with id 0; three-cushion:
+    /// the ball struck), then
     /// [`Rules::judge_played`].
     pub fn judge(self, shot: &Shot<'_>, context: &Context) -> Result<Verdict, SimError> {
         let cue = match self {
             Rules::ThreeCushion => shot.struck()?,
             Rules::NineBall | Rules::EightBall => shot.pool_cue()?,
+            Rules::Snooker => snooker::snooker_cue(shot.ids, shot.start.len())?,
         };
         let facts = ShotFacts::of(shot.events(), cue as u32);
         self.judge_played(
@@ -108,13 +148,15 @@ impl Rules {
         match self {
             Rules::NineBall => nine_ball::judge(played, context.break_shot, context.wpa),
             Rules::EightBall => eight_ball::judge(played, context),
-            Rules::ThreeCushion => three_cushion::judge(played),
+            Rules::Snooker => snooker::judge(played, context),
+            Rules::ThreeCushion => three_cushion::judge(played, context),
         }
     }
 }
 
 /// A foul, named as in kisstime's outputs ([`Foul::code`]) and as pooltool 0.6.0's rule
-/// sets word its reason ([`nine_ball::pooltool_reason`], [`eight_ball::pooltool_reason`]).
+/// sets word its reason ([`nine_ball::pooltool_reason`], [`eight_ball::pooltool_reason`],
+/// [`snooker::pooltool_reason`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Foul {
     /// The cue ball was pocketed.
@@ -132,11 +174,13 @@ pub enum Foul {
     /// The 8 pocketed out of turn or in another pocket than the one called (8-ball: the
     /// game is lost).
     EightIllegal,
+    /// A ball that was not on was pocketed (snooker).
+    OffBallPocketed,
 }
 
 impl Foul {
     /// Every foul.
-    pub const ALL: [Foul; 7] = [
+    pub const ALL: [Foul; 8] = [
         Foul::CuePocketed,
         Foul::NoHit,
         Foul::WrongBallFirst,
@@ -144,10 +188,11 @@ impl Foul {
         Foul::BreakRails,
         Foul::NotCalled,
         Foul::EightIllegal,
+        Foul::OffBallPocketed,
     ];
 
     /// Its code in kisstime's outputs: `cue_pocketed`, `no_hit`, `wrong_ball_first`,
-    /// `no_rail`, `break_rails`, `not_called`, `eight_illegal`.
+    /// `no_rail`, `break_rails`, `not_called`, `eight_illegal`, `off_ball_pocketed`.
     pub fn code(self) -> &'static str {
         match self {
             Foul::CuePocketed => "cue_pocketed",
@@ -157,6 +202,7 @@ impl Foul {
             Foul::BreakRails => "break_rails",
             Foul::NotCalled => "not_called",
             Foul::EightIllegal => "eight_illegal",
+            Foul::OffBallPocketed => "off_ball_pocketed",
         }
     }
 
@@ -172,6 +218,7 @@ impl Foul {
             Foul::BreakRails => "4 rails must be contacted, or 1 ball potted",
             Foul::NotCalled => "Shot not called, but it was required!",
             Foul::EightIllegal => "8-ball sunk illegally (out of turn or wrong pocket)!",
+            Foul::OffBallPocketed => "Pocketed a ball that's not on!",
         }
     }
 }
@@ -181,13 +228,14 @@ impl Foul {
 pub struct Context {
     /// Whether the shot is a game's break.
     pub break_shot: bool,
-    /// The balls the player may hit first, as a set of ball numbers (bit `n` for ball
-    /// `n`; 8-ball: the group, e.g. solids `0b1111_1110`). 9-ball works it out from the
-    /// table (the lowest ball) and ignores it.
-    pub hittable: u16,
+    /// The balls the player may hit first, as a set of ball ids (bit `n` for ball `n`;
+    /// 8-ball: the group, e.g. solids `0b1111_1110`; snooker: the reds or the colours
+    /// that are on, empty to work them out from the table: see [`snooker`]). 9-ball
+    /// works it out from the table (the lowest ball) and ignores it.
+    pub hittable: u32,
     /// Whether the shot must be called (8-ball after the break).
     pub call_shot: bool,
-    /// The called ball's number, if any.
+    /// The called ball's id, if any.
     pub ball_call: Option<i64>,
     /// The called pocket's index in the table's pockets, if any.
     pub pocket_call: Option<usize>,
@@ -196,15 +244,18 @@ pub struct Context {
     /// no game, and a legal such break keeps the table). `false`: pooltool's reading, the
     /// default.
     pub wpa: bool,
+    /// The score before the shot: the player who shoots, then the opponent (snooker and
+    /// three-cushion; it decides who has won when the game ends).
+    pub score: [u32; 2],
 }
 
 impl Context {
-    /// The set of ball numbers `numbers` as [`Context::hittable`] takes it (numbers
-    /// outside 1..=15 are left out).
-    pub fn balls(numbers: impl IntoIterator<Item = i64>) -> u16 {
+    /// The set of ball ids `numbers` as [`Context::hittable`] takes it (ids outside
+    /// 1..=21 are left out).
+    pub fn balls(numbers: impl IntoIterator<Item = i64>) -> u32 {
         numbers
             .into_iter()
-            .filter(|n| (1..=15).contains(n))
+            .filter(|n| (1..=21).contains(n))
             .fold(0, |set, n| set | (1 << n))
     }
 }
@@ -222,6 +273,11 @@ pub struct Verdict {
     pub game_over: bool,
     /// Whether the player who shot won the game (it is over, and theirs).
     pub won: bool,
+    /// The points the player who shot scored (snooker: the balls pocketed on a legal
+    /// shot; three-cushion: 1 for a point; 0 in 8-ball and 9-ball).
+    pub points: u32,
+    /// The points a foul gave the opponent (snooker's penalty; 0 elsewhere).
+    pub foul_points: u32,
 }
 
 /// One simulated shot as the rules see it.

@@ -62,6 +62,8 @@ pub fn judge(shot: &Played<'_>, break_shot: bool, wpa: bool) -> Result<Verdict, 
         turn_over: !legal || !object_pocketed,
         game_over,
         won: game_over,
+        points: 0,
+        foul_points: 0,
     })
 }
 

@@ -20,9 +20,10 @@
 //!
 //! **Outcomes** ([`OUTCOME_COLUMNS`]): one row per table: `table,events,t_end,cut`, `cut`
 //! `none`, `max_events` or `max_time` (`.npy`: 0, 1, 2). With a game's rules
-//! ([`JUDGED_OUTCOME_COLUMNS`]) the verdict follows: `legal,foul,turn_over,game_over,won`,
-//! the flags `1`/`0`, `foul` a [`crate::game::Foul`] code or empty (`.npy`: its place in
-//! [`crate::game::Foul::ALL`], or −1).
+//! ([`JUDGED_OUTCOME_COLUMNS`]) the verdict follows:
+//! `legal,foul,turn_over,game_over,won,points,foul_points`, the flags `1`/`0`, `foul` a
+//! [`crate::game::Foul`] code or empty (`.npy`: its place in [`crate::game::Foul::ALL`], or
+//! −1), the points those of [`crate::game::Verdict`].
 //!
 //! In `.npy` every field is `<i8` or `<f8` (the ids, `k`, codes and counts `<i8`), `type`
 //! and `state` are codes (`type`: the order above from 0; `state`: pooltool's 0 stationary
@@ -49,7 +50,7 @@ pub const FINAL_COLUMNS: [&str; 11] = [
 /// The per-table outcome output's columns.
 pub const OUTCOME_COLUMNS: [&str; 4] = ["table", "events", "t_end", "cut"];
 /// The outcome output's columns with the game's verdict (`simulate --rules`).
-pub const JUDGED_OUTCOME_COLUMNS: [&str; 9] = [
+pub const JUDGED_OUTCOME_COLUMNS: [&str; 11] = [
     "table",
     "events",
     "t_end",
@@ -59,6 +60,8 @@ pub const JUDGED_OUTCOME_COLUMNS: [&str; 9] = [
     "turn_over",
     "game_over",
     "won",
+    "points",
+    "foul_points",
 ];
 
 /// Which columns are integers (`<i8` in `.npy`), by name.
@@ -80,6 +83,8 @@ fn is_int(name: &str) -> bool {
             | "turn_over"
             | "game_over"
             | "won"
+            | "points"
+            | "foul_points"
     )
 }
 
@@ -428,6 +433,8 @@ impl<'w> OutcomesWriter<'w> {
             flag(v.turn_over),
             flag(v.game_over),
             flag(v.won),
+            Cell::Int(i64::from(v.points)),
+            Cell::Int(i64::from(v.foul_points)),
         ])
     }
 

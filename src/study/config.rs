@@ -258,8 +258,9 @@ pub struct StudyGame {
     /// The shot's context (with the rules' own part: 8-ball asks a call after the break).
     pub context: Context,
     /// Each ball's identity for the rules, in the study's ball order: pool games number
-    /// the cue ball 0 and the object balls by their ids (1 to 15); three-cushion needs
-    /// none (the balls' indices).
+    /// the cue ball 0 and the object balls by their ids (1 to 15); snooker's are its ids
+    /// 0 to 21 ([`crate::game::snooker::id_of`]); three-cushion needs none (the balls'
+    /// indices).
     pub ids: Vec<i64>,
 }
 
@@ -306,6 +307,10 @@ struct RawGame {
     pocket_call: Option<String>,
     #[serde(default)]
     wpa: bool,
+    #[serde(default)]
+    score: u32,
+    #[serde(default)]
+    opponent_score: u32,
 }
 
 #[derive(Deserialize, Default)]
@@ -902,28 +907,35 @@ pub(crate) fn ball_field(p: &mut SimParams, k: usize) -> &mut f64 {
 }
 
 /// A study's `[game]` checked against its balls and table: the rules by name, pool games'
-/// ball numbers (the cue ball 0, the others their ids, 1 to 15), the hittable balls and
-/// the call among the balls, the called pocket among the table's. Errors name the key.
+/// ball numbers (the cue ball 0, the others their ids, 1 to 15; snooker's 1 to 21 or
+/// pooltool's names, `red_01` … `black`), the hittable balls and the call among the balls,
+/// the called pocket among the table's, the score. Errors name the key.
 fn study_game(g: &RawGame, config: &StudyConfig) -> Result<StudyGame, String> {
     let rules = Rules::from_name(&g.rules).map_err(|e| format!("key `game.rules`: {e}"))?;
-    let pool = rules != Rules::ThreeCushion;
+    let (numbered, words) = match rules {
+        Rules::ThreeCushion => (None, ""),
+        Rules::Snooker => (
+            Some(1..=21),
+            "numbers its object balls 1 to 21 (or names them red_01 … red_15, yellow, \
+             green, brown, blue, pink, black)",
+        ),
+        Rules::NineBall | Rules::EightBall => (Some(1..=15), "numbers its object balls 1 to 15"),
+    };
     let mut ids = Vec::with_capacity(config.balls.len());
     for (i, b) in config.balls.iter().enumerate() {
-        let id = if i == config.cue {
-            0
-        } else if !pool {
-            i as i64
-        } else {
-            match b.id.parse::<i64>() {
-                Ok(n) if (1..=15).contains(&n) => n,
+        let id = match &numbered {
+            _ if i == config.cue => 0,
+            None => i as i64,
+            Some(range) => match b.id.parse::<i64>().ok().or_else(|| rules.ball_named(&b.id)) {
+                Some(n) if range.contains(&n) => n,
                 _ => {
                     return Err(format!(
-                        "key `balls[{i}].id` is \"{}\": {} numbers its object balls 1 to 15 \
-                         (the cue ball, \"{}\", is its 0)",
+                        "key `balls[{i}].id` is \"{}\": {} {words} (the cue ball, \"{}\", is \
+                         its 0)",
                         b.id, g.rules, config.balls[config.cue].id
                     ));
                 }
-            }
+            },
         };
         ids.push(id);
     }
@@ -970,7 +982,11 @@ fn study_game(g: &RawGame, config: &StudyConfig) -> Result<StudyGame, String> {
         call_shot: false,
         ball_call,
         pocket_call,
+        score: [g.score, g.opponent_score],
     });
+    rules
+        .check_context(&context)
+        .map_err(|e| format!("table `game`: {e}"))?;
     Ok(StudyGame {
         rules,
         context,

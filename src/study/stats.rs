@@ -229,8 +229,14 @@ pub struct GameCounts {
     pub turn_kept: usize,
     /// Shots that ended the game, won by the player who shot.
     pub won: usize,
-    /// Shots that ended the game, lost by the player who shot.
+    /// Shots that ended the game and not won by the player who shot (lost, or in snooker
+    /// tied).
     pub lost: usize,
+    /// The points the player who shot scored, per shot (games that score: snooker,
+    /// three-cushion; [`Verdict::points`](crate::game::Verdict::points)).
+    pub points: Option<Stats>,
+    /// The points the shot's foul gave the opponent, per shot (snooker).
+    pub foul_points: Option<Stats>,
 }
 
 impl GameCounts {
@@ -243,6 +249,8 @@ impl GameCounts {
             turn_kept: 0,
             won: 0,
             lost: 0,
+            points: None,
+            foul_points: None,
         };
         for v in samples.iter().filter_map(|s| s.verdict) {
             g.legal += usize::from(v.legal);
@@ -252,6 +260,22 @@ impl GameCounts {
             g.turn_kept += usize::from(!v.turn_over);
             g.won += usize::from(v.game_over && v.won);
             g.lost += usize::from(v.game_over && !v.won);
+        }
+        if rules.scores() {
+            let of = |f: fn(&crate::game::Verdict) -> u32| {
+                let values: Vec<f64> = samples
+                    .iter()
+                    .filter_map(|s| s.verdict.as_ref())
+                    .map(|v| f64::from(f(v)))
+                    .collect();
+                Stats::of(&values)
+            };
+            g.points = of(|v| v.points);
+            g.foul_points = if rules == Rules::Snooker {
+                of(|v| v.foul_points)
+            } else {
+                None
+            };
         }
         g
     }
@@ -472,6 +496,8 @@ impl Summary {
                     "turn_kept": count_json(g.turn_kept, n),
                     "won": count_json(g.won, n),
                     "lost": count_json(g.lost, n),
+                    "points": stats_json(g.points.as_ref()),
+                    "foul_points": stats_json(g.foul_points.as_ref()),
                 })),
             });
             if let (Value::Object(m), Value::Object(e)) = (&mut v, extra) {
