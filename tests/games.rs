@@ -15,8 +15,22 @@ use std::path::{Path, PathBuf};
 use kisstime::game::{Context, Foul, Rules, Shot, eight_ball, nine_ball, snooker};
 use kisstime::io::table_json::{default_ball_params, table_by_name};
 use kisstime::simulate::{
-    BallState, BatchOptions, CueStrike, EventRecord, SimParams, Table, simulate_batch,
+    BallState, BatchOptions, CueStrike, Event, EventKind, EventRecord, SimParams, Table,
+    simulate_batch,
 };
+
+/// A made-up event (the judges read the kind, time and balls; the states are `state`).
+fn record(state: BallState, kind: EventKind, t: f64, ball: u32, other: u32) -> EventRecord {
+    EventRecord {
+        event: Event {
+            kind,
+            t,
+            ball,
+            other,
+        },
+        states: [state; 2],
+    }
+}
 
 fn dir(game: &str) -> PathBuf {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/games")).join(game)
@@ -459,20 +473,11 @@ fn the_wpa_reading_departs_only_where_documented() {
     }
     // the 9-ball set's breaks all hit the 1: two made-up breaks where the readings part
     // (the cue ball meets the 2 first and the 3 drops; the 8 drops)
-    use kisstime::simulate::{Event, EventRecord};
     let p = SimParams::default();
     let start: Vec<BallState> = (0..4)
         .map(|i| BallState::at_rest(0.3 + 0.1 * i as f64, 1.0, p.ball.r))
         .collect();
-    let record = |kind, t, ball, other| EventRecord {
-        event: Event {
-            kind,
-            t,
-            ball,
-            other,
-        },
-        states: [start[0]; 2],
-    };
+    let record = |kind, t, ball, other| record(start[0], kind, t, ball, other);
     let events = [
         record(EventKind::StickBall, 0.0, 0, u32::MAX),
         record(EventKind::BallBall, 0.5, 0, 2),
@@ -526,7 +531,6 @@ fn the_wpa_reading_departs_only_where_documented() {
 /// worked out from the table, and the final black's end (won, tied, lost on a foul).
 #[test]
 fn snooker_points_fouls_and_the_final_black() {
-    use kisstime::simulate::{Event, EventKind};
     let p = SimParams {
         ball: default_ball_params("snooker"),
         ..SimParams::default()
@@ -535,15 +539,7 @@ fn snooker_points_fouls_and_the_final_black() {
         let start: Vec<BallState> = (0..ids.len())
             .map(|i| BallState::at_rest(0.2 + 0.08 * i as f64, 1.0, p.ball.r))
             .collect();
-        let record = |kind, t, ball, other| EventRecord {
-            event: Event {
-                kind,
-                t,
-                ball,
-                other,
-            },
-            states: [start[0]; 2],
-        };
+        let record = |kind, t, ball, other| record(start[0], kind, t, ball, other);
         let mut events = vec![record(EventKind::StickBall, 0.0, 0, u32::MAX)];
         for (k, &(a, b)) in hits.iter().enumerate() {
             events.push(record(EventKind::BallBall, 0.1 * (k + 1) as f64, a, b));

@@ -225,6 +225,10 @@ def test_the_wpa_reading_through_python():
 
 
 SNOOKER = DATA.parent / "snooker"
+# pooltool's snooker ball ids, in kisstime's order (white 0, red_01..red_15 1-15, yellow 16
+# to black 21)
+SNOOKER_NAMES = ["white", *(f"red_{i:02d}" for i in range(1, 16)), "yellow", "green", "brown",
+                 "blue", "pink", "black"]
 SNOOKER_REASONS = {
     "": "",
     "cue_pocketed": "Cue ball in pocket!",
@@ -250,8 +254,7 @@ def test_snooker_verdicts_and_points_through_python_are_pooltools():
     on = {}
     for r in layout:
         on.setdefault(r["shot"], set()).add(int(r["ball"]))
-    names = ["white", *(f"red_{i:02d}" for i in range(1, 16)), "yellow", "green", "brown",
-             "blue", "pink", "black"]
+    names = SNOOKER_NAMES
     context = {
         "table": [int(r["shot"]) for r in shots],
         "break": [r["break"] == "1" for r in shots],
@@ -292,8 +295,7 @@ def test_the_pooltool_bridge_judges_snooker_in_pooltools_terms():
 
     shots = snooker_rows("shots.csv")
     layout = snooker_rows("balls.csv")
-    names = ["white", *(f"red_{i:02d}" for i in range(1, 16)), "yellow", "green", "brown",
-             "blue", "pink", "black"]
+    names = SNOOKER_NAMES
     final = next(r for r in shots if r["game_over"] == "1" and r["legal"] == "1")
     foul = next(r for r in shots if r["reason"] and r["ball_call"] and r["break"] == "0")
     import attrs

@@ -376,12 +376,17 @@ pub struct Played<'a> {
 impl Played<'_> {
     /// The cue ball of a pool game ([`pool_cue`]), which must be the ball the facts follow.
     fn pool_cue(&self) -> Result<usize, SimError> {
-        let cue = pool_cue(self.ids, self.start)?;
+        self.check_cue(pool_cue(self.ids, self.start)?, "the cue ball")
+    }
+
+    /// Returns `cue` (the game's cue ball, `what` in the message) if the shot's facts follow
+    /// it, an error naming both balls if they follow another.
+    fn check_cue(&self, cue: usize, what: &str) -> Result<usize, SimError> {
         if cue != self.cue {
             return Err(SimError::Ball {
                 index: self.cue,
                 reason: format!(
-                    "the shot's facts follow ball {}, but the cue ball (id 0) is ball {cue}",
+                    "the shot's facts follow ball {}, but {what} (id 0) is ball {cue}",
                     self.cue
                 ),
             });

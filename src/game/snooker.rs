@@ -178,16 +178,7 @@ pub fn snooker_cue(ids: &[i64], start_len: usize) -> Result<usize, SimError> {
 /// snooker's ([`snooker_cue`]), the facts do not follow the white, or the context cannot
 /// be judged ([`check_context`]).
 pub fn judge(shot: &Played<'_>, context: &Context) -> Result<Verdict, SimError> {
-    let cue = snooker_cue(shot.ids, shot.start.len())?;
-    if cue != shot.cue {
-        return Err(SimError::Ball {
-            index: shot.cue,
-            reason: format!(
-                "the shot's facts follow ball {}, but the white (id 0) is ball {cue}",
-                shot.cue
-            ),
-        });
-    }
+    shot.check_cue(snooker_cue(shot.ids, shot.start.len())?, "the white")?;
     let (on, call) = on_balls(shot, context)?;
     // the pocketed balls, as a set of ids
     let pocketed = (0..shot.ids.len())

@@ -167,6 +167,17 @@ def ordinary_strike(rng, phi):
     )
 
 
+def break_strike(rng, phi, v_min):
+    """A break's strike in direction `phi`: level, a little side, V0 from `v_min` to 8 m/s."""
+    return dict(
+        V0=float(rng.uniform(v_min, 8.0)),
+        phi=float(phi % 360),
+        theta=0.0,
+        a=float(rng.uniform(-0.1, 0.1)),
+        b=float(rng.uniform(-0.2, 0.2)),
+    )
+
+
 def ordinary(rng, table):
     k = int(rng.integers(1, 10))
     ids = sorted(rng.choice(np.arange(1, 10), size=k, replace=False).tolist())
@@ -193,14 +204,7 @@ def a_break(rng, table, game=GameType.NINEBALL):
     )
     tx, ty = balls[apex].state.rvw[0][:2]
     phi = math.degrees(math.atan2(ty - y, tx - x)) + rng.normal(0, 0.5)
-    strike = dict(
-        V0=float(rng.uniform(0.5, 8.0)),
-        phi=float(phi % 360),
-        theta=0.0,
-        a=float(rng.uniform(-0.1, 0.1)),
-        b=float(rng.uniform(-0.2, 0.2)),
-    )
-    return balls, strike
+    return balls, break_strike(rng, phi, 0.5)
 
 
 def pocket_along(table, cue_xy, target_xy):
@@ -481,14 +485,7 @@ def snooker_break(rng, table):
         phi = math.degrees(math.atan2(ty - y, tx - x)) + rng.uniform(-0.9, 0.9) * half
         if at_apex or first_on_line((x, y), phi, pos, R) in REDS:
             break
-    strike = dict(
-        V0=float(rng.uniform(1.0, 8.0)),
-        phi=float(phi % 360),
-        theta=0.0,
-        a=float(rng.uniform(-0.1, 0.1)),
-        b=float(rng.uniform(-0.2, 0.2)),
-    )
-    return pos, strike
+    return pos, break_strike(rng, phi, 1.0)
 
 
 def pocket_inward(table, pocket):
