@@ -239,7 +239,7 @@ impl<G: GpuSide> Chosen<G> {
     fn describe(&self) -> String {
         match &self.gpu {
             Some(g) => format!("gpu {}: {}", g.precision().name(), g.adapter()),
-            None => format!("cpu f64 ({} threads)", rayon::current_num_threads()),
+            None => cpu_description(),
         }
     }
 
@@ -437,7 +437,7 @@ impl ShotEngine {
     /// H200 (Vulkan, …)"` or `"cpu f64 (2 threads)"`.
     pub fn describe(&self) -> String {
         if self.last_on_cpu {
-            format!("cpu f64 ({} threads)", rayon::current_num_threads())
+            cpu_description()
         } else {
             self.chosen.describe()
         }
@@ -704,4 +704,12 @@ fn cpu_chunk(
         BatchError::Sink(e) => e,
     })?;
     Ok(out.unwrap_or_else(|| Chunk::empty(first)))
+}
+
+/// `"cpu f64 (2 threads)"`, `"cpu f64 (1 thread)"`: the CPU backend and its pool's size.
+fn cpu_description() -> String {
+    match rayon::current_num_threads() {
+        1 => "cpu f64 (1 thread)".to_owned(),
+        n => format!("cpu f64 ({n} threads)"),
+    }
 }
