@@ -246,6 +246,53 @@ fn gpu_event_loop_replays_the_physics_set_with_its_parameters() {
     }
 }
 
+/// The snooker and carom sets (`data/snooker`: 10 breaks of 22 balls and 30 ordinary
+/// shots on pooltool's snooker table; `data/carom`: 40 three-cushion shots), with their
+/// balls' parameters, on the GPU in f64 (issue 28: both games run on the GPU, snooker's
+/// 22 balls on the 32-ball build): the set's judge passes every shot of the GPU's replay.
+#[test]
+fn gpu_event_loop_replays_the_snooker_and_carom_sets() {
+    let Some(mut gpu) = open(Precision::F64, "gpu_event_loop snooker and carom sets") else {
+        return;
+    };
+    for name in ["snooker", "carom"] {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("data")
+            .join(name);
+        let params = kisstime::io::physics::read_physics(&dir.join("physics.toml")).unwrap();
+        let table = read_table(&dir).unwrap();
+        let shots = read_shots(&dir, params.ball.r).unwrap();
+        let inputs: Vec<GpuShot> = shots
+            .iter()
+            .map(|s| GpuShot {
+                balls: s.balls.clone(),
+                strike: Some((s.cue, s.strike)),
+            })
+            .collect();
+        let most = inputs.iter().map(|s| s.balls.len()).max().unwrap();
+        let runs = gpu
+            .simulate(&table, params, Limits::default(), &inputs, true)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let judged = judge(&shots, &table, &runs, &dir);
+        println!(
+            "{name} set on the GPU ({} shots, up to {most} balls): check_fullshots.py {judged:?} \
+             (passed, failed) on {}",
+            shots.len(),
+            gpu.adapter().name
+        );
+        if name == "snooker" {
+            assert_eq!(most, 22, "the snooker set's breaks hold 22 balls");
+        }
+        if let Some(judged) = judged {
+            assert_eq!(
+                judged,
+                (shots.len(), 0),
+                "{name}: check_fullshots.py on the GPU's replay"
+            );
+        }
+    }
+}
+
 /// The reference set's table and its shots `range` as GPU inputs.
 fn reference_shots(range: std::ops::Range<usize>) -> (kisstime::simulate::Table, Vec<GpuShot>) {
     let dir = common::fullshots_dir();
