@@ -945,7 +945,7 @@ fn cli_shots_same_seed_same_csv_whatever_the_threads_and_noise_flags() {
         (rows, text(&out.stderr))
     };
     let (a, err) = run("a.csv", &["--seed", "3", "--threads", "1", "-v"]);
-    assert!(err.contains("1 threads"), "{err}");
+    assert!(err.contains("(1 thread)"), "{err}");
     let (b, _) = run("b.csv", &["--seed", "3", "--threads", "2"]);
     assert_eq!(a, b);
     let (c, _) = run("c.csv", &["--seed", "4"]);
