@@ -549,6 +549,7 @@ impl ShotEngine {
                 fill: &fill,
                 n_tables: end - start,
                 max_balls,
+                one_position: options.one_position,
             };
             let part = physics.part(start..end);
             let chunk = self

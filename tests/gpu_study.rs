@@ -474,3 +474,129 @@ fn snooker_verdicts_on_the_gpu_are_the_cpus() {
         }
     }
 }
+
+/// One position struck many ways (`CheckedTables::one_position`, a study's chunks): the
+/// chunk crosses the bus as the position's block and each table's strike block, and the
+/// shader's `expand_tables` lays the tables out; the runs are the whole blocks' bit for
+/// bit — watched (with the rules' facts) and final states alone, shared and per-table
+/// physics, strikes not played (V0 = 0) and tables cut before their first event. A chunk
+/// whose tables differ (a ball moved, another ball struck) is packed whole, with the same
+/// runs.
+#[test]
+fn one_position_chunks_laid_out_on_the_device_give_the_whole_blocks_runs() {
+    use kisstime::gpu::{CheckedTables, GpuOutput};
+    use kisstime::simulate::{BallState, Limits, Physics, WatchOptions};
+    let (config, strikes) = reference();
+    let Some(mut engine) = open("gpu_one_position") else {
+        return;
+    };
+    let gpu = engine.gpu().expect("a GPU engine");
+    gpu.max_tables_per_chunk = 128;
+    let n = 600;
+    let mut strikes = strikes[..n].to_vec();
+    strikes[5].v0 = 0.0;
+    let initial = config.initial();
+    let cue = config.cue;
+    let mut params: Vec<_> = (0..n).map(|_| config.params).collect();
+    for (k, p) in params.iter_mut().enumerate() {
+        p.ball.u_r *= 1.0 + 0.1 * (k % 7) as f64 / 7.0;
+    }
+    // table 300's position differs (a ball moved), table 450 strikes another ball
+    let mut moved = initial.clone();
+    let last = moved.len() - 1;
+    moved[last].r.x += 0.05;
+    let other = (cue + 1) % initial.len();
+    let (moved, initial_ref, strikes) = (&moved, &initial, &strikes);
+    let fill = |mixed: bool| {
+        move |k: usize, balls: &mut Vec<BallState>| {
+            balls.clear();
+            balls.extend_from_slice(if mixed && k == 300 {
+                moved
+            } else {
+                initial_ref
+            });
+            let ball = if mixed && k == 450 { other } else { cue };
+            Ok(Some((ball, strikes[k])))
+        }
+    };
+    let watch = WatchOptions {
+        cue,
+        stop_at_first_contact: false,
+        facts: true,
+    };
+    for (mixed, max_events) in [(false, 5_000), (true, 5_000), (false, 0)] {
+        let limits = Limits {
+            max_events,
+            ..Limits::default()
+        };
+        let fill = fill(mixed);
+        for per_table in [false, true] {
+            let physics = if per_table {
+                Physics::PerTable(&params)
+            } else {
+                Physics::Shared(config.params)
+            };
+            let mut results = Vec::new();
+            for one_position in [false, true] {
+                let tables = CheckedTables {
+                    fill: &fill,
+                    n_tables: n,
+                    max_balls: initial.len(),
+                    one_position,
+                };
+                let watched = gpu
+                    .simulate_checked(
+                        &config.table,
+                        physics,
+                        limits,
+                        tables,
+                        GpuOutput::Watch(watch),
+                    )
+                    .unwrap()
+                    .1;
+                let expanded_watched = gpu.expanded_chunks();
+                let finals = gpu
+                    .simulate_checked(&config.table, physics, limits, tables, GpuOutput::Finals)
+                    .unwrap()
+                    .0;
+                let expanded = (expanded_watched, gpu.expanded_chunks());
+                results.push((watched, finals, expanded));
+            }
+            let at =
+                format!("mixed {mixed}, max_events {max_events}, per-table physics {per_table}");
+            let (whole, laid) = (&results[0], &results[1]);
+            assert_eq!(whole.2, (0, 0), "{at}: nothing expanded without the hint");
+            // 5 chunks of 128 tables; with a moved ball and another ball struck, two of
+            // them are packed whole
+            let want = if mixed { 3 } else { 5 };
+            assert_eq!(laid.2, (want, want), "{at}: chunks laid out on the device");
+            assert_eq!(whole.0.len(), n);
+            assert_eq!(whole.1.len(), n);
+            for k in 0..n {
+                assert_eq!(
+                    format!("{:?}", whole.0[k]),
+                    format!("{:?}", laid.0[k]),
+                    "{at}: table {k}'s watched run"
+                );
+                assert_eq!(
+                    format!("{:?}", whole.1[k]),
+                    format!("{:?}", laid.1[k]),
+                    "{at}: table {k}'s final states"
+                );
+            }
+            let events: usize = laid.1.iter().map(|r| r.outcome.n_events).sum();
+            if max_events == 0 {
+                assert!(
+                    laid.1.iter().all(|r| r.outcome.cut.is_some()),
+                    "{at}: all cut"
+                );
+            } else {
+                assert!(events > 10 * n, "{at}: {events} events");
+                assert_eq!(
+                    laid.1[5].outcome.n_events, 0,
+                    "{at}: V0 = 0 plays no strike"
+                );
+            }
+        }
+    }
+}

@@ -445,6 +445,16 @@ const TWINS: &[Twin] = &[
             ),
             ("record", "writes an event record for the host"),
             (
+                "watch_end",
+                "a table's end in its watch block, read by the host instead of its I/O block \
+                 (gpu::sim_layout's watched_end)",
+            ),
+            (
+                "watch_end_of_io",
+                "a table's end in its watch block, read by the host instead of its I/O block \
+                 (gpu::sim_layout's watched_end)",
+            ),
+            (
                 "clear_watch",
                 "the watch on the device: simulate::watch's Watcher::start (its CPU twin)",
             ),
@@ -461,6 +471,11 @@ const TWINS: &[Twin] = &[
                 "the watch on the device: simulate::watch's Watcher::watch_event (its CPU twin)",
             ),
             ("simulate_tables", "the entry point"),
+            (
+                "expand_tables",
+                "an entry point: a study's chunk laid out from one position and its strikes \
+                 (gpu::sim_layout's start_table and strike_block on the host)",
+            ),
         ],
     },
     Twin {

@@ -15,10 +15,13 @@
 //
 // Only a table's I/O block (its balls, counts and status) crosses the bus: the first
 // dispatch starts the caches itself. For a study the watch (watch_event) keeps what the
-// host needs of the events, so that none is read back.
+// host needs of the events and of the table's end (watch_end), so that only the watch
+// blocks are read back.
 //
 // The strike is resolved on the host (resolve/stick_ball.rs has no twin): a table arrives
-// here after its stick_ball event, at step 1, or at step 0 without one. That gives the
+// here after its stick_ball event, at step 1, or at step 0 without one. A study's chunk
+// (one position struck many ways) arrives as the position's I/O block and each table's
+// strike block, which expand_tables lays out into the tables' I/O blocks. That gives the
 // Rust twin's events: after the strike the Rust loop keeps, from step 0, only entries
 // that are never (every ball was at rest), which no tie with a finite time can involve.
 //
@@ -57,6 +60,8 @@ const ITEMS_CIRCULAR: u32 = 0u;
 const ITEMS_LINEAR: u32 = 1u;
 const ITEMS_POCKET: u32 = 2u;
 
+// Reals of one ball's state in storage: r, v, w, t.
+const BALL_REALS: u32 = 10u;
 // A batch's state in storage is three regions, one after the other in state_r and in
 // state_u, each a block per table: the I/O region (written by the host before the first
 // dispatch, read back at the end), the caches (the device's own: filled at the first
@@ -85,25 +90,36 @@ const CACHE_UINTS: u32 = GPU_MAX_PAIRS + 2u * GPU_ROWS;
 // before it (10), the cue ball's and the other ball's centres after it (3 each), then
 // each pot's time (GPU_MAX_BALLS), then the rules' facts (Rust: simulate::watch's
 // ShotFacts): the first and second ball contacts' times and the cue ball's last counted
-// cushion's.
+// cushion's, then the table's end (the cue ball's r, v, w, t and the clock: all that a
+// study reads back of a table, with no I/O block).
 const WATCH_R_BEFORE: u32 = 2u;
 const WATCH_R_CUE: u32 = 12u;
 const WATCH_R_OTHER: u32 = 15u;
 const WATCH_R_POTS: u32 = 18u;
 const WATCH_FACT_REALS: u32 = 3u;
 const WATCH_R_FACTS: u32 = WATCH_R_POTS + GPU_MAX_BALLS;
-const WATCH_REALS: u32 = WATCH_R_FACTS + WATCH_FACT_REALS;
+const WATCH_R_END: u32 = WATCH_R_FACTS + WATCH_FACT_REALS;
+const WATCH_END_REALS: u32 = BALL_REALS + 1u;
+const WATCH_REALS: u32 = WATCH_R_END + WATCH_END_REALS;
 // Watch u32s: the pots so far, the first contact's event number (0: none yet), kind, ball,
 // other and the cue ball's motion state before it, then each pot's event number, ball and
 // pocket (GPU_MAX_BALLS each), then the rules' facts: any ball–ball contact, the first ball
 // contact's other ball + 1 (0: none), a cushion after it, the balls at a cushion (two
 // words), the second contact seen, the cue ball's cushions before it, and how many of
-// them came at the last one's time.
+// them came at the last one's time; then the table's end (the cue ball's motion state,
+// n_balls, n_events, the status).
 const WATCH_U_FIRST: u32 = 1u;
 const WATCH_U_POTS: u32 = 6u;
 const WATCH_FACT_UINTS: u32 = 8u;
 const WATCH_U_FACTS: u32 = WATCH_U_POTS + 3u * GPU_MAX_BALLS;
-const WATCH_UINTS: u32 = WATCH_U_FACTS + WATCH_FACT_UINTS;
+const WATCH_U_END: u32 = WATCH_U_FACTS + WATCH_FACT_UINTS;
+const WATCH_END_UINTS: u32 = 4u;
+const WATCH_UINTS: u32 = WATCH_U_END + WATCH_END_UINTS;
+// One table's strike block when a chunk is expanded from one position (expand_tables):
+// the struck ball's r, v, w, t and its transition's time; its motion state, its
+// transition's kind, n_events and the status.
+const STRUCK_REALS: u32 = BALL_REALS + 1u;
+const STRUCK_UINTS: u32 = 4u;
 // Reals of one parameter block in `sim` (ball 10, resolver 8, max_time) and where max_time is.
 const SIM_REALS: u32 = 19u;
 const SIM_R_MAX_TIME: u32 = 18u;
@@ -139,6 +155,8 @@ struct LoopConfig {
     // reals between two tables' parameter blocks in `sim`: 0 where the tables share one
     // (one block), SIM_REALS with per-table physics
     sim_stride: u32,
+    // expand_tables only: the struck ball of the strike blocks
+    struck_ball: u32,
 }
 
 @group(0) @binding(0) var<uniform> cfg: LoopConfig;
@@ -152,9 +170,12 @@ struct LoopConfig {
 @group(0) @binding(3) var<storage, read_write> state_r: array<real>;
 @group(0) @binding(4) var<storage, read_write> state_u: array<u32>;
 // The events recorded by this dispatch (only with record_events): EVENT_REALS per event.
+// Without events, expand_tables reads its input here: one table's I/O block (IO_REALS),
+// then each table's strike block (STRUCK_REALS).
 @group(0) @binding(5) var<storage, read_write> events_r: array<real>;
 // Per table: the number of events recorded by this dispatch, then EVENT_UINTS per event
-// (only with record_events).
+// (only with record_events). Without events, expand_tables's input: the I/O block's u32s
+// (IO_UINTS), then each table's strike block (STRUCK_UINTS).
 @group(0) @binding(6) var<storage, read_write> events_u: array<u32>;
 // The tables still running after this dispatch (the host zeroes it before each dispatch
 // and reads back only this word until it is 0).
@@ -378,6 +399,9 @@ fn store_table(table: u32, lid: u32) {
         state_r[r0 + IO_R_CLOCK] = clock;
         state_u[u0 + IO_U_N + 1u] = n_events;
         state_u[u0 + IO_U_N + 2u] = status;
+        if cfg.watch_cue != NO_AGENT {
+            watch_end(table);
+        }
         if cfg.record_events != 0u {
             events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = n_recorded;
         }
@@ -706,6 +730,46 @@ fn record(table: u32) {
 }
 
 // A table's watch blank: no pot, no first contact, no fact (Rust: Watcher::start).
+// The table's end in its watch block, from the workgroup's state (at each dispatch's
+// end, so that the last one's stays): the cue ball, the clock and the counts.
+fn watch_end(table: u32) {
+    let e_r = watch_r(table) + WATCH_R_END;
+    let e_u = watch_u(table) + WATCH_U_END;
+    let b = balls[min(cfg.watch_cue, GPU_MAX_BALLS - 1u)];
+    state_r[e_r] = b.r.x;
+    state_r[e_r + 1u] = b.r.y;
+    state_r[e_r + 2u] = b.r.z;
+    state_r[e_r + 3u] = b.v.x;
+    state_r[e_r + 4u] = b.v.y;
+    state_r[e_r + 5u] = b.v.z;
+    state_r[e_r + 6u] = b.w.x;
+    state_r[e_r + 7u] = b.w.y;
+    state_r[e_r + 8u] = b.w.z;
+    state_r[e_r + 9u] = b.t;
+    state_r[e_r + BALL_REALS] = clock;
+    state_u[e_u] = b.s;
+    state_u[e_u + 1u] = n_balls;
+    state_u[e_u + 2u] = n_events;
+    state_u[e_u + 3u] = status;
+}
+
+// watch_end for a table done before its first dispatch: from its I/O block.
+fn watch_end_of_io(table: u32) {
+    let r0 = io_r(table);
+    let u0 = io_u(table);
+    let e_r = watch_r(table) + WATCH_R_END;
+    let e_u = watch_u(table) + WATCH_U_END;
+    let cue = min(cfg.watch_cue, GPU_MAX_BALLS - 1u);
+    for (var k = 0u; k < BALL_REALS; k = k + 1u) {
+        state_r[e_r + k] = state_r[r0 + BALL_REALS * cue + k];
+    }
+    state_r[e_r + BALL_REALS] = state_r[r0 + IO_R_CLOCK];
+    state_u[e_u] = state_u[u0 + cue];
+    state_u[e_u + 1u] = state_u[u0 + IO_U_N];
+    state_u[e_u + 2u] = state_u[u0 + IO_U_N + 1u];
+    state_u[e_u + 3u] = state_u[u0 + IO_U_N + 2u];
+}
+
 fn clear_watch(table: u32) {
     let w_u = watch_u(table);
     state_u[w_u] = 0u;
@@ -855,6 +919,7 @@ fn simulate_tables(
             }
             if cfg.first_dispatch != 0u && cfg.watch_cue != NO_AGENT {
                 clear_watch(table);
+                watch_end_of_io(table);
             }
         }
         return;
@@ -963,4 +1028,40 @@ fn simulate_tables(
     }
     workgroupBarrier();
     store_table(table, lid);
+}
+
+// One position struck many ways (a study's chunk): every table's I/O block is the
+// position's (events_r/events_u from 0) with the struck ball's state, its transition, the
+// event count and the status from the table's strike block, which the host made as it
+// would have made the whole block (Rust: gpu::sim_layout's start_table and strike_block).
+// One thread a table; the host dispatches ⌈n_tables / 64⌉ workgroups in rows of
+// cfg.groups_x before the event loop's first dispatch.
+@compute @workgroup_size(64)
+fn expand_tables(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let table = (wid.y * cfg.groups_x + wid.x) * 64u + lid;
+    if table >= cfg.n_tables {
+        return;
+    }
+    let r0 = io_r(table);
+    let u0 = io_u(table);
+    for (var k = 0u; k < IO_REALS; k = k + 1u) {
+        state_r[r0 + k] = events_r[k];
+    }
+    for (var k = 0u; k < IO_UINTS; k = k + 1u) {
+        state_u[u0 + k] = events_u[k];
+    }
+    let cue = min(cfg.struck_ball, GPU_MAX_BALLS - 1u);
+    let s_r = IO_REALS + table * STRUCK_REALS;
+    let s_u = IO_UINTS + table * STRUCK_UINTS;
+    for (var k = 0u; k < BALL_REALS; k = k + 1u) {
+        state_r[r0 + BALL_REALS * cue + k] = events_r[s_r + k];
+    }
+    state_r[r0 + IO_R_TRANS + cue] = events_r[s_r + BALL_REALS];
+    state_u[u0 + cue] = events_u[s_u];
+    state_u[u0 + IO_U_TRANS + cue] = events_u[s_u + 1u];
+    state_u[u0 + IO_U_N + 1u] = events_u[s_u + 2u];
+    state_u[u0 + IO_U_N + 2u] = events_u[s_u + 3u];
 }

@@ -16,7 +16,8 @@
 //!   own: the first dispatch starts them empty (as [`crate::simulate::EventLoop::reset`]
 //!   does), and they are never read back.
 //! - **watch** ([`SimLayout::watch_reals`], [`SimLayout::watch_uints`]): what a study needs of a table's events
-//!   (the cue ball's first contact, every pot), read back only by a study.
+//!   (the cue ball's first contact, every pot, the rules' facts) and of its end (the cue
+//!   ball's final state, the counts and status): all that a study reads back.
 
 use crate::error::Error;
 use crate::model::MotionState;
@@ -90,7 +91,7 @@ pub struct SimLayout {
     pub cache_u_items: usize,
     /// Watch reals per table: the first contact's time, the clock before it, the cue
     /// ball's r, v, w, t before it, the cue ball's and the other ball's centres after it,
-    /// each pot's time (`WATCH_REALS`).
+    /// each pot's time, the rules' facts, the table's end (`WATCH_REALS`).
     pub watch_reals: usize,
     /// Where the cue ball's state before the first contact starts in the watch reals.
     pub watch_r_before: usize,
@@ -102,7 +103,7 @@ pub struct SimLayout {
     pub watch_r_pots: usize,
     /// Watch u32s per table: the pots so far, the first contact's event number (0: none),
     /// its kind, ball, other and the cue ball's motion state before it, then each pot's
-    /// event number, ball and pocket (`WATCH_UINTS`).
+    /// event number, ball and pocket, the rules' facts, the table's end (`WATCH_UINTS`).
     pub watch_uints: usize,
     /// Where the first contact starts in the watch u32s.
     pub watch_u_first: usize,
@@ -116,6 +117,13 @@ pub struct SimLayout {
     /// (two words), the second contact seen, the cue ball's cushions before it, and how
     /// many of them came at the last one's time (`WATCH_U_FACTS`).
     pub watch_u_facts: usize,
+    /// Where the table's end starts in the watch reals: the cue ball's r, v, w, t at the
+    /// end and the clock (`WATCH_R_END`, [`WATCH_END_REALS`] of them). A study reads back
+    /// the watch blocks alone.
+    pub watch_r_end: usize,
+    /// Where the table's end starts in the watch u32s: the cue ball's motion state,
+    /// n_balls, n_events, the status (`WATCH_U_END`, [`WATCH_END_UINTS`] of them).
+    pub watch_u_end: usize,
 }
 
 impl SimLayout {
@@ -144,16 +152,18 @@ impl SimLayout {
             cache_uints: pairs + 2 * rows,
             cache_u_rows: pairs,
             cache_u_items: pairs + rows,
-            watch_reals: watch_r_pots + n + WATCH_FACT_REALS,
+            watch_reals: watch_r_pots + n + WATCH_FACT_REALS + WATCH_END_REALS,
             watch_r_before: 2,
             watch_r_cue: 12,
             watch_r_other: 15,
             watch_r_pots,
-            watch_uints: watch_u_pots + 3 * n + WATCH_FACT_UINTS,
+            watch_uints: watch_u_pots + 3 * n + WATCH_FACT_UINTS + WATCH_END_UINTS,
             watch_u_first: 1,
             watch_u_pots,
             watch_r_facts: watch_r_pots + n,
             watch_u_facts: watch_u_pots + 3 * n,
+            watch_r_end: watch_r_pots + n + WATCH_FACT_REALS,
+            watch_u_end: watch_u_pots + 3 * n + WATCH_FACT_UINTS,
         }
     }
 
@@ -196,6 +206,12 @@ impl SimLayout {
             ("WATCH_U_FACTS", self.watch_u_facts),
             ("WATCH_FACT_REALS", WATCH_FACT_REALS),
             ("WATCH_FACT_UINTS", WATCH_FACT_UINTS),
+            ("WATCH_R_END", self.watch_r_end),
+            ("WATCH_U_END", self.watch_u_end),
+            ("WATCH_END_REALS", WATCH_END_REALS),
+            ("WATCH_END_UINTS", WATCH_END_UINTS),
+            ("STRUCK_REALS", STRUCK_REALS),
+            ("STRUCK_UINTS", STRUCK_UINTS),
             ("EVENT_REALS", EVENT_REALS),
             ("EVENT_UINTS", EVENT_UINTS),
             ("SIM_REALS", SIM_REALS),
@@ -208,6 +224,17 @@ impl SimLayout {
 pub const WATCH_FACT_REALS: usize = 3;
 /// u32s of the rules' facts in a watch block (`WATCH_FACT_UINTS`).
 pub const WATCH_FACT_UINTS: usize = 8;
+/// Reals of a table's end in a watch block (`WATCH_END_REALS`).
+pub const WATCH_END_REALS: usize = 11;
+/// u32s of a table's end in a watch block (`WATCH_END_UINTS`).
+pub const WATCH_END_UINTS: usize = 4;
+/// Reals of one table's strike block when a chunk is expanded from one position
+/// (`STRUCK_REALS`, the shader's `expand_tables`): the struck ball's r, v, w, t and its
+/// transition's time.
+pub const STRUCK_REALS: usize = 11;
+/// u32s of one strike block (`STRUCK_UINTS`): the struck ball's motion state, its
+/// transition's kind, n_events and the status.
+pub const STRUCK_UINTS: usize = 4;
 
 /// The largest bucket's layout: the sizes of the host's scratch blocks.
 pub(super) const MAX_LAYOUT: SimLayout = SimLayout::for_balls(GPU_MAX_BALLS);
@@ -294,49 +321,96 @@ pub(super) fn start_table(
     }
     let balls = &mut balls[..n];
     let mut strike = None;
-    let mut n_events = 0u32;
-    // the stick candidate of the CPU loop: at t = 0, every ball at rest, V0 > 0
-    if let Some((cue, s)) = shot_strike {
-        let at_rest = balls.iter().all(|b| ball_energy(b, &params.ball) == 0.0);
-        if at_rest && s.v0 > 0.0 && limits.max_events > 0 {
-            let struck = cue_strike(&balls[cue], &s, &params.ball, &params.cue);
-            balls[cue] = BallState { t: 0.0, ..struck };
-            n_events = 1;
-            let event = Event {
-                kind: EventKind::StickBall,
-                t: 0.0,
-                ball: cue as u32,
-                other: NO_AGENT,
-            };
-            strike = record.then(|| EventRecord::new(event, balls));
-        }
+    let struck = struck_ball(balls, shot_strike, params, limits);
+    if let Some((cue, b)) = struck {
+        balls[cue] = b;
+        let event = Event {
+            kind: EventKind::StickBall,
+            t: 0.0,
+            ball: cue as u32,
+            other: NO_AGENT,
+        };
+        strike = record.then(|| EventRecord::new(event, balls));
     }
     sr.fill(0.0);
     su.fill(0);
     for (i, b) in balls.iter().enumerate() {
-        let at = 10 * i;
-        sr[at..at + 10].copy_from_slice(&[
-            b.r.x, b.r.y, b.r.z, b.v.x, b.v.y, b.v.z, b.w.x, b.w.y, b.w.z, b.t,
-        ]);
+        let (t, kind) = ball_io(b, params, &mut sr[10 * i..10 * i + 10]);
         su[i] = b.s as u32;
-        let (t, kind) = next_transition(b, &params.ball).map_or((f64::INFINITY, 0), |(tau, k)| {
-            (b.t + tau, transition_code(k))
-        });
-        sr[layout.io_r_trans + i] = if t.is_finite() { t } else { NEVER_F64 };
+        sr[layout.io_r_trans + i] = t;
         su[layout.io_u_trans + i] = kind;
     }
     sr[layout.io_r_clock] = 0.0;
     su[layout.io_u_n] = n as u32;
-    su[layout.io_u_n + 1] = n_events;
-    // a table without balls, or one cut before its first event, is done already
-    su[layout.io_u_n + 2] = if limits.max_events == 0 {
+    su[layout.io_u_n + 1] = u32::from(struck.is_some());
+    su[layout.io_u_n + 2] = start_status(n, limits);
+    strike
+}
+
+/// One table's strike block ([`STRUCK_REALS`], [`STRUCK_UINTS`]) for a chunk expanded from
+/// one position on the device (the shader's `expand_tables`): what [`start_table`] writes
+/// for ball `cue` of `position` struck by `strike` — the ball's r, v, w, t and its
+/// transition (the strike played under the CPU loop's rule, or the ball as it is), the
+/// event count and the status — so that the expanded block is [`start_table`]'s, bit for
+/// bit. `position`'s balls must be at t = 0.
+pub(super) fn strike_block(
+    position: &[BallState],
+    (cue, strike): (usize, CueStrike),
+    params: &SimParams,
+    limits: Limits,
+    sr: &mut [f64; STRUCK_REALS],
+    su: &mut [u32; STRUCK_UINTS],
+) {
+    let struck = struck_ball(position, Some((cue, strike)), params, limits);
+    let b = struck.map_or(position[cue], |(_, b)| b);
+    let (t, kind) = ball_io(&b, params, &mut sr[..10]);
+    sr[10] = t;
+    *su = [
+        b.s as u32,
+        kind,
+        u32::from(struck.is_some()),
+        start_status(position.len(), limits),
+    ];
+}
+
+/// The CPU loop's stick candidate: ball `cue` right after `strike` (at t = 0) where the
+/// strike is played — every ball at rest, V0 > 0, an event allowed — else `None`.
+fn struck_ball(
+    balls: &[BallState],
+    strike: Option<(usize, CueStrike)>,
+    params: &SimParams,
+    limits: Limits,
+) -> Option<(usize, BallState)> {
+    let (cue, s) = strike?;
+    let at_rest = balls.iter().all(|b| ball_energy(b, &params.ball) == 0.0);
+    (at_rest && s.v0 > 0.0 && limits.max_events > 0).then(|| {
+        let struck = cue_strike(&balls[cue], &s, &params.ball, &params.cue);
+        (cue, BallState { t: 0.0, ..struck })
+    })
+}
+
+/// A ball's r, v, w, t into `r` (10 reals); its next transition's absolute time (the
+/// shader's never where there is none) and kind.
+fn ball_io(b: &BallState, params: &SimParams, r: &mut [f64]) -> (f64, u32) {
+    r.copy_from_slice(&[
+        b.r.x, b.r.y, b.r.z, b.v.x, b.v.y, b.v.z, b.w.x, b.w.y, b.w.z, b.t,
+    ]);
+    let (t, kind) = next_transition(b, &params.ball).map_or((f64::INFINITY, 0), |(tau, k)| {
+        (b.t + tau, transition_code(k))
+    });
+    (if t.is_finite() { t } else { NEVER_F64 }, kind)
+}
+
+/// A table's status before its first dispatch: a table without balls, or one cut before
+/// its first event, is done already.
+fn start_status(n_balls: usize, limits: Limits) -> u32 {
+    if limits.max_events == 0 {
         STATUS_CUT_EVENTS
-    } else if n == 0 {
+    } else if n_balls == 0 {
         STATUS_DONE
     } else {
         STATUS_RUNNING
-    };
-    strike
+    }
 }
 
 /// The shader's code of a transition kind (`TRANSITION_*` of `motion/evolve.wgsl`).
@@ -401,20 +475,25 @@ pub(super) fn event_record(u: &[u32], r: &[f64]) -> Result<EventRecord, Error> {
 }
 
 /// A finished table's outcome, from its I/O block.
-pub(super) fn table_outcome(layout: &SimLayout, sr: &[f64], su: &[u32]) -> Outcome {
+fn table_outcome(layout: &SimLayout, sr: &[f64], su: &[u32]) -> Outcome {
     Outcome {
         n_events: su[layout.io_u_n + 1] as usize,
         t_end: from_never(sr[layout.io_r_clock]),
-        cut: match su[layout.io_u_n + 2] {
-            STATUS_CUT_EVENTS => Some(Cut::MaxEvents),
-            STATUS_CUT_TIME => Some(Cut::MaxTime),
-            _ => None,
-        },
+        cut: cut_of(su[layout.io_u_n + 2]),
+    }
+}
+
+/// The cut of a table's status, if it was cut.
+fn cut_of(status: u32) -> Option<Cut> {
+    match status {
+        STATUS_CUT_EVENTS => Some(Cut::MaxEvents),
+        STATUS_CUT_TIME => Some(Cut::MaxTime),
+        _ => None,
     }
 }
 
 /// Ball `i`'s final state, from a table's I/O block.
-pub(super) fn final_ball(sr: &[f64], su: &[u32], i: usize) -> Result<BallState, Error> {
+fn final_ball(sr: &[f64], su: &[u32], i: usize) -> Result<BallState, Error> {
     ball_state(&sr[10 * i..10 * i + 10], su[i])
 }
 
@@ -432,6 +511,23 @@ pub(super) fn finish_table(
     }
     run.outcome = table_outcome(layout, sr, su);
     Ok(())
+}
+
+/// A watched table's end from its watch block (the shader's `watch_end`): the watched
+/// ball's final state, the outcome and the table's ball count.
+pub(super) fn watched_end(
+    layout: &SimLayout,
+    sr: &[f64],
+    su: &[u32],
+) -> Result<(BallState, Outcome, usize), Error> {
+    let (r, u) = (layout.watch_r_end, layout.watch_u_end);
+    let cue = ball_state(&sr[r..r + 10], su[u])?;
+    let outcome = Outcome {
+        n_events: su[u + 2] as usize,
+        t_end: from_never(sr[r + 10]),
+        cut: cut_of(su[u + 3]),
+    };
+    Ok((cue, outcome, su[u + 1] as usize))
 }
 
 /// Reads a table's watch block.

@@ -26,14 +26,14 @@ use super::device::{self, AdapterSummary, Scopes, copy_to_mapped, gpu_error, map
 use super::shader::simulate_source;
 use super::sim_layout::{
     EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, MAX_LAYOUT, NEVER_F32, NEVER_F64,
-    SIM_R_MAX_TIME, SIM_REALS, SimLayout, WatchedRun, event_record, final_ball, finish_table,
-    read_watch, start_table, table_outcome,
+    SIM_R_MAX_TIME, SIM_REALS, STRUCK_REALS, STRUCK_UINTS, SimLayout, WatchedRun, event_record,
+    finish_table, read_watch, start_table, strike_block, watched_end,
 };
 use crate::error::{Error, InputError, SimError};
-use crate::model::Precision;
 use crate::model::ball_state::BallState;
 use crate::model::sim_params::{Physics, SimParams};
 use crate::model::table::Table;
+use crate::model::{MotionState, Precision};
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::check::check_layout;
@@ -93,6 +93,12 @@ pub struct CheckedTables<'a> {
     pub n_tables: usize,
     /// The most balls any of them has (it chooses the pipeline's bucket).
     pub max_balls: usize,
+    /// A hint that every table's balls are the same (one position struck many ways: a
+    /// study's): a chunk whose tables do have the same balls, all at rest (stationary or
+    /// pocketed), and strike the same ball then uploads the position once and each table's
+    /// strike, and the device lays the tables out; any other chunk is packed whole. The
+    /// results are the same either way.
+    pub one_position: bool,
 }
 
 /// A table's strike: the struck ball's index and the strike, if any.
@@ -187,9 +193,21 @@ struct ChunkCall<'c> {
     watch_facts: bool,
 }
 
-/// A packed chunk: the strikes' event records (with their tables' places in the chunk)
-/// and the runs so far.
-type PackedChunk = (Vec<(usize, EventRecord)>, Vec<GpuRun>);
+/// A packed chunk: the strikes' event records (with their tables' places in the chunk),
+/// the runs so far, and for a chunk packed as one position and its strikes (the shader's
+/// `expand_tables` lays the tables out) the struck ball.
+struct PackedChunk {
+    strikes: Vec<(usize, EventRecord)>,
+    runs: Vec<GpuRun>,
+    struck: Option<u32>,
+}
+
+/// The event loop's pipelines of one bucket: the loop itself, and the expansion of one
+/// position into a chunk's tables.
+struct LoopPipelines {
+    simulate: wgpu::ComputePipeline,
+    expand: wgpu::ComputePipeline,
+}
 
 /// The GPU event loop: device, pipeline and buffers, reused across calls.
 pub struct GpuSimulator {
@@ -197,8 +215,8 @@ pub struct GpuSimulator {
     queue: wgpu::Queue,
     adapter: AdapterSummary,
     precision: Precision,
-    /// The event loop's pipeline for each ball-count bucket built so far.
-    pipelines: Vec<(SimLayout, wgpu::ComputePipeline)>,
+    /// The event loop's pipelines for each ball-count bucket built so far.
+    pipelines: Vec<(SimLayout, LoopPipelines)>,
     /// Threads a table's workgroup (at least the bucket's ball count).
     threads: usize,
     /// The largest workgroup memory the device allows, in bytes.
@@ -224,6 +242,8 @@ pub struct GpuSimulator {
     total: GpuTimings,
     /// Dispatches of the last call.
     dispatches: u64,
+    /// Chunks of the last call laid out on the device from one position.
+    expanded: u64,
     /// Events per table and dispatch.
     pub events_per_dispatch: u32,
     /// The most tables per chunk: a batch is cut into chunks of whole tables that fit the
@@ -275,6 +295,7 @@ impl GpuSimulator {
             timings: GpuTimings::default(),
             total: GpuTimings::default(),
             dispatches: 0,
+            expanded: 0,
             events_per_dispatch: EVENTS_PER_DISPATCH,
             max_tables_per_chunk: MAX_TABLES_PER_CHUNK,
         };
@@ -283,10 +304,10 @@ impl GpuSimulator {
         Ok(sim)
     }
 
-    /// The event loop's pipeline for `layout`'s bucket, built the first time it is needed:
-    /// the shader with its `GPU_MAX_BALLS` set to the bucket's, `LOOP_THREADS` the
+    /// The event loop's pipelines for `layout`'s bucket, built the first time they are
+    /// needed: the shader with its `GPU_MAX_BALLS` set to the bucket's, `LOOP_THREADS` the
     /// simulator's threads or the bucket's ball count if larger, `LOOP_ROUNDS` to match.
-    fn pipeline(&mut self, layout: &SimLayout) -> Result<&wgpu::ComputePipeline, Error> {
+    fn pipeline(&mut self, layout: &SimLayout) -> Result<&LoopPipelines, Error> {
         if let Some(k) = self.pipelines.iter().position(|(l, _)| l == layout) {
             return Ok(&self.pipelines[k].1);
         }
@@ -302,17 +323,23 @@ impl GpuSimulator {
             ("LOOP_THREADS", threads as f64),
             ("LOOP_ROUNDS", layout.gpu_max_pairs.div_ceil(threads) as f64),
         ];
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("simulate_tables"),
-            layout: None,
-            module: &module,
-            entry_point: Some("simulate_tables"),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &constants,
-                ..Default::default()
-            },
-            cache: None,
-        });
+        let entry = |name: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(name),
+                layout: None,
+                module: &module,
+                entry_point: Some(name),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
+                cache: None,
+            })
+        };
+        let pipeline = LoopPipelines {
+            simulate: entry("simulate_tables"),
+            expand: entry("expand_tables"),
+        };
         if let Some(e) = pollster::block_on(scope.pop()) {
             let text = e.to_string();
             if n > 16 && text.to_lowercase().contains("workgroup") {
@@ -357,6 +384,12 @@ impl GpuSimulator {
     /// The dispatches of the last call (over all chunks).
     pub fn dispatches(&self) -> u64 {
         self.dispatches
+    }
+
+    /// The chunks of the last call that crossed the bus as one position and its tables'
+    /// strikes ([`CheckedTables::one_position`]) and were laid out on the device.
+    pub fn expanded_chunks(&self) -> u64 {
+        self.expanded
     }
 
     /// Simulates every shot on `table` to rest (or to a limit), in shot order; with
@@ -446,6 +479,7 @@ impl GpuSimulator {
     ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
         self.timings = GpuTimings::default();
         self.dispatches = 0;
+        self.expanded = 0;
         // the parameters checked as the CPU loop checks them (each table's where per table)
         physics.check(input.len()).map_err(|(k, e)| {
             let which = if physics.is_shared() {
@@ -522,15 +556,16 @@ impl GpuSimulator {
         }
         let clock = std::time::Instant::now();
         self.prepare_chunk(call, capacity)?;
-        let (strikes, mut runs) = self.pack_chunk(call)?;
+        let packed = self.pack_chunk(call)?;
         self.timings.pack += clock.elapsed().as_secs_f64();
         if let GpuOutput::Events(on_event) = mode {
-            for (k, record) in &strikes {
+            for (k, record) in &packed.strikes {
                 on_event(call.first + k, record);
             }
         }
+        let mut runs = packed.runs;
         let clock = std::time::Instant::now();
-        self.upload_chunk(call)?;
+        self.upload_chunk(call, packed.struck)?;
         self.timings.upload += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
         self.dispatch_chunk(call, mode)?;
@@ -587,6 +622,10 @@ impl GpuSimulator {
     /// out, then copied to the mapped upload buffers: the strikes' event records (with
     /// their tables' places in the chunk) and the runs so far (none for a watched chunk).
     fn pack_chunk(&mut self, call: &ChunkCall<'_>) -> Result<PackedChunk, Error> {
+        if let Some(packed) = self.pack_expanded(call)? {
+            self.expanded += 1;
+            return Ok(packed);
+        }
         let (table, physics, limits, input, first) = (
             call.table,
             call.physics,
@@ -690,16 +729,139 @@ impl GpuSimulator {
         self.pack_r = host_r;
         self.pack_u = host_u;
         copied?;
-        Ok((strikes, runs))
+        Ok(PackedChunk {
+            strikes,
+            runs,
+            struck: None,
+        })
     }
 
-    /// The upload buffers copied to the state's I/O region, waited for.
-    fn upload_chunk(&mut self, call: &ChunkCall<'_>) -> Result<(), Error> {
+    /// A chunk of one position struck many ways ([`CheckedTables::one_position`], no
+    /// events recorded, every ball of the position stationary or pocketed, every table
+    /// striking the same ball) packed as the position's I/O block ([`start_table`] without
+    /// the strike) and each table's strike block ([`strike_block`]), for the shader's
+    /// `expand_tables` to lay the tables out on the device: 104 bytes a table cross the
+    /// bus instead of a whole block. `None` for any other chunk.
+    fn pack_expanded(&mut self, call: &ChunkCall<'_>) -> Result<Option<PackedChunk>, Error> {
+        let (physics, limits, input, first) = (call.physics, call.limits, call.input, call.first);
+        let Input::Checked { tables, .. } = input else {
+            return Ok(None);
+        };
+        if !tables.one_position || call.record || input.len() == 0 {
+            return Ok(None);
+        }
+        let l = &call.layout;
+        let mut buf = Vec::new();
+        let Ok((balls, Some((cue, _)))) = input.shot(0, &mut buf) else {
+            return Ok(None);
+        };
+        let at_rest =
+            |b: &BallState| matches!(b.s, MotionState::Stationary | MotionState::Pocketed);
+        if balls.len() > l.gpu_max_balls || !balls.iter().all(at_rest) {
+            return Ok(None);
+        }
+        let position: Vec<BallState> = balls.iter().map(|b| BallState { t: 0.0, ..*b }).collect();
+        let n_tables = input.len();
+        let precision = self.precision;
+        let real = precision.real_size();
+        // the position's block, then each table's strike block, in the shader's precision
+        let mut host_r = std::mem::take(&mut self.pack_r);
+        let mut host_u = std::mem::take(&mut self.pack_u);
+        host_r.resize((l.io_reals + n_tables * STRUCK_REALS) * real, 0);
+        host_u.resize((l.io_uints + n_tables * STRUCK_UINTS) * 4, 0);
+        let (head_r, blocks_r) = host_r.split_at_mut(l.io_reals * real);
+        let (head_u, blocks_u) = host_u.split_at_mut(l.io_uints * 4);
+        let mut sr = [0.0; MAX_LAYOUT.io_reals];
+        let mut su = [0u32; MAX_LAYOUT.io_uints];
+        let (sr, su) = (&mut sr[..l.io_reals], &mut su[..l.io_uints]);
+        start_table(&position, None, &physics.of(0), limits, false, l, sr, su);
+        put_reals(precision, sr, head_r);
+        head_u.copy_from_slice(bytemuck::cast_slice(su));
+        let make_runs = call.watch_cue == NO_WATCH;
+        // Rayon over blocks of tables: each table checked as pack_table checks it; a table
+        // that strikes another ball (or none) leaves the chunk to the whole blocks
+        let packed: Vec<Result<Option<Vec<GpuRun>>, Error>> = blocks_r
+            .par_chunks_mut(PACK_BLOCK * STRUCK_REALS * real)
+            .zip(blocks_u.par_chunks_mut(PACK_BLOCK * STRUCK_UINTS * 4))
+            .enumerate()
+            .map(|(b, (dst_r, dst_u))| {
+                let start = b * PACK_BLOCK;
+                let end = n_tables.min(start + PACK_BLOCK);
+                let mut runs = Vec::with_capacity(if make_runs { end - start } else { 0 });
+                let mut buf = Vec::new();
+                for (j, k) in (start..end).enumerate() {
+                    let bad = |e: SimError| InputError::new(format!("table {}: {e}", first + k));
+                    let (balls, strike) = input.shot(k, &mut buf).map_err(bad)?;
+                    let same = |(b, p): (&BallState, &BallState)| {
+                        (b.r, b.v, b.w, b.s) == (p.r, p.v, p.w, p.s)
+                    };
+                    let Some((c, s)) = strike.filter(|(c, _)| *c == cue) else {
+                        return Ok(None);
+                    };
+                    if balls.len() != position.len() || !balls.iter().zip(&position).all(same) {
+                        return Ok(None);
+                    }
+                    EventLoop::check_input(balls, strike).map_err(bad)?;
+                    let (mut r, mut u) = ([0.0; STRUCK_REALS], [0u32; STRUCK_UINTS]);
+                    strike_block(&position, (c, s), &physics.of(k), limits, &mut r, &mut u);
+                    let at_r = j * STRUCK_REALS * real;
+                    put_reals(precision, &r, &mut dst_r[at_r..at_r + STRUCK_REALS * real]);
+                    let at_u = j * STRUCK_UINTS * 4;
+                    dst_u[at_u..at_u + STRUCK_UINTS * 4].copy_from_slice(bytemuck::cast_slice(&u));
+                    if make_runs {
+                        runs.push(GpuRun {
+                            events: Vec::new(),
+                            balls: balls.to_vec(),
+                            outcome: Outcome {
+                                n_events: 0,
+                                t_end: 0.0,
+                                cut: None,
+                            },
+                        });
+                    }
+                }
+                Ok(Some(runs))
+            })
+            .collect();
+        let mut runs = Vec::with_capacity(if make_runs { n_tables } else { 0 });
+        let mut whole = true;
+        let mut failed = None;
+        for block in packed {
+            match block {
+                Ok(Some(block_runs)) => runs.extend(block_runs),
+                Ok(None) => whole = false,
+                Err(e) => {
+                    failed = Some(e);
+                    break;
+                }
+            }
+        }
+        let bufs = self.bufs.as_ref().expect("made by prepare_chunk");
+        let copied = match failed {
+            Some(e) => Err(e),
+            None if !whole => Ok(false),
+            None => copy_to_mapped(
+                &self.device,
+                &[(&bufs.up_r, &host_r), (&bufs.up_u, &host_u)],
+            )
+            .map(|()| true),
+        };
+        self.pack_r = host_r;
+        self.pack_u = host_u;
+        Ok(copied?.then_some(PackedChunk {
+            strikes: Vec::new(),
+            runs,
+            struck: Some(cue as u32),
+        }))
+    }
+
+    /// The upload buffers copied to the state's I/O region, waited for; for a chunk packed
+    /// as one position and its strikes (`struck`: the struck ball), copied to the events
+    /// buffers and laid out into the I/O region by the shader's `expand_tables`.
+    fn upload_chunk(&mut self, call: &ChunkCall<'_>, struck: Option<u32>) -> Result<(), Error> {
         let l = &call.layout;
         let n_tables = call.input.len();
         let real = self.precision.real_size();
-        let len_r = (n_tables * l.io_reals * real) as u64;
-        let len_u = (n_tables * l.io_uints * 4) as u64;
         let bufs = self.bufs.as_ref().expect("made by prepare_chunk");
         let scopes = Scopes::push(&self.device);
         let mut encoder = self
@@ -707,8 +869,39 @@ impl GpuSimulator {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("kisstime event loop upload"),
             });
-        encoder.copy_buffer_to_buffer(&bufs.up_r, 0, &bufs.state_r, 0, len_r);
-        encoder.copy_buffer_to_buffer(&bufs.up_u, 0, &bufs.state_u, 0, len_u);
+        if let Some(cue) = struck {
+            let len_r = ((l.io_reals + n_tables * STRUCK_REALS) * real) as u64;
+            let len_u = ((l.io_uints + n_tables * STRUCK_UINTS) * 4) as u64;
+            encoder.copy_buffer_to_buffer(&bufs.up_r, 0, &bufs.events_r, 0, len_r);
+            encoder.copy_buffer_to_buffer(&bufs.up_u, 0, &bufs.events_u, 0, len_u);
+            let groups = (n_tables as u32).div_ceil(EXPAND_THREADS);
+            let groups_x = groups.min(self.max_groups_per_dim);
+            let mut cfg = [0u32; 16];
+            cfg[0] = n_tables as u32;
+            cfg[6] = groups_x;
+            cfg[15] = cue;
+            self.queue
+                .write_buffer(&bufs.cfg, 0, bytemuck::cast_slice(&cfg));
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("kisstime expand_tables"),
+                timestamp_writes: None,
+            });
+            let pipeline = &self
+                .pipelines
+                .iter()
+                .find(|(p, _)| p == l)
+                .ok_or_else(|| gpu_error("no pipeline for the chunk's layout"))?
+                .1
+                .expand;
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &bufs.expand_bind, &[]);
+            pass.dispatch_workgroups(groups_x, groups.div_ceil(groups_x), 1);
+        } else {
+            let len_r = (n_tables * l.io_reals * real) as u64;
+            let len_u = (n_tables * l.io_uints * 4) as u64;
+            encoder.copy_buffer_to_buffer(&bufs.up_r, 0, &bufs.state_r, 0, len_r);
+            encoder.copy_buffer_to_buffer(&bufs.up_u, 0, &bufs.state_u, 0, len_u);
+        }
         self.queue.submit([encoder.finish()]);
         map_and_wait(&self.device, scopes, &self.watch, &[], "the upload")?;
         Ok(())
@@ -823,8 +1016,8 @@ impl GpuSimulator {
         Ok(())
     }
 
-    /// Only the I/O region (and, for a study, the watch region) read back and unpacked into
-    /// `runs` (or the watched runs).
+    /// Only the I/O region (for a study, the watch region instead) read back and unpacked
+    /// into `runs` (or the watched runs).
     fn read_back_chunk(
         &mut self,
         call: &ChunkCall<'_>,
@@ -842,43 +1035,46 @@ impl GpuSimulator {
         let io_uints = (n_tables * l.io_uints * 4) as u64;
         let watch_reals = (n_tables * l.watch_reals * real) as u64;
         let watch_uints = (n_tables * l.watch_uints * 4) as u64;
-        let mut copies = vec![
-            Copy {
-                src: &bufs.state_r,
-                offset: 0,
-                dst: &bufs.back_r,
-                len: io_reals,
-            },
-            Copy {
-                src: &bufs.state_u,
-                offset: 0,
-                dst: &bufs.back_u,
-                len: io_uints,
-            },
-        ];
-        if watching {
-            // the watch region follows the I/O and cache regions
-            copies.push(Copy {
-                src: &bufs.state_r,
-                offset: (n_tables * (l.io_reals + l.cache_reals) * real) as u64,
-                dst: &bufs.back_r,
-                len: watch_reals,
-            });
-            copies.push(Copy {
-                src: &bufs.state_u,
-                offset: (n_tables * (l.io_uints + l.cache_uints) * 4) as u64,
-                dst: &bufs.back_u,
-                len: watch_uints,
-            });
-        }
+        // a study's tables: the watch region alone (it holds the tables' ends), which
+        // follows the I/O and cache regions; else the I/O region
+        let copies = if watching {
+            [
+                Copy {
+                    src: &bufs.state_r,
+                    offset: (n_tables * (l.io_reals + l.cache_reals) * real) as u64,
+                    dst: &bufs.back_r,
+                    len: watch_reals,
+                },
+                Copy {
+                    src: &bufs.state_u,
+                    offset: (n_tables * (l.io_uints + l.cache_uints) * 4) as u64,
+                    dst: &bufs.back_u,
+                    len: watch_uints,
+                },
+            ]
+        } else {
+            [
+                Copy {
+                    src: &bufs.state_r,
+                    offset: 0,
+                    dst: &bufs.back_r,
+                    len: io_reals,
+                },
+                Copy {
+                    src: &bufs.state_u,
+                    offset: 0,
+                    dst: &bufs.back_u,
+                    len: io_uints,
+                },
+            ]
+        };
         self.submit_copies(&copies)?;
         self.timings.readback += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
-        let len_r = io_reals + if watching { watch_reals } else { 0 };
-        let len_u = io_uints + if watching { watch_uints } else { 0 };
-        let watched_cue = watching.then_some((watch_cue as usize, call.watch_facts));
+        let (len_r, len_u) = (copies[0].len, copies[1].len);
+        let watched = watching.then_some(call.watch_facts);
         let out = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
-            unpack(precision, l, runs, views[0], views[1], watched_cue)
+            unpack(precision, l, runs, views[0], views[1], watched)
         })??;
         self.timings.unpack += clock.elapsed().as_secs_f64();
         Ok(out)
@@ -911,7 +1107,7 @@ impl GpuSimulator {
                 .find(|(l, _)| Some(*l) == layout)
                 .map(|(_, p)| p)
                 .ok_or_else(|| gpu_error("no pipeline for the buffers' layout"))?;
-            pass.set_pipeline(pipeline);
+            pass.set_pipeline(&pipeline.simulate);
             pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(x, y, 1);
         }
@@ -944,6 +1140,9 @@ impl GpuSimulator {
 
 /// Tables packed by one Rayon task.
 const PACK_BLOCK: usize = 256;
+
+/// Threads of one `expand_tables` workgroup (its `@workgroup_size`).
+const EXPAND_THREADS: u32 = 64;
 
 /// One table to pack: its position in the batch, balls and strike, and whether its
 /// layout was checked already (one position struck many ways).
@@ -1025,19 +1224,19 @@ fn read_mapped<T>(
     out
 }
 
-/// The runs (final states and outcomes) from the I/O blocks, or with `watch = Some((cue,
-/// facts))` the watched runs (with the rules' facts where `facts`) from the I/O and watch blocks (the watch blocks follow the I/O
-/// blocks), Rayon over tables.
+/// The runs (final states and outcomes) from the I/O blocks, or with `watch =
+/// Some(facts)` the watched runs (with the rules' facts where `facts`) from the watch
+/// blocks alone (each ends with its table's end), Rayon over tables.
 fn unpack(
     precision: Precision,
     l: &SimLayout,
     runs: &mut [GpuRun],
     back_r: &[u8],
     back_u: &[u8],
-    watch: Option<(usize, bool)>,
+    watch: Option<bool>,
 ) -> Result<Vec<WatchedRun>, Error> {
     let real = precision.real_size();
-    let Some((cue, facts)) = watch else {
+    let Some(facts) = watch else {
         let n = runs.len();
         let (io_r, io_u) = (
             &back_r[..n * l.io_reals * real],
@@ -1056,37 +1255,23 @@ fn unpack(
             })?;
         return Ok(Vec::new());
     };
-    // a watched batch: as many tables as its I/O blocks
-    let n = back_u.len() / ((l.io_uints + l.watch_uints) * 4);
-    let (io_r, watch_r) = back_r.split_at(n * l.io_reals * real);
-    let (io_u, watch_u) = back_u.split_at(n * l.io_uints * 4);
-    io_r.par_chunks(l.io_reals * real)
-        .zip(io_u.par_chunks(l.io_uints * 4))
-        .zip(watch_r.par_chunks(l.watch_reals * real))
-        .zip(watch_u.par_chunks(l.watch_uints * 4))
-        .map(|(((r, u), wr), wu)| {
-            let (sr, su) = block::<{ MAX_LAYOUT.io_reals }, { MAX_LAYOUT.io_uints }>(
-                precision,
-                (r, l.io_reals),
-                (u, l.io_uints),
-            );
-            let (sr, su) = (&sr[..l.io_reals], &su[..l.io_uints]);
+    // a watched batch: as many tables as its watch blocks, each with the table's end
+    let n = back_u.len() / (l.watch_uints * 4);
+    back_r[..n * l.watch_reals * real]
+        .par_chunks(l.watch_reals * real)
+        .zip(back_u[..n * l.watch_uints * 4].par_chunks(l.watch_uints * 4))
+        .map(|(wr, wu)| {
             let (wsr, wsu) = block::<{ MAX_LAYOUT.watch_reals }, { MAX_LAYOUT.watch_uints }>(
                 precision,
                 (wr, l.watch_reals),
                 (wu, l.watch_uints),
             );
-            let n_balls = su[l.io_u_n] as usize;
+            let (wsr, wsu) = (&wsr[..l.watch_reals], &wsu[..l.watch_uints]);
+            let (cue, outcome, n_balls) = watched_end(l, wsr, wsu)?;
             Ok(WatchedRun {
-                cue: final_ball(sr, su, cue)?,
-                outcome: table_outcome(l, sr, su),
-                watch: read_watch(
-                    l,
-                    &wsr[..l.watch_reals],
-                    &wsu[..l.watch_uints],
-                    n_balls,
-                    facts,
-                )?,
+                cue,
+                outcome,
+                watch: read_watch(l, wsr, wsu, n_balls, facts)?,
             })
         })
         .collect()

@@ -91,6 +91,11 @@ pub struct BatchOptions {
     /// [`TableRun::balls`] hold the watched ball's final state alone, and no event is
     /// recorded (whatever `record_events` says).
     pub watch: Option<WatchOptions>,
+    /// A hint that every table's balls are the same (one position struck many ways: a
+    /// study's). The results do not depend on it; on the GPU a chunk whose tables all
+    /// strike the same ball of the same position at rest then crosses the bus as the
+    /// position once and each table's strike ([`crate::gpu::CheckedTables::one_position`]).
+    pub one_position: bool,
 }
 
 impl Default for BatchOptions {
@@ -101,6 +106,7 @@ impl Default for BatchOptions {
             chunk_tables: DEFAULT_CHUNK_TABLES,
             check_layout: true,
             watch: None,
+            one_position: false,
         }
     }
 }

@@ -250,6 +250,7 @@ pub fn run(
             stop_at_first_contact: options.until == Until::FirstContact,
             facts: config.game.is_some(),
         }),
+        one_position: true,
     };
     let draw = |j: usize| samples.physics(config, j).unwrap_or(config.params);
     let physics = if samples.physics(config, 0).is_some() {

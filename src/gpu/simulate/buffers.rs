@@ -1,7 +1,7 @@
 //! The event loop's buffers ([`LoopBuffers`]): made for a call's largest chunk and its
 //! ball-count bucket, and reused across chunks and calls while they fit.
 
-use super::{EVENT_REALS, EVENT_UINTS, GpuSimulator, SimLayout};
+use super::{EVENT_REALS, EVENT_UINTS, GpuSimulator, STRUCK_REALS, STRUCK_UINTS, SimLayout};
 use crate::error::Error;
 use crate::gpu::device::{Scopes, map_and_wait};
 
@@ -27,6 +27,8 @@ pub(super) struct LoopBuffers {
     #[allow(dead_code)]
     pub(super) live: wgpu::Buffer,
     pub(super) bind: wgpu::BindGroup,
+    /// The bindings of `expand_tables` (the config, the state, the events buffers).
+    pub(super) expand_bind: wgpu::BindGroup,
     /// Upload buffers for the I/O region (mapped for writing while a chunk is packed).
     pub(super) up_r: wgpu::Buffer,
     pub(super) up_u: wgpu::Buffer,
@@ -93,7 +95,9 @@ impl GpuSimulator {
         sim_reals: usize,
     ) -> Result<LoopBuffers, Error> {
         let l = &layout;
-        let bind_layout = self.pipeline(l)?.get_bind_group_layout(0);
+        let pipelines = self.pipeline(l)?;
+        let bind_layout = pipelines.simulate.get_bind_group_layout(0);
+        let expand_layout = pipelines.expand.get_bind_group_layout(0);
         let real = self.precision.real_size() as u64;
         let n = tables as u64;
         let dev = &self.device;
@@ -111,16 +115,21 @@ impl GpuSimulator {
         let up = wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC;
         let state_reals = n * (l.io_reals + l.cache_reals + l.watch_reals) as u64;
         let state_uints = n * (l.io_uints + l.cache_uints + l.watch_uints) as u64;
-        // what comes back at the end: the I/O region, then the watch region, of each kind
-        let back_reals = n * (l.io_reals + l.watch_reals) as u64;
-        let back_uints = n * (l.io_uints + l.watch_uints) as u64;
+        // what comes back at the end: the I/O region, or a study's watch region
+        let back_reals = n * l.io_reals.max(l.watch_reals) as u64;
+        let back_uints = n * l.io_uints.max(l.watch_uints) as u64;
         let (events_reals, events_uints) = if record {
             (
                 n * (per * EVENT_REALS) as u64,
                 n * (1 + per * EVENT_UINTS) as u64,
             )
         } else {
-            (1, 1)
+            // without events, the input of expand_tables: one I/O block and a strike
+            // block a table
+            (
+                (l.io_reals + tables * STRUCK_REALS) as u64,
+                (l.io_uints + tables * STRUCK_UINTS) as u64,
+            )
         };
         let cfg = make(
             "config",
@@ -150,6 +159,17 @@ impl GpuSimulator {
             layout: &bind_layout,
             entries: &entries,
         });
+        // expand_tables uses the config (0), the state (3, 4) and the events buffers (5, 6)
+        let expand_entries: Vec<wgpu::BindGroupEntry> = entries
+            .iter()
+            .filter(|e| matches!(e.binding, 0 | 3..=6))
+            .cloned()
+            .collect();
+        let expand_bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("expand tables"),
+            layout: &expand_layout,
+            entries: &expand_entries,
+        });
         Ok(LoopBuffers {
             layout,
             tables,
@@ -174,6 +194,7 @@ impl GpuSimulator {
             running,
             live,
             bind,
+            expand_bind,
         })
     }
 }
