@@ -118,11 +118,11 @@ pub struct SimLayout {
     /// many of them came at the last one's time (`WATCH_U_FACTS`).
     pub watch_u_facts: usize,
     /// Where the table's end starts in the watch reals: the cue ball's r, v, w, t at the
-    /// end and the clock (`WATCH_R_END`, [`WATCH_END_REALS`] of them). A study reads back
+    /// end and the clock (`WATCH_R_END`, `WATCH_END_REALS` of them). A study reads back
     /// the watch blocks alone.
     pub watch_r_end: usize,
     /// Where the table's end starts in the watch u32s: the cue ball's motion state,
-    /// n_balls, n_events, the status (`WATCH_U_END`, [`WATCH_END_UINTS`] of them).
+    /// n_balls, n_events, the status (`WATCH_U_END`, `WATCH_END_UINTS` of them).
     pub watch_u_end: usize,
 }
 
