@@ -584,6 +584,21 @@ fn one_position_chunks_laid_out_on_the_device_give_the_whole_blocks_runs() {
                     "{at}: table {k}'s final states"
                 );
             }
+            // a chunk of one table: one block and its strike block fill more than its
+            // I/O block would
+            let mut one = |one_position| {
+                let tables = CheckedTables {
+                    fill: &fill,
+                    n_tables: 1,
+                    max_balls: initial.len(),
+                    one_position,
+                };
+                let run =
+                    gpu.simulate_checked(&config.table, physics, limits, tables, GpuOutput::Finals);
+                (format!("{:?}", run.unwrap().0), gpu.expanded_chunks())
+            };
+            let (a, b) = (one(false), one(true));
+            assert_eq!((a.0, a.1, b.1), (b.0, 0, 1), "{at}: a chunk of one table");
             let events: usize = laid.1.iter().map(|r| r.outcome.n_events).sum();
             if max_events == 0 {
                 assert!(

@@ -177,8 +177,17 @@ impl GpuSimulator {
             record,
             geometry_reals,
             sim_reals,
-            up_r: make("upload reals", n * (l.io_reals as u64) * real, up),
-            up_u: make("upload u32s", n * (l.io_uints as u64) * 4, up),
+            // the I/O blocks, or one block and the strike blocks (pack_expanded)
+            up_r: make(
+                "upload reals",
+                (n * l.io_reals as u64).max(l.io_reals as u64 + n * STRUCK_REALS as u64) * real,
+                up,
+            ),
+            up_u: make(
+                "upload u32s",
+                (n * l.io_uints as u64).max(l.io_uints as u64 + n * STRUCK_UINTS as u64) * 4,
+                up,
+            ),
             back_running: make("readback running", 4, back),
             back_r: make("readback reals", back_reals * real, back),
             back_u: make("readback u32s", back_uints * 4, back),
