@@ -38,6 +38,8 @@
 //!   every sample from the strike to rest through the engine's one entry point
 //!   ([`study::run()`]): configuration, noise, the driver, statistics, and `data/studies`'
 //!   reference format;
+//! - [`plan`]: which shot to play — direct-pot candidates under common noise draws, judged
+//!   by the game's rules, successive halving, fresh estimates of the finalists;
 //! - [`workload`]: reproducible built-in workloads; [`limits`], [`error`].
 //!
 //! The `kisstime` command line (`src/main.rs`, `src/cli/`) is a thin layer over these,
@@ -74,6 +76,7 @@ pub mod io;
 pub mod limits;
 pub mod model;
 pub mod motion;
+pub mod plan;
 pub mod query;
 pub mod resolve;
 pub mod simulate;

@@ -29,6 +29,7 @@ fn main() -> ExitCode {
         Command::Gen(_) => None,
         Command::Shots(a) => a.threads,
         Command::Simulate(a) => a.threads,
+        Command::Plan(a) => a.threads,
     };
     if let Err(e) = cli::commands::set_threads(threads) {
         eprintln!("kisstime: error: {e}");
@@ -40,6 +41,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => cli::bench::run(args),
         Command::Gen(args) => cli::commands::run_gen(args),
         Command::Shots(args) => cli::shots::run_shots(args),
+        Command::Plan(args) => cli::plan::run(args),
         Command::Simulate(args) => cli::simulate::run(args),
     };
     match result {

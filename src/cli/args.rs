@@ -83,6 +83,22 @@ pub enum Command {
     /// (`table,events,t_end,cut`). Without -o and --final the final states go to standard
     /// output. A summary line on stderr gives tables/s and events/s.
     Simulate(SimulateArgs),
+    /// Which shot should I play? Plans the next shot of an 8-ball or 9-ball position under
+    /// cue noise and the game's rules.
+    ///
+    /// INPUT holds the position (the format of `simulate`'s input, one table, or pick one
+    /// with --table-id): ball ids are the game's, 0 the cue ball; every ball at rest
+    /// (pocketed balls are left out). The planner tries each ball the player may hit first
+    /// (9-ball: the lowest; 8-ball: --hittable) into each pocket where the ghost-ball aim is
+    /// playable (cut under 80°, both paths clear), over speeds and spins; plays every
+    /// candidate under the same noise draws (common random numbers) judged by the rules
+    /// (8-ball: called on that ball and pocket), halving the field each round; then plays
+    /// the finalists again on fresh draws and prints them ranked by value: P(keep the
+    /// table) with its 95 % interval, P(foul), P(scratch), the position left (the best next
+    /// shot's ease, 0 to 1) and the value (won 1.5, kept 1 + 0.5 × position, foul −0.25,
+    /// lost −1). -o writes the chosen strike as `simulate --strikes` reads it. Not yet:
+    /// banks, kicks, combinations, safeties, ball in hand, breaks.
+    Plan(PlanArgs),
 }
 
 #[derive(Args)]
@@ -217,6 +233,58 @@ pub struct GenArgs {
     /// The file to write: CSV, or a NumPy .npy array when the name ends in .npy.
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+#[derive(Args)]
+pub struct PlanArgs {
+    /// The position: CSV `table,ball,state,x,y,vx,vy,wx,wy,wz` or .npy (as `simulate`).
+    pub input: PathBuf,
+    /// The game: `8-ball` or `9-ball`.
+    #[arg(long, value_enum)]
+    pub rules: RulesArg,
+    /// 8-ball: the balls the player may hit first (their group), ids joined by `;` or `,`
+    /// (default: an open table, any ball but the 8; the 8 alone once the group is down).
+    #[arg(long, value_name = "IDS")]
+    pub hittable: Option<String>,
+    /// The table of INPUT to plan for (its id); needed when INPUT has several.
+    #[arg(long, value_name = "K")]
+    pub table_id: Option<i64>,
+    /// The table (as `simulate --table`).
+    #[arg(long, default_value = "9ft")]
+    pub table: String,
+    /// The balls' and the cue's physical parameters: a TOML file (as `simulate --physics`).
+    #[arg(long, value_name = "TOML")]
+    pub physics: Option<PathBuf>,
+    /// The cue noise: `fastfiz` (the computational-pool tournaments': σ V0 0.075 m/s, φ
+    /// 0.125°, θ 0.1°, a and b 0.5 mm), `club` (twice that), `casual` (four times) or
+    /// `none`.
+    #[arg(long, default_value = "fastfiz")]
+    pub noise: String,
+    /// Every σ of --noise times this.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub noise_scale: f64,
+    /// What the plan may spend: seconds (`1s`, `250ms`) or samples (`200000`).
+    #[arg(long, default_value = "1s")]
+    pub budget: String,
+    /// The noise draws' seed (with a sample budget, the same seed gives the same plan).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// The finalists estimated again and printed.
+    #[arg(long, default_value_t = 5)]
+    pub top: usize,
+    /// Write the chosen strike here: CSV `table,ball,V0,phi,theta,a,b` (`simulate
+    /// --strikes`), atomically.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Print the plan as JSON on standard output instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Where to simulate (as `simulate --backend`).
+    #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
+    pub backend: BackendArg,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 #[derive(Args)]
@@ -497,6 +565,19 @@ impl PhysicsArgs {
             mu_r: self.mu_r,
             mu_sp: self.mu_sp.unwrap_or(DEFAULT_MU_SP_PER_RADIUS * self.radius),
             g: self.g,
+        }
+    }
+}
+
+impl RulesArg {
+    /// The library's game.
+    pub fn rules(self) -> kisstime::game::Rules {
+        use kisstime::game::Rules;
+        match self {
+            RulesArg::NineBall => Rules::NineBall,
+            RulesArg::EightBall => Rules::EightBall,
+            RulesArg::Snooker => Rules::Snooker,
+            RulesArg::ThreeCushion => Rules::ThreeCushion,
         }
     }
 }

@@ -8,6 +8,7 @@ pub mod args;
 pub mod bench;
 pub mod commands;
 pub mod draw;
+pub mod plan;
 pub mod progress;
 pub mod report;
 pub mod shot_plot;

@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use kisstime::engine::{Backend, Precision, ShotEngine};
-use kisstime::game::{Context, Rules, Shot};
+use kisstime::game::{Context, Shot};
 use kisstime::io::Format;
 use kisstime::io::context::{default_context, read_contexts};
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
@@ -173,12 +173,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         None => (Vec::new(), Vec::new()),
     };
     let n = batch.num_tables();
-    let rules = args.rules.map(|r| match r {
-        RulesArg::NineBall => Rules::NineBall,
-        RulesArg::EightBall => Rules::EightBall,
-        RulesArg::Snooker => Rules::Snooker,
-        RulesArg::ThreeCushion => Rules::ThreeCushion,
-    });
+    let rules = args.rules.map(RulesArg::rules);
     let contexts: Vec<Context> = match (rules, &args.context) {
         (Some(rules), Some(path)) => {
             let ids: Vec<i64> = (0..n).map(|k| batch.table_id(k)).collect();

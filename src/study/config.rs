@@ -164,7 +164,38 @@ impl Default for Noise {
     }
 }
 
+/// The cue-noise presets ([`Noise::preset`]): a name, its factor on the `fastfiz`
+/// deviations, and what it models.
+pub const NOISE_PRESETS: [(&str, f64, &str); 4] = [
+    (
+        "fastfiz",
+        1.0,
+        "the computational-pool tournaments' model (FastFiz): σ V0 0.075 m/s, φ 0.125°, \
+         θ 0.1°, a and b 0.5 mm",
+    ),
+    (
+        "club",
+        2.0,
+        "a good club player: twice fastfiz's deviations",
+    ),
+    (
+        "casual",
+        4.0,
+        "a casual player: four times fastfiz's deviations",
+    ),
+    ("none", 0.0, "no noise: every sample is the intended strike"),
+];
+
 impl Noise {
+    /// The preset `name` of [`NOISE_PRESETS`] (fastfiz's deviations, the study's
+    /// defaults, times the preset's factor; no physics spread), or `None`.
+    pub fn preset(name: &str) -> Option<Noise> {
+        NOISE_PRESETS
+            .iter()
+            .find(|(n, _, _)| *n == name)
+            .map(|(_, factor, _)| Noise::default().scaled(*factor))
+    }
+
     /// Every standard deviation, and the physics' every range, times `factor`.
     pub fn scaled(&self, factor: f64) -> Noise {
         Noise {

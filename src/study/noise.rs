@@ -20,13 +20,18 @@ const PHYSICS_STREAM: u64 = 0x7068_7973_6963_7321;
 /// normals (drawn in the order `v0, phi, theta, a, b`), with the offsets' σ (metres)
 /// divided by R, then clamped into the physical range ([`clamped`]).
 pub fn noisy_strike(config: &StudyConfig, sigma: &Noise, seed: u64, i: u64) -> CueStrike {
+    noisy_strike_of(config.shot, config.params.ball.r, sigma, seed, i)
+}
+
+/// [`noisy_strike`] of the intended strike `s` on balls of radius `r`: sample `i` of any
+/// intended strike draws the same five normals for the same `(seed, i)`, so that strikes
+/// compared sample by sample meet the same noise (common random numbers: the planner's).
+pub fn noisy_strike_of(s: CueStrike, r: f64, sigma: &Noise, seed: u64, i: u64) -> CueStrike {
     let mut rng = Pcg64Mcg::seed_from_u64(mix(seed, i));
     let mut z = [0.0f64; 5];
     for v in &mut z {
         *v = StandardNormal.sample(&mut rng);
     }
-    let s = config.shot;
-    let r = config.params.ball.r;
     clamped(CueStrike {
         v0: s.v0 + sigma.v0 * z[0],
         phi: s.phi + sigma.phi * z[1],

@@ -17,7 +17,7 @@ use super::config::{Noise, StudyConfig};
 use super::noise::{noisy_strike, sample_physics};
 use crate::engine::{Backend, Precision, ShotEngine};
 use crate::error::{Error, InputError, SimError};
-use crate::game::{Played, Verdict};
+use crate::game::{Context, Played, Verdict};
 use crate::model::ball_state::BallState;
 use crate::model::sim_params::{BallParams, Physics, SimParams};
 use crate::motion::evolve::evolve;
@@ -153,6 +153,15 @@ pub enum Samples<'a> {
     },
     /// These strikes, in order, without noise.
     Given(&'a [CueStrike]),
+    /// These strikes, in order, without noise, each judged in its own context instead of
+    /// the study's game's (`contexts[j]` for `strikes[j]`; a planner's candidates, each
+    /// with its call). The study needs a game.
+    Judged {
+        /// The strikes.
+        strikes: &'a [CueStrike],
+        /// Each strike's context.
+        contexts: &'a [Context],
+    },
 }
 
 impl Samples<'_> {
@@ -160,7 +169,7 @@ impl Samples<'_> {
     pub fn len(&self) -> usize {
         match self {
             Samples::Drawn { range, .. } => range.len(),
-            Samples::Given(strikes) => strikes.len(),
+            Samples::Given(strikes) | Samples::Judged { strikes, .. } => strikes.len(),
         }
     }
 
@@ -175,7 +184,15 @@ impl Samples<'_> {
             Samples::Drawn { sigma, seed, range } => {
                 noisy_strike(config, sigma, *seed, (range.start + j) as u64)
             }
-            Samples::Given(strikes) => strikes[j],
+            Samples::Given(strikes) | Samples::Judged { strikes, .. } => strikes[j],
+        }
+    }
+
+    /// The `j`th sample's context, where it has its own.
+    fn context(&self, j: usize) -> Option<&Context> {
+        match self {
+            Samples::Judged { contexts, .. } => Some(&contexts[j]),
+            _ => None,
         }
     }
 
@@ -233,12 +250,22 @@ pub fn run(
             .with_min_len(1024)
             .map(|j| samples.strike(config, j))
             .collect(),
-        Samples::Given(_) => Vec::new(),
+        Samples::Given(_) | Samples::Judged { .. } => Vec::new(),
     };
     let strikes: &[CueStrike] = match &samples {
         Samples::Drawn { .. } => &drawn,
-        Samples::Given(given) => given,
+        Samples::Given(given) | Samples::Judged { strikes: given, .. } => given,
     };
+    if let Samples::Judged { contexts, .. } = &samples {
+        if config.game.is_none() {
+            return Err(InputError::new("samples judged in their own contexts need a game").into());
+        }
+        if contexts.len() != n {
+            return Err(
+                InputError::new(format!("{n} strikes but {} contexts", contexts.len())).into(),
+            );
+        }
+    }
     let batch = BatchOptions {
         limits: options.limits,
         record_events: false,
@@ -281,7 +308,7 @@ pub fn run(
                 watch,
                 (end.x, end.y),
                 run.outcome,
-                &initial,
+                (&initial, samples.context(j)),
             )
         }));
         progress(out.len(), n);
@@ -377,7 +404,8 @@ fn first_contact_kind(ev: &Event, cue: u32) -> FirstContact {
 /// played with the ball parameters `ball`, run [`Until`] the end asked for; `cue_final` is
 /// the cue ball's centre at the end and `outcome` how the run ended (both ignored where
 /// the sample ends at its first contact); `start` holds the balls at the start, for the
-/// game's verdict (where the study has a game and the watch kept the rules' facts).
+/// game's verdict (where the study has a game and the watch kept the rules' facts), and
+/// the context that judges it where not the game's own.
 // every argument is one part of what a sample came to; a struct of them would only rename them
 #[allow(clippy::too_many_arguments)]
 pub fn sample_of(
@@ -388,7 +416,7 @@ pub fn sample_of(
     watch: TableWatch<'_>,
     cue_final: (f64, f64),
     outcome: Outcome,
-    start: &[BallState],
+    (start, context): (&[BallState], Option<&Context>),
 ) -> Sample {
     let cue = config.cue;
     let potted = watch
@@ -423,7 +451,8 @@ pub fn sample_of(
             cue,
             facts,
         };
-        s.verdict = game.rules.judge_played(&played, &game.context).ok();
+        let context = context.unwrap_or(&game.context);
+        s.verdict = game.rules.judge_played(&played, context).ok();
     }
     let Some(f) = watch.first else {
         return s;

@@ -1,0 +1,262 @@
+//! `kisstime plan`: the shot to play from one position (the library's `plan`), printed as
+//! a ranked table or JSON, the chosen strike written as `simulate --strikes` reads it.
+
+use kisstime::engine::{Precision, ShotEngine};
+use kisstime::error::{Error, InputError};
+use kisstime::game::{Context, Rules};
+use kisstime::io::atomic::write_output;
+use kisstime::io::context::default_context;
+use kisstime::io::physics::read_physics_or_default;
+use kisstime::io::table_json::table_by_name;
+use kisstime::model::ball_state::BallState;
+use kisstime::plan::{Budget, Kind, Plan, PlanOptions, Ranked, plan, position};
+use kisstime::study::{NOISE_PRESETS, Noise, StudyConfig};
+
+use super::args::PlanArgs;
+use super::commands::{check_output, read_input};
+
+/// The budget `text` names: seconds (`1s`, `250ms`) or a number of samples.
+pub fn parse_budget(text: &str) -> Result<Budget, Error> {
+    let t = text.trim();
+    let bad = || {
+        InputError::new(format!(
+            "--budget {text}: expected seconds (1s, 250ms) or a number of samples (200000)"
+        ))
+    };
+    let budget = if let Some(ms) = t.strip_suffix("ms") {
+        Budget::Seconds(ms.trim().parse::<f64>().map_err(|_| bad())? / 1000.0)
+    } else if let Some(s) = t.strip_suffix('s') {
+        Budget::Seconds(s.trim().parse::<f64>().map_err(|_| bad())?)
+    } else {
+        Budget::Samples(t.parse::<usize>().map_err(|_| bad())?)
+    };
+    Ok(budget)
+}
+
+/// The noise preset `name` times `scale`.
+fn noise_of(name: &str, scale: f64) -> Result<Noise, Error> {
+    let Some(noise) = Noise::preset(name) else {
+        let names: Vec<&str> = NOISE_PRESETS.iter().map(|(n, _, _)| *n).collect();
+        return Err(InputError::new(format!(
+            "--noise {name}: not a preset (one of {})",
+            names.join(", ")
+        ))
+        .into());
+    };
+    if !(scale.is_finite() && scale >= 0.0) {
+        return Err(InputError::new(format!(
+            "--noise-scale {scale}: a finite factor of at least 0"
+        ))
+        .into());
+    }
+    Ok(noise.scaled(scale))
+}
+
+/// The position of `args`' input: its table (the only one, or --table-id's) as the
+/// planner's study configuration.
+fn read_position(args: &PlanArgs, rules: Rules) -> Result<(i64, StudyConfig), Error> {
+    let file = args.input.display().to_string();
+    let batch = read_input(&args.input)?;
+    let table = table_by_name(&args.table)?;
+    let params = read_physics_or_default(args.physics.as_deref())?;
+    let k = match args.table_id {
+        Some(id) => (0..batch.num_tables())
+            .find(|&k| batch.table_id(k) == id)
+            .ok_or_else(|| InputError::new(format!("{file}: no table {id}")))?,
+        None if batch.num_tables() == 1 => 0,
+        None => {
+            return Err(InputError::new(format!(
+                "{file} holds {} tables: name one with --table-id",
+                batch.num_tables()
+            ))
+            .into());
+        }
+    };
+    let at = format!("{file}, table {}", batch.table_id(k));
+    let ids = batch.ball_ids(k);
+    let balls: Vec<BallState> = batch
+        .balls(k)
+        .iter()
+        .map(|b| BallState::from_ball(b, params.ball.r))
+        .collect();
+    let mut context = default_context(rules);
+    if let Some(list) = &args.hittable {
+        let mut set = Vec::new();
+        for item in list
+            .split([';', ','])
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+        {
+            let id: i64 = item
+                .parse()
+                .map_err(|_| InputError::new(format!("--hittable: {item} is not a ball id")))?;
+            let on_table = ids
+                .iter()
+                .zip(&balls)
+                .any(|(&i, b)| i == id && b.s != kisstime::model::MotionState::Pocketed);
+            if !on_table || id <= 0 {
+                return Err(InputError::new(format!(
+                    "--hittable: ball {id} is not an object ball on the table ({at})"
+                ))
+                .into());
+            }
+            set.push(id);
+        }
+        context.hittable = Context::balls(set);
+    }
+    let config = position(&table, &args.table, params, (ids, &balls), rules, context).map_err(
+        |e| match e {
+            Error::Input(e) => Error::from(InputError::new(format!("{at}: {e}"))),
+            other => other,
+        },
+    )?;
+    Ok((batch.table_id(k), config))
+}
+
+pub fn run(args: &PlanArgs) -> Result<(), Error> {
+    let rules = args.rules.rules();
+    let budget = parse_budget(&args.budget)?;
+    let noise = noise_of(&args.noise, args.noise_scale)?;
+    if let Some(path) = &args.output {
+        check_output(path, "-o", &["csv"])?;
+    }
+    if args.top == 0 {
+        return Err(InputError::new("--top 0: at least one finalist").into());
+    }
+    let (table_id, config) = read_position(args, rules)?;
+    let mut engine = ShotEngine::new(args.backend.backend(), Precision::F64)?;
+    let options = PlanOptions {
+        noise,
+        seed: args.seed,
+        budget,
+        finalists: args.top,
+        ..PlanOptions::default()
+    };
+    let planned = plan(&mut engine, &config, &options)?;
+    for note in engine.take_notes() {
+        eprintln!("kisstime: {note}");
+    }
+    eprintln!(
+        "kisstime: {} candidates, {} samples in {:.2} s ({} rounds, {:.0} samples/s) on {}",
+        planned.candidates,
+        planned.samples,
+        planned.seconds,
+        planned.rounds,
+        planned.samples as f64 / planned.seconds.max(1e-9),
+        engine.describe()
+    );
+    if args.json {
+        println!("{}", plan_json(&config, &planned, rules));
+    } else {
+        print!("{}", plan_table(&config, &planned));
+    }
+    if let Some(path) = &args.output {
+        let best = &planned.ranked[0];
+        let s = best.candidate.strike;
+        write_output(Some(path), |w| {
+            let table = table_id;
+            let cue = &config.balls[config.cue].id;
+            writeln!(w, "table,ball,V0,phi,theta,a,b")
+                .and_then(|()| {
+                    writeln!(
+                        w,
+                        "{table},{cue},{},{},{},{},{}",
+                        s.v0, s.phi, s.theta, s.a, s.b
+                    )
+                })
+                .map_err(kisstime::io::atomic::output_error)
+        })?;
+    }
+    Ok(())
+}
+
+/// The shot a candidate tries, in words: `3 -> rt (cut 12.3°)`.
+fn shot_name(config: &StudyConfig, r: &Ranked) -> String {
+    let Kind::Pot { ball, pocket } = r.candidate.kind;
+    format!(
+        "{} -> {} (cut {:.1}°)",
+        config.balls[ball].id, config.table.pocket_ids[pocket], r.candidate.aim.cut
+    )
+}
+
+/// The ranked finalists as a text table.
+fn plan_table(config: &StudyConfig, planned: &Plan) -> String {
+    let mut out = format!(
+        "{:<4} {:<22} {:>5} {:>8} {:>5} {:>5} {:>5}  {:<22} {:>7} {:>9} {:>8} {:>6}\n",
+        "rank",
+        "shot",
+        "V0",
+        "phi",
+        "theta",
+        "a",
+        "b",
+        "P(keep) [95%]",
+        "P(foul)",
+        "P(scratch)",
+        "position",
+        "value"
+    );
+    for (k, r) in planned.ranked.iter().enumerate() {
+        let s = r.candidate.strike;
+        let e = &r.estimate;
+        let (keep, lo, hi) = e.p_keep();
+        out.push_str(&format!(
+            "{:<4} {:<22} {:>5.2} {:>8.3} {:>5.1} {:>5.2} {:>5.2}  {:<22} {:>7.3} {:>9.3} {:>8.2} {:>6.3}\n",
+            k + 1,
+            shot_name(config, r),
+            s.v0,
+            s.phi,
+            s.theta,
+            s.a,
+            s.b,
+            format!("{keep:.3} [{lo:.3}, {hi:.3}]"),
+            e.p_foul().0,
+            e.p_scratch().0,
+            e.position(),
+            e.value()
+        ));
+    }
+    let n = planned.ranked.first().map_or(0, |r| r.estimate.samples);
+    out.push_str(&format!(
+        "each finalist on {n} fresh samples; play rank 1\n"
+    ));
+    out
+}
+
+/// The plan as JSON.
+fn plan_json(config: &StudyConfig, planned: &Plan, rules: Rules) -> String {
+    let ranked: Vec<serde_json::Value> = planned
+        .ranked
+        .iter()
+        .map(|r| {
+            let Kind::Pot { ball, pocket } = r.candidate.kind;
+            let s = r.candidate.strike;
+            let e = &r.estimate;
+            let p = |(v, lo, hi): (f64, f64, f64)| serde_json::json!([v, lo, hi]);
+            serde_json::json!({
+                "kind": "pot",
+                "ball": config.balls[ball].id,
+                "pocket": config.table.pocket_ids[pocket],
+                "cut": r.candidate.aim.cut,
+                "strike": {"V0": s.v0, "phi": s.phi, "theta": s.theta, "a": s.a, "b": s.b},
+                "samples": e.samples,
+                "p_keep": p(e.p_keep()),
+                "p_foul": p(e.p_foul()),
+                "p_scratch": p(e.p_scratch()),
+                "p_won": e.won as f64 / e.samples.max(1) as f64,
+                "p_lost": e.lost as f64 / e.samples.max(1) as f64,
+                "position": e.position(),
+                "value": e.value(),
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "rules": rules.name(),
+        "candidates": planned.candidates,
+        "samples": planned.samples,
+        "rounds": planned.rounds,
+        "seconds": planned.seconds,
+        "ranked": ranked,
+    })
+    .to_string()
+}

@@ -1,0 +1,261 @@
+//! Candidates evaluated under cue noise: every candidate of a round meets the same noise
+//! draws (sample `i` of each is its intended strike plus the `i`th draw of
+//! [`noisy_strike_of`]: common random numbers, so that the differences between candidates
+//! are the strikes', not the noise's), all of them in one engine call, each sample judged
+//! by the game's rules in the candidate's own context (its call).
+//!
+//! A sample's value: the game won, `1 + POSITION_WEIGHT`; the table kept (legal, turn not
+//! over), `1 + POSITION_WEIGHT · ease`, where `ease` in [0, 1] scores the best next shot
+//! from where the cue ball stopped ([`next_shot_ease`]); a foul, `−FOUL_COST`; the game
+//! lost, −1; a legal miss, 0.
+
+use super::aim::{ghost_ball, path_clear};
+use super::candidates::{Candidate, Kind, MAX_CUT};
+use crate::engine::ShotEngine;
+use crate::error::Error;
+use crate::game::{Context, Rules, Verdict};
+use crate::resolve::stick_ball::CueStrike;
+use crate::study::{Noise, RunOptions, Sample, Samples, StudyConfig, noisy_strike_of, run, wilson};
+
+/// What the position after a kept shot adds to its value at most (a sure next shot).
+pub const POSITION_WEIGHT: f64 = 0.5;
+/// What a foul costs (the opponent's ball in hand).
+pub const FOUL_COST: f64 = 0.25;
+/// The length scale of the next shot's ease, m: `exp(−(cue travel + object travel) /
+/// EASE_LENGTH)`.
+pub const EASE_LENGTH: f64 = 2.0;
+
+/// A candidate's counts over its samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Estimate {
+    /// Samples simulated.
+    pub samples: usize,
+    /// Samples that kept the table (legal, the turn not over) or won the game.
+    pub kept: usize,
+    /// Samples with a foul.
+    pub fouls: usize,
+    /// Samples where the cue ball was pocketed.
+    pub scratches: usize,
+    /// Samples that won the game.
+    pub won: usize,
+    /// Samples that lost it.
+    pub lost: usize,
+    /// The sum of the samples' values (module docs).
+    pub value_sum: f64,
+    /// The sum of the next shot's ease over the kept samples.
+    pub ease_sum: f64,
+}
+
+impl Estimate {
+    /// The mean value of a sample: what the planner ranks by.
+    pub fn value(&self) -> f64 {
+        self.value_sum / self.samples.max(1) as f64
+    }
+
+    /// The probability of keeping the table, with its 95 % Wilson interval.
+    pub fn p_keep(&self) -> (f64, f64, f64) {
+        interval(self.kept, self.samples)
+    }
+
+    /// The probability of a foul, with its interval.
+    pub fn p_foul(&self) -> (f64, f64, f64) {
+        interval(self.fouls, self.samples)
+    }
+
+    /// The probability of a scratch, with its interval.
+    pub fn p_scratch(&self) -> (f64, f64, f64) {
+        interval(self.scratches, self.samples)
+    }
+
+    /// The mean ease of the next shot over the kept samples (0 with none).
+    pub fn position(&self) -> f64 {
+        if self.kept == 0 {
+            0.0
+        } else {
+            self.ease_sum / self.kept as f64
+        }
+    }
+
+    fn add(&mut self, other: &Estimate) {
+        self.samples += other.samples;
+        self.kept += other.kept;
+        self.fouls += other.fouls;
+        self.scratches += other.scratches;
+        self.won += other.won;
+        self.lost += other.lost;
+        self.value_sum += other.value_sum;
+        self.ease_sum += other.ease_sum;
+    }
+}
+
+fn interval(k: usize, n: usize) -> (f64, f64, f64) {
+    let (lo, hi) = wilson(k, n);
+    (k as f64 / n.max(1) as f64, lo, hi)
+}
+
+/// The context a candidate is judged in: the game's, with its call (8-ball calls the
+/// ball and the pocket).
+pub fn context_of(config: &StudyConfig, c: &Candidate) -> Context {
+    let game = config
+        .game
+        .as_ref()
+        .expect("the planner's position has a game");
+    let Kind::Pot { ball, pocket } = c.kind;
+    match game.rules {
+        Rules::EightBall => Context {
+            ball_call: Some(game.ids[ball]),
+            pocket_call: Some(pocket),
+            ..game.context
+        },
+        _ => game.context,
+    }
+}
+
+/// Adds samples `ids` of every candidate of `which` (indices in `candidates`) to their
+/// estimates, all in one call on `engine`.
+pub fn evaluate(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    candidates: &[Candidate],
+    which: &[usize],
+    (noise, seed, ids): (&Noise, u64, std::ops::Range<u64>),
+    estimates: &mut [Estimate],
+) -> Result<(), Error> {
+    let per = ids.end.saturating_sub(ids.start) as usize;
+    if per == 0 || which.is_empty() {
+        return Ok(());
+    }
+    let r = config.params.ball.r;
+    let mut strikes: Vec<CueStrike> = Vec::with_capacity(which.len() * per);
+    let mut contexts: Vec<Context> = Vec::with_capacity(which.len() * per);
+    for &c in which {
+        let context = context_of(config, &candidates[c]);
+        for i in ids.clone() {
+            strikes.push(noisy_strike_of(candidates[c].strike, r, noise, seed, i));
+            contexts.push(context);
+        }
+    }
+    let samples = Samples::Judged {
+        strikes: &strikes,
+        contexts: &contexts,
+    };
+    let done = run(
+        engine,
+        config,
+        samples,
+        &RunOptions::default(),
+        &mut |_, _| {},
+    )?;
+    for (k, &c) in which.iter().enumerate() {
+        let mut e = Estimate::default();
+        for s in &done[k * per..(k + 1) * per] {
+            e.add(&judge_sample(config, s));
+        }
+        estimates[c].add(&e);
+    }
+    Ok(())
+}
+
+/// One sample as an [`Estimate`] of one sample.
+fn judge_sample(config: &StudyConfig, s: &Sample) -> Estimate {
+    let v: Verdict = s.verdict.unwrap_or(Verdict {
+        legal: false,
+        foul: None,
+        turn_over: true,
+        game_over: false,
+        won: false,
+        points: 0,
+        foul_points: 0,
+    });
+    let scratch = s.pocket_of(config.cue).is_some();
+    let mut e = Estimate {
+        samples: 1,
+        scratches: usize::from(scratch),
+        fouls: usize::from(v.foul.is_some()),
+        ..Estimate::default()
+    };
+    if v.game_over {
+        if v.won {
+            e.won = 1;
+            e.kept = 1;
+            e.ease_sum = 1.0;
+            e.value_sum = 1.0 + POSITION_WEIGHT;
+        } else {
+            e.lost = 1;
+            e.value_sum = -1.0;
+        }
+    } else if v.legal && !v.turn_over {
+        let ease = next_shot_ease(config, s);
+        e.kept = 1;
+        e.ease_sum = ease;
+        e.value_sum = 1.0 + POSITION_WEIGHT * ease;
+    } else if v.foul.is_some() {
+        e.value_sum = -FOUL_COST;
+    }
+    e
+}
+
+/// How easy the best next shot is from where sample `s` left the cue ball, in [0, 1]: the
+/// best direct pot among the balls the player may hit next (9-ball: the lowest left;
+/// 8-ball: the group's left, else the 8) of `cos(cut) · exp(−(cue travel + object
+/// travel) / EASE_LENGTH)`, 0 where no pot's cut is under [`MAX_CUT`] with both paths
+/// clear. A cheap estimate: the other balls are taken where they were before the shot
+/// (less the pocketed ones), which the shot may have moved.
+pub fn next_shot_ease(config: &StudyConfig, s: &Sample) -> f64 {
+    let game = config
+        .game
+        .as_ref()
+        .expect("the planner's position has a game");
+    let r = config.params.ball.r;
+    let left = |k: &usize| *k != config.cue && s.pocket_of(*k).is_none();
+    let balls: Vec<usize> = (0..config.balls.len()).filter(left).collect();
+    let next: Vec<usize> = match game.rules {
+        Rules::NineBall => balls
+            .iter()
+            .copied()
+            .min_by_key(|&k| game.ids[k])
+            .into_iter()
+            .collect(),
+        _ => {
+            let group: Vec<usize> = balls
+                .iter()
+                .copied()
+                .filter(|&k| {
+                    let id = game.ids[k];
+                    (1..32).contains(&id) && game.context.hittable & (1 << id) != 0
+                })
+                .collect();
+            if group.is_empty() {
+                balls
+                    .iter()
+                    .copied()
+                    .filter(|&k| game.ids[k] == 8)
+                    .collect()
+            } else {
+                group
+            }
+        }
+    };
+    let at = |k: usize| (config.balls[k].x, config.balls[k].y);
+    let cue = s.cue_final;
+    let mut best = 0.0f64;
+    for &b in &next {
+        let others = || balls.iter().copied().filter(|&k| k != b).map(at);
+        for p in &config.table.pockets {
+            let target = (p.center.x, p.center.y);
+            let Some(aim) = ghost_ball(cue, at(b), target, r) else {
+                continue;
+            };
+            if aim.cut >= MAX_CUT
+                || !path_clear(cue, aim.ghost, r, others())
+                || !path_clear(at(b), target, r, others())
+            {
+                continue;
+            }
+            let ease = aim.cut.to_radians().cos()
+                * (-(aim.cue_travel + aim.object_travel) / EASE_LENGTH).exp();
+            best = best.max(ease);
+        }
+    }
+    best
+}

@@ -1,0 +1,335 @@
+//! Which shot to play: a shot planner under cue noise and a game's rules (issue 29's first
+//! part: direct pots in 8-ball and 9-ball).
+//!
+//! - [`aim`]: the ghost-ball aim, the cut angle, whether a path is clear;
+//! - [`candidates`]: the shots tried (each target ball into each pocket, where the aim is
+//!   playable, over a grid of speeds and spins);
+//! - [`evaluate`](mod@evaluate): candidates under the same noise draws (common random
+//!   numbers), in one engine call, judged by the game in each candidate's context, and
+//!   each sample's value (the table kept, the position left, fouls, the game);
+//! - [`plan`]: successive halving over the candidates (every survivor of a round gets as
+//!   many new samples as it had, the lower half is dropped), then the finalists estimated
+//!   again on fresh draws, so that the figures reported are not the ones that chose them
+//!   (a candidate chosen for a lucky run would otherwise report its luck).
+//!
+//! Not yet: banks, kicks, combinations, safeties, ball in hand, the break, a refinement in
+//! the continuous strike, and a position value checked against nested studies.
+
+pub mod aim;
+pub mod candidates;
+pub mod evaluate;
+
+use std::time::Instant;
+
+pub use aim::{Aim, ghost_ball, path_clear};
+pub use candidates::{Candidate, Kind, direct_pots, targets};
+pub use evaluate::{Estimate, context_of, next_shot_ease};
+
+use crate::engine::ShotEngine;
+use crate::error::{Error, InputError};
+use crate::study::{Noise, StudyConfig};
+
+/// Where the final estimates' noise draws start: far from the halving's, so that the
+/// finalists meet fresh noise.
+pub const FRESH_DRAWS: u64 = 1 << 40;
+
+/// The fewest samples of a first round (over all candidates).
+pub const FIRST_ROUND: usize = 4096;
+
+/// The most a planner may be given: an hour, or 10⁹ samples.
+pub const MAX_BUDGET_SECONDS: f64 = 3600.0;
+/// See [`MAX_BUDGET_SECONDS`].
+pub const MAX_BUDGET_SAMPLES: usize = 1_000_000_000;
+
+/// How much a plan may simulate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Budget {
+    /// About this many seconds (the rate measured on the first round sizes the rest).
+    Seconds(f64),
+    /// This many samples at most (a plan then is the same at every run).
+    Samples(usize),
+}
+
+/// How a plan is made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanOptions {
+    /// The cue noise the strikes are played under.
+    pub noise: Noise,
+    /// The noise draws' seed.
+    pub seed: u64,
+    /// What it may spend.
+    pub budget: Budget,
+    /// Samples of each candidate in the first round.
+    pub first_samples: usize,
+    /// Candidates estimated again on fresh draws at the end, and reported.
+    pub finalists: usize,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        PlanOptions {
+            noise: Noise::default(),
+            seed: 1,
+            budget: Budget::Seconds(1.0),
+            first_samples: 64,
+            finalists: 5,
+        }
+    }
+}
+
+/// One of the finalists.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ranked {
+    /// The candidate.
+    pub candidate: Candidate,
+    /// Its estimate on fresh draws.
+    pub estimate: Estimate,
+}
+
+/// A plan: the finalists, best first (the first is the shot to play).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// The finalists, by their fresh estimate's value, best first.
+    pub ranked: Vec<Ranked>,
+    /// Candidates generated.
+    pub candidates: usize,
+    /// Samples simulated in all.
+    pub samples: usize,
+    /// Rounds of halving.
+    pub rounds: usize,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// The shot to play from `config`'s position (its balls, table, physics and game with its
+/// context; its `[shot]` is not used) under `options`, simulated on `engine` (module docs).
+///
+/// Errors: a game the planner does not play, a break, no ball the player may hit on the
+/// table, no playable direct pot, a budget that is not positive and finite or past
+/// [`MAX_BUDGET_SECONDS`] / [`MAX_BUDGET_SAMPLES`] or too small for one round
+/// ([`Error::Input`]); what the engine refuses.
+pub fn plan(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    options: &PlanOptions,
+) -> Result<Plan, Error> {
+    let started = Instant::now();
+    let candidates = direct_pots(config).map_err(InputError::new)?;
+    if candidates.is_empty() {
+        return Err(InputError::new(
+            "no direct pot is playable from this position (every cut is past 80° or every path \
+             blocked; banks, kicks and safeties are not planned yet)",
+        )
+        .into());
+    }
+    let n = candidates.len();
+    // a first round of at least FIRST_ROUND samples: a time budget is sized by its rate
+    let first = options.first_samples.max(FIRST_ROUND.div_ceil(n)).max(1);
+    let finalists = options.finalists.max(1);
+    let budget = match options.budget {
+        Budget::Seconds(s) if s.is_finite() && s > 0.0 && s <= MAX_BUDGET_SECONDS => None,
+        Budget::Samples(k) if (1..=MAX_BUDGET_SAMPLES).contains(&k) => {
+            if k < n * first + finalists {
+                return Err(InputError::new(format!(
+                    "a budget of {k} samples is too small: {n} candidates of {first} samples \
+                     need {} at least",
+                    n * first + finalists
+                ))
+                .into());
+            }
+            Some(k)
+        }
+        b => {
+            let named = match b {
+                Budget::Seconds(s) => format!("{s} s"),
+                Budget::Samples(k) => format!("{k} samples"),
+            };
+            return Err(InputError::new(format!(
+                "a budget of {named}: give more than nothing, at most an hour or 10⁹ samples"
+            ))
+            .into());
+        }
+    };
+    let draws = |ids: std::ops::Range<u64>| (&options.noise, options.seed, ids);
+    let mut estimates = vec![Estimate::default(); n];
+    let mut alive: Vec<usize> = (0..n).collect();
+    let (mut per, mut done, mut used, mut rounds) = (first as u64, 0u64, 0usize, 0usize);
+    loop {
+        evaluate::evaluate(
+            engine,
+            config,
+            &candidates,
+            &alive,
+            draws(done..done + per),
+            &mut estimates,
+        )?;
+        used += alive.len() * per as usize;
+        done += per;
+        rounds += 1;
+        let total = budget.unwrap_or_else(|| samples_in_time(options.budget, used, &started));
+        if alive.len() <= finalists {
+            break;
+        }
+        rank(&mut alive, &estimates);
+        alive.truncate(alive.len().div_ceil(2).max(finalists));
+        per = done;
+        // the halving may spend two thirds of the budget; the final estimates the rest
+        if used + alive.len() * per as usize > total * 2 / 3 {
+            break;
+        }
+    }
+    rank(&mut alive, &estimates);
+    alive.truncate(finalists);
+    let total = budget.unwrap_or_else(|| samples_in_time(options.budget, used, &started));
+    let fresh = (total.saturating_sub(used) / alive.len()).max(first) as u64;
+    let mut finals = vec![Estimate::default(); n];
+    evaluate::evaluate(
+        engine,
+        config,
+        &candidates,
+        &alive,
+        draws(FRESH_DRAWS..FRESH_DRAWS + fresh),
+        &mut finals,
+    )?;
+    used += alive.len() * fresh as usize;
+    rank(&mut alive, &finals);
+    Ok(Plan {
+        ranked: alive
+            .iter()
+            .map(|&c| Ranked {
+                candidate: candidates[c],
+                estimate: finals[c],
+            })
+            .collect(),
+        candidates: n,
+        samples: used,
+        rounds,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// A planner's position as a study's configuration: the balls on the table at rest
+/// (`ids[k]`, `balls[k]`: the game's ids, 0 the cue ball; pocketed balls are left out), the
+/// table (`table_name` for messages) and physics, the game and its context (the rules'
+/// own part added: 8-ball's call; with none of the group on the table, the 8 is the ball
+/// on). The study's shot is a placeholder (the planner chooses it).
+///
+/// Errors ([`Error::Input`], naming the ball): no cue ball (id 0), a ball moving, two
+/// balls with one id, a ball off the table or overlapping another, a context the game
+/// cannot judge.
+pub fn position(
+    table: &crate::model::table::Table,
+    table_name: &str,
+    params: crate::model::sim_params::SimParams,
+    (ids, balls): (&[i64], &[crate::model::ball_state::BallState]),
+    rules: crate::game::Rules,
+    context: crate::game::Context,
+) -> Result<StudyConfig, Error> {
+    use crate::model::MotionState;
+    let mut spots = Vec::new();
+    let mut on = Vec::new();
+    let mut kept_ids = Vec::new();
+    for (k, (&id, b)) in ids.iter().zip(balls).enumerate() {
+        if ids[..k].contains(&id) {
+            return Err(InputError::new(format!("ball {id} is given twice")).into());
+        }
+        match b.s {
+            MotionState::Pocketed => continue,
+            MotionState::Stationary => {}
+            s => {
+                return Err(InputError::new(format!(
+                    "ball {id} is {} : the planner plays from a position at rest",
+                    s.name()
+                ))
+                .into());
+            }
+        }
+        if b.v.norm() != 0.0 || b.w.norm() != 0.0 {
+            return Err(InputError::new(format!(
+                "ball {id} moves or spins: the planner plays from a position at rest"
+            ))
+            .into());
+        }
+        spots.push(crate::study::Spot {
+            id: id.to_string(),
+            x: b.r.x,
+            y: b.r.y,
+        });
+        on.push(*b);
+        kept_ids.push(id);
+    }
+    let Some(cue) = kept_ids.iter().position(|&id| id == 0) else {
+        return Err(InputError::new("no cue ball (id 0) on the table").into());
+    };
+    crate::simulate::check::check_layout(table, params.ball.r, &on).map_err(|e| {
+        use crate::error::SimError;
+        InputError::new(match e {
+            SimError::Ball { index, reason } => format!("ball {}: {reason}", kept_ids[index]),
+            SimError::Overlap {
+                first,
+                second,
+                depth,
+            } => format!(
+                "balls {} and {} overlap by {depth:.3e} m",
+                kept_ids[first], kept_ids[second]
+            ),
+            other => other.to_string(),
+        })
+    })?;
+    let mut context = context;
+    // 8-ball: with the group down, the 8 is the ball on
+    let on_table = |id: i64| (1..32).contains(&id) && context.hittable & (1 << id) != 0;
+    if rules == crate::game::Rules::EightBall && !kept_ids.iter().any(|&id| on_table(id)) {
+        context.hittable = crate::game::Context::balls([8]);
+    }
+    let context = rules.context(context);
+    rules.check_context(&context).map_err(InputError::new)?;
+    let intended = (0..spots.len()).find(|&k| k != cue).unwrap_or(cue);
+    Ok(StudyConfig {
+        source: "the planner's position".into(),
+        table_name: table_name.into(),
+        table: table.clone(),
+        params,
+        balls: spots,
+        cue,
+        intended,
+        pocket: None,
+        shot: crate::resolve::stick_ball::CueStrike {
+            v0: 0.0,
+            phi: 0.0,
+            theta: 0.0,
+            a: 0.0,
+            b: 0.0,
+        },
+        target: None,
+        noise_factor: 1.0,
+        noise: Noise::default(),
+        game: Some(crate::study::StudyGame {
+            rules,
+            context,
+            ids: kept_ids,
+        }),
+    })
+}
+
+/// A time budget as samples: `used` samples so far took the time since `started`, and
+/// the rest go at that rate.
+fn samples_in_time(budget: Budget, used: usize, started: &Instant) -> usize {
+    match budget {
+        Budget::Seconds(s) => {
+            let rate = used as f64 / started.elapsed().as_secs_f64().max(1e-6);
+            (rate * s) as usize
+        }
+        Budget::Samples(k) => k,
+    }
+}
+
+/// `which` by their estimates' value, best first (ties: the earlier candidate).
+fn rank(which: &mut [usize], estimates: &[Estimate]) {
+    which.sort_by(|&a, &b| {
+        estimates[b]
+            .value()
+            .total_cmp(&estimates[a].value())
+            .then(a.cmp(&b))
+    });
+}
