@@ -62,6 +62,9 @@ __all__ = [
     "Study",
     "shot_study",
     "SAMPLE_FIELDS",
+    "Plan",
+    "plan",
+    "NOISE_PRESETS",
 ]
 
 #: The balls' structured dtype (the command line's ``.npy`` input layout).
@@ -854,3 +857,162 @@ def shot_study(
         part = {"sample": ids[rows], **{n: c[rows] for n, c in zip(_STRIKE_FIELDS, nums)}}
         blobs.append(_study_chunk(sc, 0, len(ids[rows]), strikes=part, **options))
     return _study_merge(sc, blobs, until=until)
+
+
+#: The cue-noise presets ``plan(noise=...)`` takes (``kisstime::study::NOISE_PRESETS``):
+#: ``fastfiz`` (the computational-pool tournaments' model: σ V0 0.075 m/s, φ 0.125°,
+#: θ 0.1°, a and b 0.5 mm), ``club`` (twice that), ``casual`` (four times), ``none``.
+NOISE_PRESETS = ("fastfiz", "club", "casual", "none")
+
+_NOISE_KEYS = ("V0", "phi", "theta", "a", "b")
+
+
+@dataclass
+class Plan:
+    """The shot to play (:func:`plan`).
+
+    Attributes:
+        strike: The chosen strike in pooltool's ``Cue`` conventions: ``V0`` (m/s), ``phi``,
+            ``theta`` (degrees), ``a``, ``b`` (fractions of the ball radius).
+        ranked: The finalists, best first, each a dict: ``kind`` (``"pot"``), ``ball`` and
+            ``pocket`` (ids), ``cut`` (degrees), ``strike``, ``samples``, ``p_keep``,
+            ``p_foul``, ``p_scratch`` (each ``[p, low, high]``: the 95 % Wilson interval),
+            ``p_won``, ``p_lost``, ``position`` (the next shot's ease, 0 to 1) and
+            ``value``; estimated on noise draws of their own, not those that chose them.
+        candidates: Candidates tried.
+        samples: Samples simulated in all.
+        rounds: Rounds of successive halving.
+        seconds: Wall-clock seconds.
+        rules: The game.
+    """
+
+    strike: dict
+    ranked: list
+    candidates: int
+    samples: int
+    rounds: int
+    seconds: float
+    rules: str
+
+    @property
+    def best(self) -> dict:
+        """The first of :attr:`ranked`."""
+        return self.ranked[0]
+
+
+def _plan_balls(balls: Any) -> tuple:
+    """``balls=`` of :func:`plan` as (ids, xs, ys): a mapping ``{id: (x, y)}``, rows
+    ``(id, x, y)``, or a :data:`BALL_DTYPE` array of one table (pocketed balls left out)."""
+    if isinstance(balls, Mapping):
+        ids = [int(k) for k in balls.keys()]
+        xy = [tuple(v) for v in balls.values()]
+        if any(len(v) != 2 for v in xy):
+            raise ValueError("balls: each value must be (x, y)")
+        return ids, [float(v[0]) for v in xy], [float(v[1]) for v in xy]
+    arr = np.asarray(balls)
+    if arr.dtype.names is not None:
+        if len(np.unique(arr["table"])) > 1:
+            raise ValueError("balls: plan takes one table's balls")
+        arr = arr[arr["state"] != STATES["pocketed"]]
+        return (
+            [int(b) for b in arr["ball"]],
+            [float(x) for x in arr["x"]],
+            [float(y) for y in arr["y"]],
+        )
+    arr = np.asarray(balls, dtype=np.float64)
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise ValueError(f"balls: expected rows (id, x, y), got shape {arr.shape}")
+    if not np.all(arr[:, 0] == np.round(arr[:, 0])):
+        raise ValueError("balls: ids must be integers")
+    return [int(i) for i in arr[:, 0]], [float(x) for x in arr[:, 1]], [float(y) for y in arr[:, 2]]
+
+
+def plan(
+    balls: Any,
+    *,
+    rules: str,
+    hittable: Optional[Sequence[int]] = None,
+    table: TableLike = "9ft",
+    physics: PhysicsLike = None,
+    noise: Union[str, Mapping[str, float]] = "fastfiz",
+    noise_scale: float = 1.0,
+    budget_s: Optional[float] = 1.0,
+    budget_samples: Optional[int] = None,
+    seed: int = 1,
+    top: int = 5,
+    backend: str = "cpu",
+) -> Plan:
+    """Which shot to play from an 8-ball or 9-ball position, under cue noise and the
+    game's rules (``kisstime plan``; docs/plan.md).
+
+    The planner tries each ball the player may hit into each pocket where the ghost-ball
+    aim is playable, over speeds and spins; plays every candidate under the same noise
+    draws, judged by the rules (8-ball: called on that ball and pocket), halving the field
+    each round; then estimates the ``top`` finalists again on fresh draws.
+
+    Args:
+        balls: The position, every ball at rest: ``{id: (x, y)}``, rows ``(id, x, y)`` or
+            a :data:`BALL_DTYPE` array of one table (pocketed balls are left out). Ids are
+            the game's: 0 the cue ball, object balls their numbers.
+        rules: ``"8-ball"`` or ``"9-ball"``.
+        hittable: 8-ball: the player's group, the numbers of its balls on the table (a
+            ball not on it is an error; an empty list: the group is down, the 8 is the
+            ball on); ``None``: an open table. 9-ball works it out.
+        table, physics: As :func:`simulate`'s.
+        noise: A preset of :data:`NOISE_PRESETS`, or a dict of standard deviations in
+            pooltool's units, ``{"V0": 0.1, "phi": 0.1, "theta": 0.1, "a": 0.003, "b":
+            0.003}`` (m/s; degrees; fractions of the ball radius, as pooltool's ``Cue``).
+        noise_scale: Every σ times this.
+        budget_s: About this many seconds; or ``budget_samples`` (then ``budget_s=None``):
+            at most this many samples, and the same seed gives the same plan.
+        seed: The noise draws' seed.
+        top: Finalists estimated again and returned.
+        backend: ``"cpu"``, ``"gpu"`` or ``"auto"``.
+
+    Raises:
+        ValueError: a game other than 8-ball and 9-ball, balls off the table or
+            overlapping, no cue ball, a hittable ball not on the table, no playable direct
+            pot, an unknown preset, a bad budget.
+    """
+    ids, xs, ys = _plan_balls(balls)
+    name, text = _table(table)
+    if isinstance(noise, str):
+        preset, sigma = noise, None
+    elif isinstance(noise, Mapping):
+        unknown = set(noise) - set(_NOISE_KEYS)
+        if unknown:
+            raise ValueError(f"noise: unknown keys {sorted(unknown)} (keys: {_NOISE_KEYS})")
+        preset, sigma = None, tuple(float(noise.get(k, 0.0)) for k in _NOISE_KEYS)
+    else:
+        raise TypeError(f"noise: a preset name or a dict of sigmas, not {type(noise).__name__}")
+    if (budget_s is None) == (budget_samples is None):
+        raise ValueError("give one budget: budget_s or budget_samples (with budget_s=None)")
+    _quiet_mesa(backend)
+    text_json = _kisstime.plan(
+        ids,
+        xs,
+        ys,
+        name,
+        text,
+        _physics(physics),
+        rules,
+        None if hittable is None else [int(h) for h in hittable],
+        preset,
+        sigma,
+        float(noise_scale),
+        None if budget_s is None else float(budget_s),
+        None if budget_samples is None else int(budget_samples),
+        int(seed),
+        int(top),
+        backend,
+    )
+    out = json.loads(text_json)
+    return Plan(
+        strike=out["strike"],
+        ranked=out["ranked"],
+        candidates=out["candidates"],
+        samples=out["samples"],
+        rounds=out["rounds"],
+        seconds=out["seconds"],
+        rules=out["rules"],
+    )

@@ -49,6 +49,13 @@ def simulate_shots(
     table_name: str, table_json: Optional[str], physics: list[_Physics], max_events: int,
     max_time: float, events: bool, backend: str, precision: Optional[str], report: bool,
 ) -> tuple[Optional[bytes], bytes, bytes, list[tuple[int, str]]]: ...
+def plan(
+    ids: list[int], xs: list[float], ys: list[float], table_name: str,
+    table_json: Optional[str], physics: _Physics, rules: str, hittable: Optional[list[int]],
+    noise_preset: Optional[str], noise_sigma: Optional[tuple[float, float, float, float, float]],
+    noise_scale: float, budget_seconds: Optional[float], budget_samples: Optional[int],
+    seed: int, top: int, backend: str,
+) -> str: ...
 def study_chunk(
     kind: str, text: str, source: str, dir: Optional[str], physics: _Physics,
     physics_noise: Optional[str], first: int,

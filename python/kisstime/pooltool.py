@@ -387,17 +387,16 @@ def table_json(table: Any) -> str:
     return json.dumps(doc, indent=1, allow_nan=False)
 
 
-def _physics_of(system: Any, check: bool) -> dict[str, Any]:
-    """The system's physical parameters with pooltool's names (:attr:`Converted.physics`):
-    the balls' shared ``BallParams`` and the cue's mass and end mass. With ``check``, every
-    ball must have the first ball's parameters (else ValueError naming the ball and field);
-    without, the first ball's are taken."""
-    balls = list(system.balls.items())
-    first_id, first = balls[0]
+def _ball_params(balls: Any, check: bool) -> dict[str, Any]:
+    """The ``BallParams`` of pooltool's ``{id: Ball}`` with pooltool's names: the first
+    ball's; with ``check`` every ball must have them (else ValueError naming the ball and
+    field)."""
+    items = list(balls.items())
+    first_id, first = items[0]
     params = {name: float(getattr(first.params, name)) for name in _PHYSICS_KEYS}
     if check:
         bad = []
-        for bid, ball in balls[1:]:
+        for bid, ball in items[1:]:
             for name, want in params.items():
                 got = float(getattr(ball.params, name))
                 if got != want and not (got != got and want != want):
@@ -408,6 +407,15 @@ def _physics_of(system: Any, check: bool) -> dict[str, Any]:
                 "system's balls differ (pass check=False to take the first ball's):\n  "
                 + "\n  ".join(bad)
             )
+    return params
+
+
+def _physics_of(system: Any, check: bool) -> dict[str, Any]:
+    """The system's physical parameters with pooltool's names (:attr:`Converted.physics`):
+    the balls' shared ``BallParams`` and the cue's mass and end mass. With ``check``, every
+    ball must have the first ball's parameters (else ValueError naming the ball and field);
+    without, the first ball's are taken."""
+    params = _ball_params(system.balls, check)
     specs = system.cue.specs
     params["cue"] = {name: float(getattr(specs, name)) for name in _CUE_KEYS}
     return params
@@ -1223,3 +1231,88 @@ _EVENT_DTYPE = _dtype(
 )
 _FINAL_DTYPE = _dtype("table:i ball:i state:i x:f y:f vx:f vy:f wx:f wy:f wz:f pocket:i")
 _OUTCOME_DTYPE = _dtype("table:i events:i t_end:f cut:i")
+
+
+def _pool_number(bid: str) -> int:
+    """A pooltool pool ball id as the game's number: ``"cue"`` 0, ``"1"`` to ``"15"``."""
+    if bid == "cue":
+        return 0
+    if bid.isdigit() and 1 <= int(bid) <= 15:
+        return int(bid)
+    raise ValueError(f"ball {bid!r}: the planner takes pooltool's pool balls 'cue' and '1' to '15'")
+
+
+def plan(
+    balls: Any,
+    table: Any = None,
+    *,
+    rules: str,
+    hittable: Sequence[str] | None = None,
+    noise: Any = "fastfiz",
+    budget_s: float | None = 1.0,
+    check: bool = True,
+    **kwargs: Any,
+):
+    """Which shot to play, in pooltool's terms (``kisstime.plan`` on pooltool's objects).
+
+    Args:
+        balls: pooltool's ``{id: Ball}`` dict (``system.balls``), or a ``System`` (then
+            ``table`` defaults to its table). Balls ``"cue"`` and ``"1"`` to ``"15"``, every
+            one at rest; pocketed ones are left out. Their ``BallParams`` are the physics
+            (with ``check``, they must agree, as :func:`from_system` asks).
+        table: A pooltool ``Table`` (required with a dict of balls).
+        rules: ``"8-ball"`` or ``"9-ball"``.
+        hittable: 8-ball: the player's group as pooltool's ids (``("1", "2", ...)``, as its
+            ``BallGroup.SOLIDS.balls``; those not on the table are left out, and with none
+            on it the 8 is the ball on); ``None``: an open table.
+        noise: A preset (``"fastfiz"``, ``"club"``, ``"casual"``, ``"none"``) or a dict of
+            σ in pooltool's units: ``{"V0": 0.1, "phi": 0.1, "theta": 0.1, "a": 0.003,
+            "b": 0.003}`` (m/s; degrees; fractions of the radius).
+        budget_s: About this many seconds (or ``budget_s=None, budget_samples=N``).
+        kwargs: The rest of ``kisstime.plan``'s (``budget_samples``, ``seed``, ``top``,
+            ``noise_scale``, ``backend``).
+
+    Returns:
+        The ``kisstime.Plan``: its ``.strike`` is a dict in pooltool's ``Cue`` conventions
+        (``V0``, ``phi``, ``theta`` in degrees, ``a``, ``b`` as fractions of the ball
+        radius), ready for ``system.cue.set_state(**plan.strike)``; the finalists'
+        ``ball`` ids are pooltool's.
+    """
+    _require_pooltool()
+    kisstime = _kisstime()
+    if hasattr(balls, "balls") and hasattr(balls, "table"):
+        system = balls
+        balls, table = system.balls, table if table is not None else system.table
+        physics = _physics_of(system, check)
+    else:
+        if table is None:
+            raise ValueError("table: give pooltool's Table with a dict of balls")
+        physics = _ball_params(balls, check)
+    positions = {}
+    for bid, ball in balls.items():
+        if int(ball.state.s) == STATE_NAMES.index("pocketed"):
+            continue
+        rvw = np.asarray(ball.state.rvw, dtype=np.float64)
+        x, y = _floats(rvw[0, :2], 2, f"ball {bid!r} position")
+        if np.any(rvw[1] != 0) or np.any(rvw[2] != 0):
+            raise ValueError(f"ball {bid!r} moves or spins: the planner plays from a position at rest")
+        positions[_pool_number(str(bid))] = (x, y)
+    # pooltool's groups name balls a position may lack: those on the table (none: the 8)
+    numbers = None if hittable is None else [
+        _pool_number(str(h)) for h in hittable if _pool_number(str(h)) in positions
+    ]
+    out = kisstime.plan(
+        positions,
+        rules=rules,
+        hittable=numbers,
+        table=table,
+        physics=physics or None,
+        noise=noise,
+        budget_s=budget_s,
+        **kwargs,
+    )
+    name = {0: "cue", **{n: str(n) for n in range(1, 16)}}
+    for r in out.ranked:
+        r["ball"] = name[int(r["ball"])]
+    return out
+

@@ -591,6 +591,127 @@ fn simulate<'py>(
     Ok((ev, PyBytes::new(py, &fin_out), PyBytes::new(py, &oc_out)))
 }
 
+/// The shot to play from one position (`kisstime::plan`): the balls' game ids and
+/// centres (at rest), the table, the physics, the game and its hittable balls (8-ball's
+/// group; `None`: an open table), the noise (a preset's name, or the five σ in pooltool's
+/// units: V0 m/s, φ and θ degrees, a and b fractions of R) times `noise_scale`, the budget
+/// (seconds or samples), the seed, the finalists and the backend. The plan as JSON text
+/// (`kisstime::plan::json`).
+#[pyfunction]
+#[pyo3(signature = (ids, xs, ys, table_name, table_json, physics, rules, hittable, noise_preset, noise_sigma, noise_scale, budget_seconds, budget_samples, seed, top, backend))]
+#[allow(clippy::too_many_arguments)]
+fn plan(
+    py: Python<'_>,
+    ids: Vec<i64>,
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    table_name: &str,
+    table_json: Option<&str>,
+    physics: PhysicsArg,
+    rules: &str,
+    hittable: Option<Vec<i64>>,
+    noise_preset: Option<&str>,
+    noise_sigma: Option<(f64, f64, f64, f64, f64)>,
+    noise_scale: f64,
+    budget_seconds: Option<f64>,
+    budget_samples: Option<usize>,
+    seed: u64,
+    top: usize,
+    backend: &str,
+) -> PyResult<String> {
+    use kisstime::model::ball_state::BallState;
+    use kisstime::plan::{Budget, PlanOptions, position};
+    if xs.len() != ids.len() || ys.len() != ids.len() {
+        return Err(PyValueError::new_err(
+            "balls: ids, x and y of different lengths",
+        ));
+    }
+    let rules = Rules::from_name(rules).map_err(PyValueError::new_err)?;
+    let table = table_of(table_name, table_json)?;
+    let params = physics_of(&physics)?.unwrap_or_default();
+    let balls: Vec<BallState> = xs
+        .iter()
+        .zip(&ys)
+        .map(|(&x, &y)| BallState::at_rest(x, y, params.ball.r))
+        .collect();
+    let mut context = default_context(rules);
+    if let Some(h) = &hittable {
+        for id in h {
+            if *id <= 0 || !ids.contains(id) {
+                return Err(PyValueError::new_err(format!(
+                    "hittable: ball {id} is not an object ball on the table"
+                )));
+            }
+        }
+        context.hittable = Context::balls(h.iter().copied());
+    }
+    let config =
+        position(&table, table_name, params, (&ids, &balls), rules, context).map_err(py_err)?;
+    let noise = match (noise_preset, noise_sigma) {
+        (Some(name), None) => kisstime::study::Noise::preset(name).ok_or_else(|| {
+            let names: Vec<&str> = kisstime::study::NOISE_PRESETS
+                .iter()
+                .map(|(n, _, _)| *n)
+                .collect();
+            PyValueError::new_err(format!(
+                "noise {name:?}: not a preset (one of {}), nor a dict of sigmas",
+                names.join(", ")
+            ))
+        })?,
+        (None, Some((v0, phi, theta, a, b))) => {
+            if ![v0, phi, theta, a, b]
+                .iter()
+                .all(|x| x.is_finite() && *x >= 0.0)
+            {
+                return Err(PyValueError::new_err(
+                    "noise: every sigma must be finite and at least 0",
+                ));
+            }
+            let r = config.params.ball.r;
+            kisstime::study::Noise {
+                v0,
+                phi,
+                theta,
+                a: a * r,
+                b: b * r,
+                physics: Default::default(),
+            }
+        }
+        _ => return Err(PyValueError::new_err("give one noise: a preset or sigmas")),
+    };
+    if !(noise_scale.is_finite() && noise_scale >= 0.0) {
+        return Err(PyValueError::new_err(format!(
+            "noise_scale {noise_scale}: a finite factor of at least 0"
+        )));
+    }
+    let noise = noise.scaled(noise_scale);
+    let budget = match (budget_seconds, budget_samples) {
+        (Some(s), None) => Budget::Seconds(s),
+        (None, Some(k)) => Budget::Samples(k),
+        _ => {
+            return Err(PyValueError::new_err(
+                "give one budget: budget_s (seconds) or budget_samples",
+            ));
+        }
+    };
+    if top == 0 {
+        return Err(PyValueError::new_err("top: at least one finalist"));
+    }
+    let options = PlanOptions {
+        noise,
+        seed,
+        budget,
+        finalists: top,
+        ..PlanOptions::default()
+    };
+    let mut engine = shot_engine_of(backend, None)?;
+    let planned = py
+        .detach(|| kisstime::plan::plan(&mut engine, &config, &options))
+        .map_err(py_err)?;
+    warn_notes(py, &mut engine)?;
+    Ok(kisstime::plan::json(&config, &planned).to_string())
+}
+
 /// The table a `table` argument gives: JSON text when `json` is given (named `table` in
 /// errors `table JSON`), else a built-in name or a path ([`table_by_name`]).
 fn table_of(name: &str, json: Option<&str>) -> PyResult<Table> {
@@ -1318,6 +1439,7 @@ fn _kisstime(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyBatch>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_shots, m)?)?;
+    m.add_function(wrap_pyfunction!(plan, m)?)?;
     m.add_function(wrap_pyfunction!(study_chunk, m)?)?;
     m.add_function(wrap_pyfunction!(study_merge, m)?)?;
     m.add_function(wrap_pyfunction!(study_ids, m)?)?;

@@ -146,7 +146,7 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
         engine.describe()
     );
     if args.json {
-        println!("{}", plan_json(&config, &planned, rules));
+        println!("{}", kisstime::plan::json(&config, &planned));
     } else {
         print!("{}", plan_table(&config, &planned));
     }
@@ -221,42 +221,4 @@ fn plan_table(config: &StudyConfig, planned: &Plan) -> String {
         "each finalist on {n} fresh samples; play rank 1\n"
     ));
     out
-}
-
-/// The plan as JSON.
-fn plan_json(config: &StudyConfig, planned: &Plan, rules: Rules) -> String {
-    let ranked: Vec<serde_json::Value> = planned
-        .ranked
-        .iter()
-        .map(|r| {
-            let Kind::Pot { ball, pocket } = r.candidate.kind;
-            let s = r.candidate.strike;
-            let e = &r.estimate;
-            let p = |(v, lo, hi): (f64, f64, f64)| serde_json::json!([v, lo, hi]);
-            serde_json::json!({
-                "kind": "pot",
-                "ball": config.balls[ball].id,
-                "pocket": config.table.pocket_ids[pocket],
-                "cut": r.candidate.aim.cut,
-                "strike": {"V0": s.v0, "phi": s.phi, "theta": s.theta, "a": s.a, "b": s.b},
-                "samples": e.samples,
-                "p_keep": p(e.p_keep()),
-                "p_foul": p(e.p_foul()),
-                "p_scratch": p(e.p_scratch()),
-                "p_won": e.won as f64 / e.samples.max(1) as f64,
-                "p_lost": e.lost as f64 / e.samples.max(1) as f64,
-                "position": e.position(),
-                "value": e.value(),
-            })
-        })
-        .collect();
-    serde_json::json!({
-        "rules": rules.name(),
-        "candidates": planned.candidates,
-        "samples": planned.samples,
-        "rounds": planned.rounds,
-        "seconds": planned.seconds,
-        "ranked": ranked,
-    })
-    .to_string()
 }

@@ -312,6 +312,50 @@ pub fn position(
     })
 }
 
+/// The plan as JSON: `rules`, `candidates`, `samples`, `rounds`, `seconds`, `strike` (the
+/// chosen one: `V0`, `phi`, `theta`, `a`, `b` in pooltool's `Cue` conventions) and
+/// `ranked`, the finalists best first, each with `kind` (`pot`), `ball` and `pocket` (the
+/// position's and the table's ids), `cut` (degrees), `strike`, `samples`, `p_keep`,
+/// `p_foul`, `p_scratch` (each `[p, low, high]`, the 95 % Wilson interval), `p_won`,
+/// `p_lost`, `position` and `value`.
+pub fn json(config: &StudyConfig, planned: &Plan) -> serde_json::Value {
+    let strike = |s: crate::resolve::stick_ball::CueStrike| serde_json::json!({"V0": s.v0, "phi": s.phi, "theta": s.theta, "a": s.a, "b": s.b});
+    let ranked: Vec<serde_json::Value> = planned
+        .ranked
+        .iter()
+        .map(|r| {
+            let Kind::Pot { ball, pocket } = r.candidate.kind;
+            let e = &r.estimate;
+            let p = |(v, lo, hi): (f64, f64, f64)| serde_json::json!([v, lo, hi]);
+            let share = |k: usize| k as f64 / e.samples.max(1) as f64;
+            serde_json::json!({
+                "kind": "pot",
+                "ball": config.balls[ball].id,
+                "pocket": config.table.pocket_ids[pocket],
+                "cut": r.candidate.aim.cut,
+                "strike": strike(r.candidate.strike),
+                "samples": e.samples,
+                "p_keep": p(e.p_keep()),
+                "p_foul": p(e.p_foul()),
+                "p_scratch": p(e.p_scratch()),
+                "p_won": share(e.won),
+                "p_lost": share(e.lost),
+                "position": e.position(),
+                "value": e.value(),
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "rules": config.game.as_ref().map_or("", |g| g.rules.name()),
+        "candidates": planned.candidates,
+        "samples": planned.samples,
+        "rounds": planned.rounds,
+        "seconds": planned.seconds,
+        "strike": planned.ranked.first().map(|r| strike(r.candidate.strike)),
+        "ranked": ranked,
+    })
+}
+
 /// A time budget as samples: `used` samples so far took the time since `started`, and
 /// the rest go at that rate.
 fn samples_in_time(budget: Budget, used: usize, started: &Instant) -> usize {
