@@ -30,6 +30,7 @@ fn main() -> ExitCode {
         Command::Shots(a) => a.threads,
         Command::Simulate(a) => a.threads,
         Command::Plan(a) => a.threads,
+        Command::Play(a) => a.threads,
     };
     if let Err(e) = cli::commands::set_threads(threads) {
         eprintln!("kisstime: error: {e}");
@@ -42,6 +43,7 @@ fn main() -> ExitCode {
         Command::Gen(args) => cli::commands::run_gen(args),
         Command::Shots(args) => cli::shots::run_shots(args),
         Command::Plan(args) => cli::plan::run(args),
+        Command::Play(args) => cli::plan::run_play(args),
         Command::Simulate(args) => cli::simulate::run(args),
     };
     match result {

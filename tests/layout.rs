@@ -8,10 +8,10 @@ use std::path::{Path, PathBuf};
 
 /// The library's top-level modules, lowest first. `engine` chooses the backend for the
 /// kernels and for whole shots; the study is its client (it runs through
-/// `ShotEngine::simulate_with`), so it sits on top.
+/// `ShotEngine::simulate_with`), so it sits above it, and the planner above the study.
 const LAYERS: &[&str] = &[
     "error", "model", "motion", "query", "resolve", "limits", "simulate", "game", "batch", "cpu",
-    "gpu", "compare", "io", "workload", "engine", "study",
+    "gpu", "compare", "io", "workload", "engine", "study", "plan",
 ];
 
 /// Every `.rs` file under `dir`.

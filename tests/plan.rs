@@ -381,3 +381,128 @@ fn cli_plan_refuses_bad_input_and_writes_nothing() {
         assert!(!out.exists(), "{args:?}: nothing written");
     }
 }
+
+/// Self-play: whole games end (won or drawn at the cap), every figure adds up, the same
+/// seed plays the same games, and the agents are the ones named.
+#[test]
+fn self_play_plays_whole_games_the_same_for_the_same_seed() {
+    use kisstime::plan::agents::Agent;
+    use kisstime::plan::play::{PlayOptions, play};
+    for (rules, agents) in [
+        (Rules::NineBall, [Agent::Greedy, Agent::Sampler]),
+        (Rules::EightBall, [Agent::Planner, Agent::Greedy]),
+    ] {
+        let options = PlayOptions {
+            rules,
+            games: 2,
+            agents,
+            noise: Noise::default(),
+            seed: 3,
+            budget: Budget::Samples(8_000),
+            max_shots: 60,
+        };
+        let mut done = Vec::new();
+        let a = play(&mut cpu(), &options, &mut |g| done.push(g)).unwrap();
+        assert_eq!(done, [1, 2]);
+        assert_eq!(a.games, 2);
+        let wins: usize = a.players.iter().map(|p| p.wins).sum();
+        assert_eq!(wins + a.draws, 2, "{rules:?}: every game won or drawn");
+        assert_eq!(
+            a.players[0].breaks + a.players[1].breaks,
+            2,
+            "breaks alternate"
+        );
+        assert!(a.players.iter().all(|p| p.visits >= 1));
+        let potted: usize = a.players.iter().map(|p| p.potted).sum();
+        assert!(potted > 0, "{rules:?}: balls were potted");
+        // greedy simulates nothing: its decisions are quick; the others' are timed too
+        for (p, agent) in a.players.iter().zip(agents) {
+            if agent == Agent::Greedy {
+                assert!(p.decisions.iter().all(|&t| t < 0.05), "{:?}", p.decisions);
+            }
+        }
+        let b = play(&mut cpu(), &options, &mut |_| {}).unwrap();
+        let strip = |r: &kisstime::plan::play::PlayReport| {
+            r.players
+                .iter()
+                .map(|p| (p.wins, p.visits, p.potted, p.fouls, p.decisions.len()))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(
+            strip(&a),
+            strip(&b),
+            "{rules:?}: the same seed, the same games"
+        );
+    }
+    let bad = PlayOptions {
+        rules: Rules::Snooker,
+        games: 1,
+        agents: [Agent::Greedy, Agent::Greedy],
+        noise: Noise::default(),
+        seed: 1,
+        budget: Budget::Samples(8_000),
+        max_shots: 10,
+    };
+    assert!(play(&mut cpu(), &bad, &mut |_| {}).is_err());
+    assert!(
+        play(
+            &mut cpu(),
+            &PlayOptions {
+                rules: Rules::NineBall,
+                games: 0,
+                ..bad
+            },
+            &mut |_| {}
+        )
+        .is_err()
+    );
+}
+
+#[test]
+fn cli_play_reports_each_agent_and_refuses_bad_input() {
+    let run = common::run_kisstime(
+        &[
+            "play",
+            "--game",
+            "9-ball",
+            "--games",
+            "2",
+            "--agents",
+            "greedy,greedy",
+            "--json",
+        ],
+        &[],
+    );
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    assert_eq!(v["games"], 2);
+    assert_eq!(v["players"].as_array().unwrap().len(), 2);
+    assert!(
+        v["players"][0]["agent"]
+            .as_str()
+            .unwrap()
+            .starts_with("greedy")
+    );
+    for (args, want) in [
+        (
+            vec!["--game", "9-ball", "--agents", "planner"],
+            "two agents",
+        ),
+        (
+            vec!["--game", "9-ball", "--agents", "planner,shark"],
+            "unknown agent",
+        ),
+        (vec!["--game", "snooker"], "8-ball and 9-ball"),
+        (vec!["--game", "9-ball", "--games", "0"], "0 games"),
+        (vec!["--game", "9-ball", "--noise", "wild"], "not a preset"),
+    ] {
+        let run = common::run_kisstime(&[&["play"][..], &args].concat(), &[]);
+        assert!(!run.status.success(), "{args:?}");
+        assert!(
+            text(&run.stderr).contains(want),
+            "{args:?}: {}",
+            text(&run.stderr)
+        );
+        assert!(run.stdout.is_empty(), "{args:?}");
+    }
+}

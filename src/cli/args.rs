@@ -99,6 +99,15 @@ pub enum Command {
     /// lost −1). -o writes the chosen strike as `simulate --strikes` reads it. Not yet:
     /// banks, kicks, combinations, safeties, ball in hand, breaks.
     Plan(PlanArgs),
+    /// Self-play: whole games of 8-ball or 9-ball between two agents on kisstime's own
+    /// simulator (breaks, fouls, ball in hand, game over), every shot under the cue noise
+    /// and judged by the rules; reports each agent's win rate with its 95 % interval, balls
+    /// potted per visit, fouls per game, break-and-run rate and decision time (mean, p95).
+    /// Agents: `planner` (`kisstime plan` with --budget), `greedy` (the easiest-looking
+    /// direct pot, fixed speed, centre ball, no simulation) and `sampler` (every direct pot
+    /// × 4 speeds × 5 spins, each played 200 times under the noise in one batch, the best
+    /// immediate P(keep the table)). Breaks alternate. Simplified rules: docs/plan.md.
+    Play(PlayArgs),
 }
 
 #[derive(Args)]
@@ -233,6 +242,43 @@ pub struct GenArgs {
     /// The file to write: CSV, or a NumPy .npy array when the name ends in .npy.
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+#[derive(Args)]
+pub struct PlayArgs {
+    /// The game: `8-ball` or `9-ball`.
+    #[arg(long, value_enum)]
+    pub game: RulesArg,
+    /// Games to play.
+    #[arg(long, default_value_t = 20)]
+    pub games: usize,
+    /// The two agents, joined by `,` (the first breaks the even games).
+    #[arg(long, default_value = "planner,greedy")]
+    pub agents: String,
+    /// The cue noise every shot is played under (as `plan --noise`).
+    #[arg(long, default_value = "fastfiz")]
+    pub noise: String,
+    /// Every σ of --noise times this.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub noise_scale: f64,
+    /// The planner's budget per decision (as `plan --budget`).
+    #[arg(long, default_value = "20000")]
+    pub budget: String,
+    /// The seed of every shot's noise and the agents' draws.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Shots after which a game is drawn.
+    #[arg(long, default_value_t = 150)]
+    pub max_shots: usize,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Where to simulate (as `simulate --backend`).
+    #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
+    pub backend: BackendArg,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 #[derive(Args)]

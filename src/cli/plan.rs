@@ -9,10 +9,13 @@ use kisstime::io::context::default_context;
 use kisstime::io::physics::read_physics_or_default;
 use kisstime::io::table_json::table_by_name;
 use kisstime::model::ball_state::BallState;
+use kisstime::plan::agents::Agent;
+use kisstime::plan::play::{PlayOptions, PlayReport, PlayerStats, play};
 use kisstime::plan::{Budget, Kind, Plan, PlanOptions, Ranked, plan, position};
+use kisstime::study::wilson;
 use kisstime::study::{NOISE_PRESETS, Noise, StudyConfig};
 
-use super::args::PlanArgs;
+use super::args::{PlanArgs, PlayArgs};
 use super::commands::{check_output, read_input};
 
 /// The budget `text` names: seconds (`1s`, `250ms`) or a number of samples.
@@ -219,6 +222,147 @@ fn plan_table(config: &StudyConfig, planned: &Plan) -> String {
     let n = planned.ranked.first().map_or(0, |r| r.estimate.samples);
     out.push_str(&format!(
         "each finalist on {n} fresh samples; play rank 1\n"
+    ));
+    out
+}
+
+/// `kisstime play`: self-play between two agents, reported per agent.
+pub fn run_play(args: &PlayArgs) -> Result<(), Error> {
+    let rules = args.game.rules();
+    let names: Vec<&str> = args.agents.split(',').map(str::trim).collect();
+    if names.len() != 2 {
+        return Err(InputError::new(format!(
+            "--agents {}: two agents joined by ',' (greedy, sampler, planner)",
+            args.agents
+        ))
+        .into());
+    }
+    let agent = |n: &str| Agent::from_name(n).map_err(|e| Error::from(InputError::new(e)));
+    let agents = [agent(names[0])?, agent(names[1])?];
+    let options = PlayOptions {
+        rules,
+        games: args.games,
+        agents,
+        noise: noise_of(&args.noise, args.noise_scale)?,
+        seed: args.seed,
+        budget: parse_budget(&args.budget)?,
+        max_shots: args.max_shots,
+    };
+    let mut engine = ShotEngine::new(args.backend.backend(), Precision::F64)?;
+    let started = std::time::Instant::now();
+    let bar = super::progress::Progress::new("playing", args.games as u64, "games", true);
+    let report = play(&mut engine, &options, &mut |done| bar.set(done as u64))?;
+    bar.done();
+    eprintln!(
+        "kisstime: {} games of {} in {:.1} s on {}",
+        report.games,
+        rules.name(),
+        started.elapsed().as_secs_f64(),
+        engine.describe()
+    );
+    let labels = [
+        format!("{} (player 1)", agents[0].name()),
+        format!("{} (player 2)", agents[1].name()),
+    ];
+    if args.json {
+        let players: Vec<serde_json::Value> = report
+            .players
+            .iter()
+            .zip(&labels)
+            .map(|(p, label)| player_json(label, p, &report))
+            .collect();
+        println!(
+            "{}",
+            serde_json::json!({
+                "game": rules.name(),
+                "games": report.games,
+                "draws": report.draws,
+                "players": players,
+            })
+        );
+    } else {
+        print!("{}", play_table(&report, &labels));
+    }
+    Ok(())
+}
+
+/// A player's figures: wins (with the 95 % interval), per visit, per game, decisions.
+struct Figures {
+    win: (f64, f64, f64),
+    per_visit: f64,
+    fouls_per_game: f64,
+    break_and_run: f64,
+    decision_mean: f64,
+    decision_p95: f64,
+}
+
+fn figures(p: &PlayerStats, report: &PlayReport) -> Figures {
+    let (lo, hi) = wilson(p.wins, report.games);
+    let mut d = p.decisions.clone();
+    d.sort_by(f64::total_cmp);
+    let p95 = d
+        .get(((d.len() as f64 * 0.95).ceil() as usize).saturating_sub(1))
+        .copied()
+        .unwrap_or(f64::NAN);
+    Figures {
+        win: (p.wins as f64 / report.games.max(1) as f64, lo, hi),
+        per_visit: p.potted as f64 / p.visits.max(1) as f64,
+        fouls_per_game: p.fouls as f64 / report.games.max(1) as f64,
+        break_and_run: p.break_and_runs as f64 / p.breaks.max(1) as f64,
+        decision_mean: d.iter().sum::<f64>() / d.len().max(1) as f64,
+        decision_p95: p95,
+    }
+}
+
+fn player_json(label: &str, p: &PlayerStats, report: &PlayReport) -> serde_json::Value {
+    let f = figures(p, report);
+    serde_json::json!({
+        "agent": label,
+        "wins": p.wins,
+        "win_rate": [f.win.0, f.win.1, f.win.2],
+        "visits": p.visits,
+        "potted": p.potted,
+        "potted_per_visit": f.per_visit,
+        "fouls": p.fouls,
+        "fouls_per_game": f.fouls_per_game,
+        "breaks": p.breaks,
+        "break_and_runs": p.break_and_runs,
+        "break_and_run_rate": f.break_and_run,
+        "decisions": p.decisions.len(),
+        "decision_mean_s": f.decision_mean,
+        "decision_p95_s": f.decision_p95,
+    })
+}
+
+fn play_table(report: &PlayReport, labels: &[String; 2]) -> String {
+    let mut out = format!(
+        "{:<22} {:>5} {:<24} {:>12} {:>14} {:>14} {:>15} {:>12}\n",
+        "agent",
+        "wins",
+        "win rate [95%]",
+        "pots/visit",
+        "fouls/game",
+        "break & run",
+        "decision mean",
+        "p95"
+    );
+    for (p, label) in report.players.iter().zip(labels) {
+        let f = figures(p, report);
+        out.push_str(&format!(
+            "{:<22} {:>5} {:<24} {:>12.2} {:>14.2} {:>14} {:>13.3} s {:>10.3} s\n",
+            label,
+            p.wins,
+            format!("{:.3} [{:.3}, {:.3}]", f.win.0, f.win.1, f.win.2),
+            f.per_visit,
+            f.fouls_per_game,
+            format!("{}/{}", p.break_and_runs, p.breaks),
+            f.decision_mean,
+            f.decision_p95
+        ));
+    }
+    out.push_str(&format!(
+        "{} games, {} drawn at the shot cap\n",
+        report.games, report.draws
     ));
     out
 }

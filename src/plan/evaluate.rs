@@ -9,6 +9,8 @@
 //! from where the cue ball stopped ([`next_shot_ease`]); a foul, `−FOUL_COST`; the game
 //! lost, −1; a legal miss, 0.
 
+use rayon::prelude::*;
+
 use super::aim::{ghost_ball, path_clear};
 use super::candidates::{Candidate, Kind, MAX_CUT};
 use crate::engine::ShotEngine;
@@ -146,12 +148,19 @@ pub fn evaluate(
         &RunOptions::default(),
         &mut |_, _| {},
     )?;
-    for (k, &c) in which.iter().enumerate() {
-        let mut e = Estimate::default();
-        for s in &done[k * per..(k + 1) * per] {
-            e.add(&judge_sample(config, s));
-        }
-        estimates[c].add(&e);
+    // each candidate's samples judged, Rayon over candidates
+    let judged: Vec<Estimate> = done
+        .par_chunks(per)
+        .map(|samples| {
+            let mut e = Estimate::default();
+            for s in samples {
+                e.add(&judge_sample(config, s));
+            }
+            e
+        })
+        .collect();
+    for (&c, e) in which.iter().zip(&judged) {
+        estimates[c].add(e);
     }
     Ok(())
 }

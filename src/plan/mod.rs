@@ -12,12 +12,17 @@
 //!   again on fresh draws, so that the figures reported are not the ones that chose them
 //!   (a candidate chosen for a lucky run would otherwise report its luck).
 //!
+//! - [`play`](mod@play): self-play, whole games between two [`agents`] (`greedy`,
+//!   `sampler`, the planner) on kisstime's own simulator.
+//!
 //! Not yet: banks, kicks, combinations, safeties, ball in hand, the break, a refinement in
 //! the continuous strike, and a position value checked against nested studies.
 
+pub mod agents;
 pub mod aim;
 pub mod candidates;
 pub mod evaluate;
+pub mod play;
 
 use std::time::Instant;
 
@@ -106,7 +111,8 @@ pub struct Plan {
 ///
 /// Errors: a game the planner does not play, a break, no ball the player may hit on the
 /// table, no playable direct pot, a budget that is not positive and finite or past
-/// [`MAX_BUDGET_SECONDS`] / [`MAX_BUDGET_SAMPLES`] or too small for one round
+/// [`MAX_BUDGET_SECONDS`] / [`MAX_BUDGET_SAMPLES`] or smaller than a sample of every
+/// candidate and the finalists
 /// ([`Error::Input`]); what the engine refuses.
 pub fn plan(
     engine: &mut ShotEngine,
@@ -124,19 +130,22 @@ pub fn plan(
     }
     let n = candidates.len();
     // a first round of at least FIRST_ROUND samples: a time budget is sized by its rate
-    let first = options.first_samples.max(FIRST_ROUND.div_ceil(n)).max(1);
+    let mut first = options.first_samples.max(FIRST_ROUND.div_ceil(n)).max(1);
     let finalists = options.finalists.max(1);
     let budget = match options.budget {
         Budget::Seconds(s) if s.is_finite() && s > 0.0 && s <= MAX_BUDGET_SECONDS => None,
         Budget::Samples(k) if (1..=MAX_BUDGET_SAMPLES).contains(&k) => {
-            if k < n * first + finalists {
+            // a sample budget needs no rate: the first round may be as small as it allows
+            let fits = k.saturating_sub(finalists) / n;
+            if fits == 0 {
                 return Err(InputError::new(format!(
-                    "a budget of {k} samples is too small: {n} candidates of {first} samples \
-                     need {} at least",
-                    n * first + finalists
+                    "a budget of {k} samples is too small: {n} candidates and {finalists} \
+                     finalists need {} at least",
+                    n + finalists
                 ))
                 .into());
             }
+            first = first.min(fits);
             Some(k)
         }
         b => {

@@ -1,0 +1,205 @@
+//! The agents of self-play ([`super::play`]): each chooses a strike for a position.
+//!
+//! - [`Agent::Greedy`]: what a user writes first — the easiest-looking direct pot (the
+//!   largest `cos(cut) · exp(−(cue travel + object travel) / 2 m)` with clear paths), a
+//!   fixed speed, centre ball, no simulation;
+//! - [`Agent::Sampler`]: what a user writes in an afternoon on kisstime's batch — every
+//!   direct pot candidate ([`super::direct_pots`]: 4 speeds × 5 tip offsets) played
+//!   [`SAMPLER_SAMPLES`] times under the noise in one call, the best immediate outcome
+//!   (P(keep the table)) wins; no position, no refinement;
+//! - [`Agent::Planner`]: [`super::plan`] with its budget.
+//!
+//! Without a playable direct pot, every agent plays the same fallback: a full hit on the
+//! nearest ball it may hit, at 2 m/s ([`fallback`]).
+
+use super::aim::{ghost_ball, path_clear};
+use super::candidates::{Candidate, Kind, MAX_CUT, THETA, direct_pots, targets};
+use super::evaluate::{EASE_LENGTH, Estimate, evaluate};
+use super::{Budget, PlanOptions, plan};
+use crate::engine::ShotEngine;
+use crate::error::Error;
+use crate::resolve::stick_ball::CueStrike;
+use crate::study::{Noise, StudyConfig};
+
+/// Samples of each candidate the sampler plays.
+pub const SAMPLER_SAMPLES: u64 = 200;
+/// The greedy agent's cue speed, m/s.
+pub const GREEDY_SPEED: f64 = 2.5;
+
+/// A self-play agent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Agent {
+    /// The easiest-looking pot, no simulation.
+    Greedy,
+    /// Every direct pot simulated a few hundred times, the best immediate outcome.
+    Sampler,
+    /// The planner.
+    Planner,
+}
+
+impl Agent {
+    /// Every agent with its name.
+    pub const ALL: [(Agent, &'static str); 3] = [
+        (Agent::Greedy, "greedy"),
+        (Agent::Sampler, "sampler"),
+        (Agent::Planner, "planner"),
+    ];
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        Agent::ALL
+            .iter()
+            .find(|(a, _)| *a == self)
+            .map_or("", |(_, n)| n)
+    }
+
+    /// The agent named `name`; the error lists the names.
+    pub fn from_name(name: &str) -> Result<Agent, String> {
+        Agent::ALL
+            .iter()
+            .find(|(_, n)| *n == name)
+            .map(|(a, _)| *a)
+            .ok_or_else(|| {
+                format!("unknown agent {name:?}: the agents are greedy, sampler, planner")
+            })
+    }
+}
+
+/// What an agent chose: the strike and, for a pot, the call (ball and pocket indices).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Choice {
+    /// The intended strike.
+    pub strike: CueStrike,
+    /// The ball and pocket it means (8-ball's call), if a pot.
+    pub call: Option<(usize, usize)>,
+}
+
+/// `agent`'s choice from `config`'s position (its game and context), the noise being
+/// `noise`; `budget` is the planner's, `seed` the simulating agents' noise draws.
+pub fn choose(
+    agent: Agent,
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    noise: &Noise,
+    budget: Budget,
+    seed: u64,
+) -> Result<Choice, Error> {
+    let candidates = direct_pots(config).unwrap_or_default();
+    if candidates.is_empty() {
+        return Ok(fallback(config));
+    }
+    let pick = |c: &Candidate| {
+        let Kind::Pot { ball, pocket } = c.kind;
+        Choice {
+            strike: c.strike,
+            call: Some((ball, pocket)),
+        }
+    };
+    match agent {
+        Agent::Greedy => {
+            let ease = |c: &Candidate| {
+                c.aim.cut.to_radians().cos()
+                    * (-(c.aim.cue_travel + c.aim.object_travel) / EASE_LENGTH).exp()
+            };
+            let best = candidates
+                .iter()
+                .filter(|c| c.strike.a == 0.0 && c.strike.b == 0.0)
+                .max_by(|x, y| ease(x).total_cmp(&ease(y)))
+                .expect("every pot has a centre-ball candidate");
+            Ok(Choice {
+                strike: CueStrike {
+                    v0: GREEDY_SPEED,
+                    ..best.strike
+                },
+                ..pick(best)
+            })
+        }
+        Agent::Sampler => {
+            let all: Vec<usize> = (0..candidates.len()).collect();
+            let mut estimates = vec![Estimate::default(); candidates.len()];
+            evaluate(
+                engine,
+                config,
+                &candidates,
+                &all,
+                (noise, seed, 0..SAMPLER_SAMPLES),
+                &mut estimates,
+            )?;
+            let best = (0..candidates.len())
+                .max_by(|&x, &y| estimates[x].kept.cmp(&estimates[y].kept).then(y.cmp(&x)))
+                .expect("candidates");
+            Ok(pick(&candidates[best]))
+        }
+        Agent::Planner => {
+            let options = PlanOptions {
+                noise: *noise,
+                seed,
+                budget,
+                finalists: 3,
+                ..PlanOptions::default()
+            };
+            let planned = plan(engine, config, &options)?;
+            Ok(pick(&planned.ranked[0].candidate))
+        }
+    }
+}
+
+/// No direct pot: a full hit on the nearest ball the player may hit, at 2 m/s, with no
+/// call (or, with no such ball, a 2 m/s stroke along +y).
+pub fn fallback(config: &StudyConfig) -> Choice {
+    let at = |k: usize| (config.balls[k].x, config.balls[k].y);
+    let cue = at(config.cue);
+    let dist = |k: &usize| {
+        let (x, y) = at(*k);
+        (x - cue.0).hypot(y - cue.1)
+    };
+    let nearest = targets(config)
+        .unwrap_or_default()
+        .into_iter()
+        .min_by(|a, b| dist(a).total_cmp(&dist(b)));
+    let phi = nearest.map_or(90.0, |k| {
+        let (x, y) = at(k);
+        (y - cue.1).atan2(x - cue.0).to_degrees().rem_euclid(360.0)
+    });
+    Choice {
+        strike: CueStrike {
+            v0: 2.0,
+            phi,
+            theta: THETA,
+            a: 0.0,
+            b: 0.0,
+        },
+        call: None,
+    }
+}
+
+/// How easy the easiest direct pot of `config`'s position is, 0 to 1 (0: none), the
+/// balls' `ids` and `pockets` as in it: what ball-in-hand placement maximises.
+pub fn best_ease(config: &StudyConfig) -> f64 {
+    let r = config.params.ball.r;
+    let at = |k: usize| (config.balls[k].x, config.balls[k].y);
+    let cue = at(config.cue);
+    let mut best = 0.0f64;
+    for b in targets(config).unwrap_or_default() {
+        let others = || {
+            (0..config.balls.len())
+                .filter(move |&k| k != b && k != config.cue)
+                .map(at)
+        };
+        for p in &config.table.pockets {
+            let target = (p.center.x, p.center.y);
+            let Some(aim) = ghost_ball(cue, at(b), target, r) else {
+                continue;
+            };
+            if aim.cut < MAX_CUT
+                && path_clear(cue, aim.ghost, r, others())
+                && path_clear(at(b), target, r, others())
+            {
+                let e = aim.cut.to_radians().cos()
+                    * (-(aim.cue_travel + aim.object_travel) / EASE_LENGTH).exp();
+                best = best.max(e);
+            }
+        }
+    }
+    best
+}
