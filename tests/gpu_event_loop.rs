@@ -42,6 +42,17 @@ fn first_difference(gpu: &[EventRecord], cpu: &[EventRecord], t_tol: f64) -> Opt
     (gpu.len() != cpu.len()).then(|| format!("{} events, CPU {}", gpu.len(), cpu.len()))
 }
 
+/// Reference shots as the GPU's inputs: each its balls and strike.
+fn gpu_inputs(shots: &[kisstime::io::shot_set::Shot]) -> Vec<GpuShot> {
+    shots
+        .iter()
+        .map(|s| GpuShot {
+            balls: s.balls.clone(),
+            strike: Some((s.cue, s.strike)),
+        })
+        .collect()
+}
+
 fn open(precision: Precision, test: &str) -> Option<GpuSimulator> {
     // the adapter rule of the other GPU tests
     common::gpu_or_skip(precision, test)?;
@@ -55,13 +66,7 @@ fn gpu_event_loop_replays_the_reference_set_as_the_cpu_does() {
     let table = read_table(&dir).unwrap();
     let shots = read_shots(&dir, params.ball.r).unwrap();
     let limits = Limits::default();
-    let inputs: Vec<GpuShot> = shots
-        .iter()
-        .map(|s| GpuShot {
-            balls: s.balls.clone(),
-            strike: Some((s.cue, s.strike)),
-        })
-        .collect();
+    let inputs = gpu_inputs(&shots);
     let cpu: Vec<(Vec<EventRecord>, Vec<kisstime::simulate::BallState>)> = shots
         .iter()
         .map(|s| {
@@ -196,13 +201,7 @@ fn gpu_event_loop_replays_the_physics_set_with_its_parameters() {
     let table = read_table(&dir).unwrap();
     let shots = read_shots(&dir, params.ball.r).unwrap();
     let limits = Limits::default();
-    let inputs: Vec<GpuShot> = shots
-        .iter()
-        .map(|s| GpuShot {
-            balls: s.balls.clone(),
-            strike: Some((s.cue, s.strike)),
-        })
-        .collect();
+    let inputs = gpu_inputs(&shots);
     let started = std::time::Instant::now();
     let runs = gpu.simulate(&table, params, limits, &inputs, true).unwrap();
     let secs = started.elapsed().as_secs_f64();
@@ -262,13 +261,7 @@ fn gpu_event_loop_replays_the_snooker_and_carom_sets() {
         let params = kisstime::io::physics::read_physics(&dir.join("physics.toml")).unwrap();
         let table = read_table(&dir).unwrap();
         let shots = read_shots(&dir, params.ball.r).unwrap();
-        let inputs: Vec<GpuShot> = shots
-            .iter()
-            .map(|s| GpuShot {
-                balls: s.balls.clone(),
-                strike: Some((s.cue, s.strike)),
-            })
-            .collect();
+        let inputs = gpu_inputs(&shots);
         let most = inputs.iter().map(|s| s.balls.len()).max().unwrap();
         let runs = gpu
             .simulate(&table, params, Limits::default(), &inputs, true)
@@ -298,13 +291,7 @@ fn reference_shots(range: std::ops::Range<usize>) -> (kisstime::simulate::Table,
     let dir = common::fullshots_dir();
     let table = read_table(&dir).unwrap();
     let shots = read_shots(&dir, SimParams::default().ball.r).unwrap();
-    let inputs = shots[range]
-        .iter()
-        .map(|s| GpuShot {
-            balls: s.balls.clone(),
-            strike: Some((s.cue, s.strike)),
-        })
-        .collect();
+    let inputs = gpu_inputs(&shots[range]);
     (table, inputs)
 }
 

@@ -244,6 +244,19 @@ pub struct GenArgs {
     pub output: PathBuf,
 }
 
+/// The cue noise of `plan` and `play`.
+#[derive(Args)]
+pub struct NoiseArgs {
+    /// The cue noise: `fastfiz` (the computational-pool tournaments': σ V0 0.075 m/s, φ
+    /// 0.125°, θ 0.1°, a and b 0.5 mm), `club` (twice that), `casual` (four times) or
+    /// `none`.
+    #[arg(long, default_value = "fastfiz")]
+    pub noise: String,
+    /// Every σ of --noise times this.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub noise_scale: f64,
+}
+
 #[derive(Args)]
 pub struct PlayArgs {
     /// The game: `8-ball` or `9-ball`.
@@ -255,12 +268,8 @@ pub struct PlayArgs {
     /// The two agents, joined by `,` (the first breaks the even games).
     #[arg(long, default_value = "planner,greedy")]
     pub agents: String,
-    /// The cue noise every shot is played under (as `plan --noise`).
-    #[arg(long, default_value = "fastfiz")]
-    pub noise: String,
-    /// Every σ of --noise times this.
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
-    pub noise_scale: f64,
+    #[command(flatten)]
+    pub noise: NoiseArgs,
     /// The planner's budget per decision (as `plan --budget`).
     #[arg(long, default_value = "20000")]
     pub budget: String,
@@ -301,14 +310,8 @@ pub struct PlanArgs {
     /// The balls' and the cue's physical parameters: a TOML file (as `simulate --physics`).
     #[arg(long, value_name = "TOML")]
     pub physics: Option<PathBuf>,
-    /// The cue noise: `fastfiz` (the computational-pool tournaments': σ V0 0.075 m/s, φ
-    /// 0.125°, θ 0.1°, a and b 0.5 mm), `club` (twice that), `casual` (four times) or
-    /// `none`.
-    #[arg(long, default_value = "fastfiz")]
-    pub noise: String,
-    /// Every σ of --noise times this.
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
-    pub noise_scale: f64,
+    #[command(flatten)]
+    pub noise: NoiseArgs,
     /// What the plan may spend: seconds (`1s`, `250ms`) or samples (`200000`).
     #[arg(long, default_value = "1s")]
     pub budget: String,

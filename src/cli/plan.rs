@@ -119,7 +119,7 @@ fn read_position(args: &PlanArgs, rules: Rules) -> Result<(i64, StudyConfig), Er
 pub fn run(args: &PlanArgs) -> Result<(), Error> {
     let rules = args.rules.rules();
     let budget = parse_budget(&args.budget)?;
-    let noise = noise_of(&args.noise, args.noise_scale)?;
+    let noise = noise_of(&args.noise.noise, args.noise.noise_scale)?;
     if let Some(path) = &args.output {
         check_output(path, "-o", &["csv"])?;
     }
@@ -243,7 +243,7 @@ pub fn run_play(args: &PlayArgs) -> Result<(), Error> {
         rules,
         games: args.games,
         agents,
-        noise: noise_of(&args.noise, args.noise_scale)?,
+        noise: noise_of(&args.noise.noise, args.noise.noise_scale)?,
         seed: args.seed,
         budget: parse_budget(&args.budget)?,
         max_shots: args.max_shots,

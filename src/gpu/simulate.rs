@@ -672,15 +672,7 @@ impl GpuSimulator {
                         .shot(k, &mut buf)
                         .map_err(|e| InputError::new(format!("table {}: {e}", first + k)))?;
                     if make_runs {
-                        runs.push(GpuRun {
-                            events: Vec::new(),
-                            balls: balls.to_vec(),
-                            outcome: Outcome {
-                                n_events: 0,
-                                t_end: 0.0,
-                                cut: None,
-                            },
-                        });
+                        runs.push(unfinished_run(balls));
                     }
                     let mut sr = [0.0; MAX_LAYOUT.io_reals];
                     let mut su = [0u32; MAX_LAYOUT.io_uints];
@@ -809,15 +801,7 @@ impl GpuSimulator {
                     let at_u = j * STRUCK_UINTS * 4;
                     dst_u[at_u..at_u + STRUCK_UINTS * 4].copy_from_slice(bytemuck::cast_slice(&u));
                     if make_runs {
-                        runs.push(GpuRun {
-                            events: Vec::new(),
-                            balls: balls.to_vec(),
-                            outcome: Outcome {
-                                n_events: 0,
-                                t_end: 0.0,
-                                cut: None,
-                            },
-                        });
+                        runs.push(unfinished_run(balls));
                     }
                 }
                 Ok(Some(runs))
@@ -1135,6 +1119,19 @@ impl GpuSimulator {
     fn submit_copies(&self, copies: &[Copy<'_>]) -> Result<(), Error> {
         let bind = &self.bufs.as_ref().expect("made by buffers").bind;
         self.submit(None, bind, copies)
+    }
+}
+
+/// A table's run before it is simulated: its balls, no event (the unpacking fills it).
+fn unfinished_run(balls: &[BallState]) -> GpuRun {
+    GpuRun {
+        events: Vec::new(),
+        balls: balls.to_vec(),
+        outcome: Outcome {
+            n_events: 0,
+            t_end: 0.0,
+            cut: None,
+        },
     }
 }
 

@@ -12,9 +12,8 @@
 //! Without a playable direct pot, every agent plays the same fallback: a full hit on the
 //! nearest ball it may hit, at 2 m/s ([`fallback`]).
 
-use super::aim::{ghost_ball, path_clear};
-use super::candidates::{Candidate, Kind, MAX_CUT, THETA, direct_pots, targets};
-use super::evaluate::{EASE_LENGTH, Estimate, evaluate};
+use super::candidates::{Candidate, Kind, THETA, direct_pots, ease, easiest_pot, targets};
+use super::evaluate::{Estimate, evaluate};
 use super::{Budget, PlanOptions, plan};
 use crate::engine::ShotEngine;
 use crate::error::Error;
@@ -97,14 +96,10 @@ pub fn choose(
     };
     match agent {
         Agent::Greedy => {
-            let ease = |c: &Candidate| {
-                c.aim.cut.to_radians().cos()
-                    * (-(c.aim.cue_travel + c.aim.object_travel) / EASE_LENGTH).exp()
-            };
             let best = candidates
                 .iter()
                 .filter(|c| c.strike.a == 0.0 && c.strike.b == 0.0)
-                .max_by(|x, y| ease(x).total_cmp(&ease(y)))
+                .max_by(|x, y| ease(&x.aim).total_cmp(&ease(&y.aim)))
                 .expect("every pot has a centre-ball candidate");
             Ok(Choice {
                 strike: CueStrike {
@@ -173,33 +168,10 @@ pub fn fallback(config: &StudyConfig) -> Choice {
     }
 }
 
-/// How easy the easiest direct pot of `config`'s position is, 0 to 1 (0: none), the
-/// balls' `ids` and `pockets` as in it: what ball-in-hand placement maximises.
+/// How easy the easiest direct pot of `config`'s position is, 0 to 1 ([`easiest_pot`]
+/// over its balls on): what ball-in-hand placement maximises.
 pub fn best_ease(config: &StudyConfig) -> f64 {
-    let r = config.params.ball.r;
-    let at = |k: usize| (config.balls[k].x, config.balls[k].y);
-    let cue = at(config.cue);
-    let mut best = 0.0f64;
-    for b in targets(config).unwrap_or_default() {
-        let others = || {
-            (0..config.balls.len())
-                .filter(move |&k| k != b && k != config.cue)
-                .map(at)
-        };
-        for p in &config.table.pockets {
-            let target = (p.center.x, p.center.y);
-            let Some(aim) = ghost_ball(cue, at(b), target, r) else {
-                continue;
-            };
-            if aim.cut < MAX_CUT
-                && path_clear(cue, aim.ghost, r, others())
-                && path_clear(at(b), target, r, others())
-            {
-                let e = aim.cut.to_radians().cos()
-                    * (-(aim.cue_travel + aim.object_travel) / EASE_LENGTH).exp();
-                best = best.max(e);
-            }
-        }
-    }
-    best
+    let cue = (config.balls[config.cue].x, config.balls[config.cue].y);
+    let all: Vec<usize> = (0..config.balls.len()).collect();
+    easiest_pot(config, cue, &targets(config).unwrap_or_default(), &all)
 }

@@ -50,43 +50,104 @@ pub struct Candidate {
 
 /// The balls the player may hit first in `config`'s game (indices in its balls): 9-ball
 /// the lowest-numbered ball on the table; 8-ball the context's hittable balls on it.
-/// Errors where the game is not one the planner plays or no such ball is on the table.
+/// Errors where the game is not one the planner plays, on a break, or where no such ball
+/// is on the table.
 pub fn targets(config: &StudyConfig) -> Result<Vec<usize>, String> {
     let game = config
         .game
         .as_ref()
         .ok_or("the planner needs a game (8-ball or 9-ball)")?;
-    let on_table = |k: &usize| *k != config.cue && game.ids[*k] > 0;
-    let balls: Vec<usize> = (0..config.balls.len()).filter(on_table).collect();
-    let out: Vec<usize> = match game.rules {
-        Rules::NineBall => balls
-            .iter()
-            .copied()
-            .min_by_key(|&k| game.ids[k])
-            .into_iter()
-            .collect(),
-        Rules::EightBall => {
-            if game.context.break_shot {
-                return Err("the planner does not plan breaks yet".into());
-            }
-            let hittable = |k: &usize| {
-                let id = game.ids[*k];
-                (1..32).contains(&id) && game.context.hittable & (1 << id) != 0
-            };
-            balls.into_iter().filter(hittable).collect()
+    match game.rules {
+        Rules::NineBall => {}
+        Rules::EightBall if game.context.break_shot => {
+            return Err("the planner does not plan breaks yet".into());
         }
+        Rules::EightBall => {}
         other => {
             return Err(format!(
                 "the planner plays 8-ball and 9-ball for now, not {}",
                 other.name()
             ));
         }
-    };
+    }
+    let out = balls_on(config, |_| true);
     if out.is_empty() {
         return Err("no ball the player may hit first is on the table".into());
     }
     Ok(out)
 }
+
+/// The balls on (indices in `config`'s balls) among those that `left` keeps of the
+/// object balls: 9-ball the lowest-numbered; 8-ball the context's hittable ones, else (the
+/// group down) the 8.
+pub fn balls_on(config: &StudyConfig, left: impl Fn(usize) -> bool) -> Vec<usize> {
+    let game = config
+        .game
+        .as_ref()
+        .expect("the planner's position has a game");
+    let balls: Vec<usize> = (0..config.balls.len())
+        .filter(|&k| k != config.cue && game.ids[k] > 0 && left(k))
+        .collect();
+    if game.rules == Rules::NineBall {
+        return balls
+            .iter()
+            .copied()
+            .min_by_key(|&k| game.ids[k])
+            .into_iter()
+            .collect();
+    }
+    let hittable = |k: &usize| {
+        let id = game.ids[*k];
+        (1..32).contains(&id) && game.context.hittable & (1 << id) != 0
+    };
+    let group: Vec<usize> = balls.iter().copied().filter(hittable).collect();
+    if group.is_empty() {
+        balls.into_iter().filter(|&k| game.ids[k] == 8).collect()
+    } else {
+        group
+    }
+}
+
+/// How easy the easiest direct pot is for the cue ball at `cue`, 0 to 1: over the balls
+/// `on` and the table's pockets, the largest `cos(cut) · exp(−(cue travel + object
+/// travel) / EASE_LENGTH)` of a ghost-ball aim whose cut is under [`MAX_CUT`] with both
+/// paths clear of the balls `others` (indices, the cue ball left out); 0 where there is
+/// none. Positions are `config`'s.
+pub fn easiest_pot(config: &StudyConfig, cue: (f64, f64), on: &[usize], others: &[usize]) -> f64 {
+    let r = config.params.ball.r;
+    let at = |k: usize| (config.balls[k].x, config.balls[k].y);
+    let mut best = 0.0f64;
+    for &b in on {
+        let rest = || {
+            others
+                .iter()
+                .copied()
+                .filter(|&k| k != b && k != config.cue)
+                .map(at)
+        };
+        for p in &config.table.pockets {
+            let target = (p.center.x, p.center.y);
+            let Some(aim) = ghost_ball(cue, at(b), target, r) else {
+                continue;
+            };
+            if aim.cut < MAX_CUT
+                && path_clear(cue, aim.ghost, r, rest())
+                && path_clear(at(b), target, r, rest())
+            {
+                best = best.max(ease(&aim));
+            }
+        }
+    }
+    best
+}
+
+/// A direct pot's ease: `cos(cut) · exp(−(cue travel + object travel) / EASE_LENGTH)`.
+pub fn ease(aim: &Aim) -> f64 {
+    aim.cut.to_radians().cos() * (-(aim.cue_travel + aim.object_travel) / EASE_LENGTH).exp()
+}
+
+/// The length scale of a pot's ease, m ([`ease`]).
+pub const EASE_LENGTH: f64 = 2.0;
 
 /// Every direct-pot candidate of `config`'s position (module docs): for each target of
 /// [`targets`] and each pocket, the ghost-ball aim at the pocket's centre where the cut is

@@ -11,8 +11,7 @@
 
 use rayon::prelude::*;
 
-use super::aim::{ghost_ball, path_clear};
-use super::candidates::{Candidate, Kind, MAX_CUT};
+use super::candidates::{Candidate, Kind, balls_on, easiest_pot};
 use crate::engine::ShotEngine;
 use crate::error::Error;
 use crate::game::{Context, Rules, Verdict};
@@ -23,9 +22,6 @@ use crate::study::{Noise, RunOptions, Sample, Samples, StudyConfig, noisy_strike
 pub const POSITION_WEIGHT: f64 = 0.5;
 /// What a foul costs (the opponent's ball in hand).
 pub const FOUL_COST: f64 = 0.25;
-/// The length scale of the next shot's ease, m: `exp(−(cue travel + object travel) /
-/// EASE_LENGTH)`.
-pub const EASE_LENGTH: f64 = 2.0;
 
 /// A candidate's counts over its samples.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -204,67 +200,12 @@ fn judge_sample(config: &StudyConfig, s: &Sample) -> Estimate {
     e
 }
 
-/// How easy the best next shot is from where sample `s` left the cue ball, in [0, 1]: the
-/// best direct pot among the balls the player may hit next (9-ball: the lowest left;
-/// 8-ball: the group's left, else the 8) of `cos(cut) · exp(−(cue travel + object
-/// travel) / EASE_LENGTH)`, 0 where no pot's cut is under [`MAX_CUT`] with both paths
-/// clear. A cheap estimate: the other balls are taken where they were before the shot
-/// (less the pocketed ones), which the shot may have moved.
+/// How easy the best next shot is from where sample `s` left the cue ball, in [0, 1]:
+/// [`easiest_pot`] among the balls on next ([`balls_on`]: 9-ball the lowest left; 8-ball
+/// the group's left, else the 8). A cheap estimate: the other balls are taken where they
+/// were before the shot (less the pocketed ones), which the shot may have moved.
 pub fn next_shot_ease(config: &StudyConfig, s: &Sample) -> f64 {
-    let game = config
-        .game
-        .as_ref()
-        .expect("the planner's position has a game");
-    let r = config.params.ball.r;
-    let left = |k: &usize| *k != config.cue && s.pocket_of(*k).is_none();
-    let balls: Vec<usize> = (0..config.balls.len()).filter(left).collect();
-    let next: Vec<usize> = match game.rules {
-        Rules::NineBall => balls
-            .iter()
-            .copied()
-            .min_by_key(|&k| game.ids[k])
-            .into_iter()
-            .collect(),
-        _ => {
-            let group: Vec<usize> = balls
-                .iter()
-                .copied()
-                .filter(|&k| {
-                    let id = game.ids[k];
-                    (1..32).contains(&id) && game.context.hittable & (1 << id) != 0
-                })
-                .collect();
-            if group.is_empty() {
-                balls
-                    .iter()
-                    .copied()
-                    .filter(|&k| game.ids[k] == 8)
-                    .collect()
-            } else {
-                group
-            }
-        }
-    };
-    let at = |k: usize| (config.balls[k].x, config.balls[k].y);
-    let cue = s.cue_final;
-    let mut best = 0.0f64;
-    for &b in &next {
-        let others = || balls.iter().copied().filter(|&k| k != b).map(at);
-        for p in &config.table.pockets {
-            let target = (p.center.x, p.center.y);
-            let Some(aim) = ghost_ball(cue, at(b), target, r) else {
-                continue;
-            };
-            if aim.cut >= MAX_CUT
-                || !path_clear(cue, aim.ghost, r, others())
-                || !path_clear(at(b), target, r, others())
-            {
-                continue;
-            }
-            let ease = aim.cut.to_radians().cos()
-                * (-(aim.cue_travel + aim.object_travel) / EASE_LENGTH).exp();
-            best = best.max(ease);
-        }
-    }
-    best
+    let left = |k: usize| k != config.cue && s.pocket_of(k).is_none();
+    let others: Vec<usize> = (0..config.balls.len()).filter(|&k| left(k)).collect();
+    easiest_pot(config, s.cue_final, &balls_on(config, left), &others)
 }

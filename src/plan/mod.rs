@@ -27,7 +27,7 @@ pub mod play;
 use std::time::Instant;
 
 pub use aim::{Aim, ghost_ball, path_clear};
-pub use candidates::{Candidate, Kind, direct_pots, targets};
+pub use candidates::{Candidate, Kind, balls_on, direct_pots, easiest_pot, targets};
 pub use evaluate::{Estimate, context_of, next_shot_ease};
 
 use crate::engine::ShotEngine;
