@@ -59,7 +59,9 @@ fn the_plan_pots_the_ball_on_and_is_the_same_for_the_same_seed() {
     };
     let a = plan(&mut cpu(), &config, &options).unwrap();
     let best = &a.ranked[0];
-    let Kind::Pot { ball, .. } = best.candidate.kind;
+    let Kind::Pot { ball, .. } = best.candidate.kind else {
+        panic!("a pot: {:?}", best.candidate.kind);
+    };
     assert_eq!(config.balls[ball].id, "1", "9-ball: the lowest ball");
     let (keep, _, _) = best.estimate.p_keep();
     assert!(keep > 0.6, "P(keep) {keep}");
@@ -199,7 +201,9 @@ fn eight_ball_plans_the_group_and_then_the_eight() {
         .unwrap();
         let planned = plan(&mut cpu(), &config, &options).unwrap();
         for r in &planned.ranked {
-            let Kind::Pot { ball, pocket } = r.candidate.kind;
+            let Kind::Pot { ball, pocket } = r.candidate.kind else {
+                panic!("a pot: {:?}", r.candidate.kind);
+            };
             assert_eq!(config.balls[ball].id, want);
             let c = context_of(&config, &r.candidate);
             assert_eq!(

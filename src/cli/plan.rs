@@ -175,11 +175,14 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
 
 /// The shot a candidate tries, in words: `3 -> rt (cut 12.3°)`.
 fn shot_name(config: &StudyConfig, r: &Ranked) -> String {
-    let Kind::Pot { ball, pocket } = r.candidate.kind;
-    format!(
-        "{} -> {} (cut {:.1}°)",
-        config.balls[ball].id, config.table.pocket_ids[pocket], r.candidate.aim.cut
-    )
+    let ball = &config.balls[r.candidate.kind.ball()].id;
+    match r.candidate.kind {
+        Kind::Pot { pocket, .. } => format!(
+            "{ball} -> {} (cut {:.1}°)",
+            config.table.pocket_ids[pocket], r.candidate.aim.cut
+        ),
+        Kind::Safety { .. } => format!("safety: hit {ball} full"),
+    }
 }
 
 /// The ranked finalists as a text table.
@@ -277,6 +280,7 @@ pub fn run_play(args: &PlayArgs) -> Result<(), Error> {
                 "game": rules.name(),
                 "games": report.games,
                 "draws": report.draws,
+                "off_table": report.off_table,
                 "players": players,
             })
         );
@@ -325,6 +329,7 @@ fn player_json(label: &str, p: &PlayerStats, report: &PlayReport) -> serde_json:
         "potted_per_visit": f.per_visit,
         "fouls": p.fouls,
         "fouls_per_game": f.fouls_per_game,
+        "foul_kinds": foul_kinds(p),
         "breaks": p.breaks,
         "break_and_runs": p.break_and_runs,
         "break_and_run_rate": f.break_and_run,
@@ -360,9 +365,29 @@ fn play_table(report: &PlayReport, labels: &[String; 2]) -> String {
             f.decision_p95
         ));
     }
+    for (p, label) in report.players.iter().zip(labels) {
+        let kinds: Vec<String> = foul_kinds(p)
+            .iter()
+            .filter(|(_, n)| *n > 0)
+            .map(|(code, n)| format!("{code} {n}"))
+            .collect();
+        if !kinds.is_empty() {
+            out.push_str(&format!("{label} fouls: {}\n", kinds.join(", ")));
+        }
+    }
     out.push_str(&format!(
-        "{} games, {} drawn at the shot cap\n",
-        report.games, report.draws
+        "{} games, {} drawn at the shot cap; {} balls ended a shot off the table\n",
+        report.games, report.draws, report.off_table
     ));
     out
+}
+
+/// A player's fouls by code (the rules' codes, then `cue_off_table`).
+fn foul_kinds(p: &PlayerStats) -> Vec<(&'static str, usize)> {
+    kisstime::game::Foul::ALL
+        .iter()
+        .map(|f| f.code())
+        .chain(["cue_off_table"])
+        .zip(p.foul_kinds)
+        .collect()
 }

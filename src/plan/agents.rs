@@ -6,13 +6,18 @@
 //! - [`Agent::Sampler`]: what a user writes in an afternoon on kisstime's batch — every
 //!   direct pot candidate ([`super::direct_pots`]: 4 speeds × 5 tip offsets) played
 //!   [`SAMPLER_SAMPLES`] times under the noise in one call, the best immediate outcome
-//!   (P(keep the table)) wins; no position, no refinement;
+//!   (P(keep the table); among safeties, the fewest fouls) wins; no position, no
+//!   refinement;
 //! - [`Agent::Planner`]: [`super::plan`] with its budget.
 //!
-//! Without a playable direct pot, every agent plays the same fallback: a full hit on the
-//! nearest ball it may hit, at 2 m/s ([`fallback`]).
+//! Without a playable direct pot the candidates are [`safeties`] (full hits on the balls
+//! on in straight reach): greedy takes the nearest at 2 m/s, the sampler and the planner
+//! choose by simulation. With none of those either, every agent plays the same fallback:
+//! a full hit on the nearest ball it may hit, at 2 m/s ([`fallback`]).
 
-use super::candidates::{Candidate, Kind, THETA, direct_pots, ease, easiest_pot, targets};
+use super::candidates::{
+    Candidate, Kind, THETA, direct_pots, ease, easiest_pot, safeties, targets,
+};
 use super::evaluate::{Estimate, evaluate};
 use super::{Budget, PlanOptions, plan};
 use crate::engine::ShotEngine;
@@ -83,18 +88,27 @@ pub fn choose(
     budget: Budget,
     seed: u64,
 ) -> Result<Choice, Error> {
-    let candidates = direct_pots(config).unwrap_or_default();
+    let mut candidates = direct_pots(config).unwrap_or_default();
+    if candidates.is_empty() {
+        candidates = safeties(config).unwrap_or_default();
+    }
     if candidates.is_empty() {
         return Ok(fallback(config));
     }
-    let pick = |c: &Candidate| {
-        let Kind::Pot { ball, pocket } = c.kind;
-        Choice {
-            strike: c.strike,
-            call: Some((ball, pocket)),
-        }
+    let pick = |c: &Candidate| Choice {
+        strike: c.strike,
+        call: Some((c.kind.ball(), c.kind.pocket())),
     };
     match agent {
+        // no pot: the nearest ball in reach, at the middle speed
+        Agent::Greedy if matches!(candidates[0].kind, Kind::Safety { .. }) => {
+            let best = candidates
+                .iter()
+                .filter(|c| c.strike.v0 == 2.0)
+                .min_by(|x, y| x.aim.cue_travel.total_cmp(&y.aim.cue_travel))
+                .expect("every safety at 2 m/s");
+            Ok(pick(best))
+        }
         Agent::Greedy => {
             let best = candidates
                 .iter()
@@ -121,7 +135,14 @@ pub fn choose(
                 &mut estimates,
             )?;
             let best = (0..candidates.len())
-                .max_by(|&x, &y| estimates[x].kept.cmp(&estimates[y].kept).then(y.cmp(&x)))
+                .max_by(|&x, &y| {
+                    // the table kept, then (a safety keeps none) the value: no foul
+                    let (ex, ey) = (&estimates[x], &estimates[y]);
+                    ex.kept
+                        .cmp(&ey.kept)
+                        .then(ex.value().total_cmp(&ey.value()))
+                        .then(y.cmp(&x))
+                })
                 .expect("candidates");
             Ok(pick(&candidates[best]))
         }

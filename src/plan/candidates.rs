@@ -3,7 +3,13 @@
 //! paths (the cue ball's to the ghost ball, the object ball's to the pocket) are clear,
 //! over a grid of speeds and spins.
 //!
-//! Not yet: banks, kicks, combinations, safeties and ball in hand (issue 29's later parts).
+//! Beside them, [`safeties`]: a full hit on each ball on that the cue ball reaches
+//! straight, at three speeds (meant as a legal contact; not yet chosen for the position
+//! left to the opponent); 8-ball, which calls every shot, calls that ball in the pocket
+//! nearest it.
+//!
+//! Not yet: banks, kicks, combinations, safeties chosen for the position they leave, and
+//! ball in hand (issue 29's later parts).
 
 use super::aim::{Aim, ghost_ball, path_clear};
 use crate::game::Rules;
@@ -35,6 +41,32 @@ pub enum Kind {
         /// The pocket.
         pocket: usize,
     },
+    /// A full hit on ball `ball`, meant as a legal contact rather than a pot
+    /// ([`safeties`]); where the game calls every shot (8-ball), it calls that ball in the
+    /// pocket nearest it.
+    Safety {
+        /// The ball hit.
+        ball: usize,
+        /// The pocket nearest it (8-ball's call).
+        nearest: usize,
+    },
+}
+
+impl Kind {
+    /// The ball it aims at (an index in the position's balls).
+    pub fn ball(&self) -> usize {
+        match *self {
+            Kind::Pot { ball, .. } | Kind::Safety { ball, .. } => ball,
+        }
+    }
+
+    /// The pocket it calls (an index in the table's pockets): a pot's, a safety's nearest.
+    pub fn pocket(&self) -> usize {
+        match *self {
+            Kind::Pot { pocket, .. } => pocket,
+            Kind::Safety { nearest, .. } => nearest,
+        }
+    }
 }
 
 /// One shot to try.
@@ -190,6 +222,56 @@ pub fn direct_pots(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
                     });
                 }
             }
+        }
+    }
+    Ok(out)
+}
+
+/// The speeds of a safety, m/s.
+pub const SAFETY_SPEEDS: [f64; 3] = [1.0, 2.0, 3.0];
+
+/// A full hit, centre ball, at each of [`SAFETY_SPEEDS`], on every target of [`targets`]
+/// that the cue ball reaches on a straight path clear of the other balls.
+pub fn safeties(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
+    let r = config.params.ball.r;
+    let at = |k: usize| (config.balls[k].x, config.balls[k].y);
+    let cue = at(config.cue);
+    let mut out = Vec::new();
+    for ball in targets(config)? {
+        let o = at(ball);
+        let (dx, dy) = (o.0 - cue.0, o.1 - cue.1);
+        let d = dx.hypot(dy);
+        let others = (0..config.balls.len())
+            .filter(|&k| k != config.cue && k != ball)
+            .map(at);
+        if d <= 2.0 * r || !path_clear(cue, o, r, others) {
+            continue;
+        }
+        let aim = Aim {
+            phi: dy.atan2(dx).to_degrees().rem_euclid(360.0),
+            cut: 0.0,
+            ghost: (o.0 - 2.0 * r * dx / d, o.1 - 2.0 * r * dy / d),
+            cue_travel: d - 2.0 * r,
+            object_travel: 0.0,
+        };
+        let far = |p: &crate::model::table::Pocket| (p.center.x - o.0).hypot(p.center.y - o.1);
+        let nearest = (0..config.table.pockets.len())
+            .min_by(|&a, &b| {
+                far(&config.table.pockets[a]).total_cmp(&far(&config.table.pockets[b]))
+            })
+            .unwrap_or(0);
+        for v0 in SAFETY_SPEEDS {
+            out.push(Candidate {
+                kind: Kind::Safety { ball, nearest },
+                strike: CueStrike {
+                    v0,
+                    phi: aim.phi,
+                    theta: THETA,
+                    a: 0.0,
+                    b: 0.0,
+                },
+                aim,
+            });
         }
     }
     Ok(out)

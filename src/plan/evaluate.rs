@@ -11,7 +11,7 @@
 
 use rayon::prelude::*;
 
-use super::candidates::{Candidate, Kind, balls_on, easiest_pot};
+use super::candidates::{Candidate, balls_on, easiest_pot};
 use crate::engine::ShotEngine;
 use crate::error::Error;
 use crate::game::{Context, Rules, Verdict};
@@ -91,18 +91,17 @@ fn interval(k: usize, n: usize) -> (f64, f64, f64) {
     (k as f64 / n.max(1) as f64, lo, hi)
 }
 
-/// The context a candidate is judged in: the game's, with its call (8-ball calls the
-/// ball and the pocket).
+/// The context a candidate is judged in: the game's, with its call (8-ball calls every
+/// shot: a pot's ball and pocket, a safety's ball in the pocket nearest it).
 pub fn context_of(config: &StudyConfig, c: &Candidate) -> Context {
     let game = config
         .game
         .as_ref()
         .expect("the planner's position has a game");
-    let Kind::Pot { ball, pocket } = c.kind;
     match game.rules {
         Rules::EightBall => Context {
-            ball_call: Some(game.ids[ball]),
-            pocket_call: Some(pocket),
+            ball_call: Some(game.ids[c.kind.ball()]),
+            pocket_call: Some(c.kind.pocket()),
             ..game.context
         },
         _ => game.context,

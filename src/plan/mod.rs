@@ -3,7 +3,7 @@
 //!
 //! - [`aim`]: the ghost-ball aim, the cut angle, whether a path is clear;
 //! - [`candidates`]: the shots tried (each target ball into each pocket, where the aim is
-//!   playable, over a grid of speeds and spins);
+//!   playable, over a grid of speeds and spins) and full-hit safeties (no pot called);
 //! - [`evaluate`](mod@evaluate): candidates under the same noise draws (common random
 //!   numbers), in one engine call, judged by the game in each candidate's context, and
 //!   each sample's value (the table kept, the position left, fouls, the game);
@@ -27,7 +27,7 @@ pub mod play;
 use std::time::Instant;
 
 pub use aim::{Aim, ghost_ball, path_clear};
-pub use candidates::{Candidate, Kind, balls_on, direct_pots, easiest_pot, targets};
+pub use candidates::{Candidate, Kind, balls_on, direct_pots, easiest_pot, safeties, targets};
 pub use evaluate::{Estimate, context_of, next_shot_ease};
 
 use crate::engine::ShotEngine;
@@ -110,7 +110,7 @@ pub struct Plan {
 /// context; its `[shot]` is not used) under `options`, simulated on `engine` (module docs).
 ///
 /// Errors: a game the planner does not play, a break, no ball the player may hit on the
-/// table, no playable direct pot, a budget that is not positive and finite or past
+/// table, no playable direct pot nor a ball on in straight reach, a budget that is not positive and finite or past
 /// [`MAX_BUDGET_SECONDS`] / [`MAX_BUDGET_SAMPLES`] or smaller than a sample of every
 /// candidate and the finalists
 /// ([`Error::Input`]); what the engine refuses.
@@ -120,11 +120,14 @@ pub fn plan(
     options: &PlanOptions,
 ) -> Result<Plan, Error> {
     let started = Instant::now();
-    let candidates = direct_pots(config).map_err(InputError::new)?;
+    // the pots, and the safeties beside them: a poor pot may be worth less than a safety
+    let mut candidates = direct_pots(config).map_err(InputError::new)?;
+    candidates.extend(safeties(config).map_err(InputError::new)?);
     if candidates.is_empty() {
         return Err(InputError::new(
             "no direct pot is playable from this position (every cut is past 80° or every path \
-             blocked; banks, kicks and safeties are not planned yet)",
+             blocked) and no ball on is in the cue ball's straight reach (banks and kicks are \
+             not planned yet)",
         )
         .into());
     }
@@ -323,7 +326,8 @@ pub fn position(
 
 /// The plan as JSON: `rules`, `candidates`, `samples`, `rounds`, `seconds`, `strike` (the
 /// chosen one: `V0`, `phi`, `theta`, `a`, `b` in pooltool's `Cue` conventions) and
-/// `ranked`, the finalists best first, each with `kind` (`pot`), `ball` and `pocket` (the
+/// `ranked`, the finalists best first, each with `kind` (`pot` or `safety`: a full hit
+/// meant as a legal contact, 8-ball calling the pocket nearest the ball), `ball` and `pocket` (the
 /// position's and the table's ids), `cut` (degrees), `strike`, `samples`, `p_keep`,
 /// `p_foul`, `p_scratch` (each `[p, low, high]`, the 95 % Wilson interval), `p_won`,
 /// `p_lost`, `position` and `value`.
@@ -333,12 +337,15 @@ pub fn json(config: &StudyConfig, planned: &Plan) -> serde_json::Value {
         .ranked
         .iter()
         .map(|r| {
-            let Kind::Pot { ball, pocket } = r.candidate.kind;
+            let (ball, pocket) = (r.candidate.kind.ball(), r.candidate.kind.pocket());
             let e = &r.estimate;
             let p = |(v, lo, hi): (f64, f64, f64)| serde_json::json!([v, lo, hi]);
             let share = |k: usize| k as f64 / e.samples.max(1) as f64;
             serde_json::json!({
-                "kind": "pot",
+                "kind": match r.candidate.kind {
+                    Kind::Pot { .. } => "pot",
+                    Kind::Safety { .. } => "safety",
+                },
                 "ball": config.balls[ball].id,
                 "pocket": config.table.pocket_ids[pocket],
                 "cut": r.candidate.aim.cut,

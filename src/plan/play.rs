@@ -15,6 +15,12 @@
 //!
 //! Simplified against the WPA's rules: the cue ball in hand anywhere (also after a
 //! scratch on the break), no push-out, no three-foul rule, no safety called.
+//!
+//! A ball can end a shot off the playing surface without being pocketed (seen in
+//! self-play: a ball at (5.6, −3.4) m after a 9-ball shot; whether pooltool lets the same
+//! shot through is not yet checked). Such a ball is off the table, as a jumped ball: an
+//! object ball stays off (the 9, or the 8, is spotted again), the cue ball off is a foul
+//! (ball in hand); [`PlayReport::off_table`] counts them.
 
 use std::time::Instant;
 
@@ -22,7 +28,7 @@ use super::agents::{Agent, Choice, best_ease, choose};
 use super::{Budget, position};
 use crate::engine::ShotEngine;
 use crate::error::{Error, InputError};
-use crate::game::{Context, Rules, Shot};
+use crate::game::{Context, Foul, Rules, Shot};
 use crate::gpu::GpuShot;
 use crate::io::context::default_context;
 use crate::model::MotionState;
@@ -31,6 +37,7 @@ use crate::model::sim_params::SimParams;
 use crate::model::table::Table;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::Limits;
+use crate::simulate::check::check_on_table;
 use crate::study::{Noise, StudyConfig, noisy_strike_of};
 use crate::workload::{FOOT_SPOT, HEAD_STRING_Y};
 
@@ -62,8 +69,11 @@ pub struct PlayerStats {
     pub visits: usize,
     /// Object balls pocketed on legal shots.
     pub potted: usize,
-    /// Fouls.
+    /// Fouls (the rules' and a cue ball off the table).
     pub fouls: usize,
+    /// Fouls by kind: the rules' codes in the order of [`crate::game::Foul::ALL`], then
+    /// the cue ball off the table.
+    pub foul_kinds: [usize; 9],
     /// Games won from the break without the opponent's visit.
     pub break_and_runs: usize,
     /// Games this player broke.
@@ -79,6 +89,9 @@ pub struct PlayReport {
     pub games: usize,
     /// Games drawn at the shot cap.
     pub draws: usize,
+    /// Balls that ended a shot off the playing surface without being pocketed (module
+    /// docs).
+    pub off_table: usize,
     /// Each player's figures.
     pub players: [PlayerStats; 2],
 }
@@ -103,6 +116,7 @@ pub fn play(
     let mut report = PlayReport {
         games: 0,
         draws: 0,
+        off_table: 0,
         players: [PlayerStats::default(), PlayerStats::default()],
     };
     for g in 0..options.games {
@@ -210,22 +224,47 @@ fn play_game(
             },
             &judged_context,
         )?;
-        // the balls after it
+        // the balls after it; a ball that left the playing surface unpocketed is off the
+        // table (the cue ball: a foul)
         let potted: Vec<i64> = game_ids
             .iter()
             .zip(&run.balls)
             .filter(|(_, b)| b.s == MotionState::Pocketed)
             .map(|(id, _)| *id)
             .collect();
+        let on_surface = |b: &BallState| check_on_table(&table, r, b.r).is_ok();
+        let off: Vec<i64> = game_ids
+            .iter()
+            .zip(&run.balls)
+            .filter(|(_, b)| b.s != MotionState::Pocketed && !on_surface(b))
+            .map(|(id, _)| *id)
+            .collect();
+        report.off_table += off.len();
         game.balls = game_ids
             .iter()
             .copied()
             .zip(run.balls.iter().copied())
-            .filter(|(_, b)| b.s != MotionState::Pocketed)
+            .filter(|(_, b)| b.s != MotionState::Pocketed && on_surface(b))
             .map(|(id, b)| (id, BallState { t: 0.0, ..b }))
             .collect();
+        let mut verdict = verdict;
+        let cue_off = off.contains(&0) && verdict.foul.is_none();
+        if cue_off {
+            verdict.legal = false;
+            verdict.turn_over = true;
+        }
         let stats = &mut report.players[s];
-        stats.fouls += usize::from(verdict.foul.is_some());
+        if let Some(f) = verdict.foul {
+            let k = Foul::ALL
+                .iter()
+                .position(|x| *x == f)
+                .expect("a foul of ALL");
+            stats.foul_kinds[k] += 1;
+        }
+        if cue_off {
+            stats.foul_kinds[8] += 1;
+        }
+        stats.fouls += usize::from(verdict.foul.is_some() || cue_off);
         if verdict.legal {
             stats.potted += potted.iter().filter(|&&id| id > 0).count();
         }
@@ -255,13 +294,13 @@ fn play_game(
             groups[1 - s] = Context::balls(theirs);
             game.groups = Some(groups);
         }
-        // a 9 (or 8) pocketed without ending the game comes back
+        // a 9 (or 8) pocketed or off the table without ending the game comes back
         let spotted = if rules == Rules::NineBall { 9 } else { 8 };
-        if potted.contains(&spotted) {
+        if potted.contains(&spotted) || off.contains(&spotted) {
             respot(&mut game, spotted, r);
         }
         game.break_shot = false;
-        game.in_hand = verdict.foul.is_some();
+        game.in_hand = verdict.foul.is_some() || cue_off;
         if verdict.turn_over {
             game.shooter = 1 - s;
             report.players[game.shooter].visits += 1;
