@@ -193,14 +193,9 @@ fn play_game(
         // the shot as played: the choice plus the noise
         let played = noisy_strike_of(choice.strike, r, &options.noise, game_seed, shot as u64);
         let cue = config.cue;
-        let start: Vec<BallState> = ids
-            .iter()
-            .zip(&states)
-            .filter(|(_, b)| b.s != MotionState::Pocketed)
-            .map(|(_, b)| *b)
-            .collect();
+        // the game's balls are all on the table: the position's are they, in their order
         let shots = [GpuShot {
-            balls: start.clone(),
+            balls: states.clone(),
             strike: Some((cue, played)),
         }];
         let run = engine
@@ -210,7 +205,7 @@ fn play_game(
                 crate::simulate::BatchError::Sink(e) => e,
             })?
             .remove(0);
-        let game_ids = config.game.as_ref().expect("a game").ids.clone();
+        let game_ids = &ids;
         let mut judged_context = config.game.as_ref().expect("a game").context;
         if rules == Rules::EightBall && !game.break_shot {
             judged_context.ball_call = choice.call.map(|(b, _)| game_ids[b]);
@@ -218,8 +213,8 @@ fn play_game(
         }
         let verdict = rules.judge(
             &Shot {
-                ids: &game_ids,
-                start: &start,
+                ids: game_ids,
+                start: &states,
                 events: &run.events,
             },
             &judged_context,
