@@ -40,6 +40,8 @@
 //!   reference format;
 //! - [`plan`]: which shot to play — direct-pot candidates under common noise draws, judged
 //!   by the game's rules, successive halving, fresh estimates of the finalists;
+//! - [`env`](mod@env): learning environments — many games of 8-ball, 9-ball or a drill stepped
+//!   at once for reinforcement-learning agents (Python's `kisstime.gym`);
 //! - [`workload`]: reproducible built-in workloads; [`limits`], [`error`].
 //!
 //! The `kisstime` command line (`src/main.rs`, `src/cli/`) is a thin layer over these,
@@ -69,6 +71,7 @@ pub mod batch;
 pub mod compare;
 pub mod cpu;
 pub mod engine;
+pub mod env;
 pub mod error;
 pub mod game;
 pub mod gpu;

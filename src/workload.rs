@@ -279,11 +279,9 @@ impl ShotTable {
     }
 }
 
-/// The foot spot of the 9-ft table in the simulator's frame (x across the table, 0 to
-/// 1.27 m; y along it, 0 to 2.54 m).
-pub const FOOT_SPOT: (f64, f64) = (0.635, 1.905);
-/// The head string of the 9-ft table: y = 0.635 m.
-pub const HEAD_STRING_Y: f64 = 0.635;
+/// The foot spot and the head string of the 9-ft table in the simulator's frame (x across
+/// the table, 0 to 1.27 m; y along it, 0 to 2.54 m): the games' ([`crate::game::progress`]).
+pub use crate::game::progress::{FOOT_SPOT, HEAD_STRING_Y};
 
 /// The aim direction in degrees (counter-clockwise from +x, in [0, 360)) from `from` to `to`.
 fn aim_degrees(from: (f64, f64), to: (f64, f64)) -> f64 {

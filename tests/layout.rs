@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// `ShotEngine::simulate_with`), so it sits above it, and the planner above the study.
 const LAYERS: &[&str] = &[
     "error", "model", "motion", "query", "resolve", "limits", "simulate", "game", "batch", "cpu",
-    "gpu", "compare", "io", "workload", "engine", "study", "plan",
+    "gpu", "compare", "io", "workload", "engine", "study", "plan", "env",
 ];
 
 /// Every `.rs` file under `dir`.

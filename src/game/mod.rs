@@ -32,6 +32,7 @@ use crate::simulate::watch::{NO_POCKET, ShotFacts};
 
 pub mod eight_ball;
 pub mod nine_ball;
+pub mod progress;
 pub mod snooker;
 pub mod three_cushion;
 

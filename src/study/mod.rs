@@ -26,7 +26,7 @@ pub use config::{
     BUILTIN_NAME, BUILTIN_TOML, NOISE_PRESETS, Noise, PhysicsSpread, Spot, StudyConfig, StudyGame,
     Target,
 };
-pub use noise::{clamped, noisy_strike, noisy_strike_of, sample_physics};
+pub use noise::{clamped, mix, noisy_strike, noisy_strike_of, sample_physics};
 pub use reference::{REFERENCE_COLUMNS, write_reference_csv};
 pub use run::{
     CHUNK, FirstContact, Pot, RunOptions, Sample, Samples, Until, run, run_samples, run_strikes,

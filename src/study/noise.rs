@@ -86,7 +86,8 @@ fn splitmix(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// One 64-bit seed from the study's seed and the sample index.
-fn mix(seed: u64, i: u64) -> u64 {
+/// One 64-bit seed from a seed and a counter (the study's seed and the sample index;
+/// self-play's and the learning environments' seeds of games, tables and episodes).
+pub fn mix(seed: u64, i: u64) -> u64 {
     splitmix(splitmix(seed).wrapping_add(i.wrapping_mul(0x9e37_79b9_7f4a_7c15)))
 }
