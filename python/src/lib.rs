@@ -647,38 +647,7 @@ fn plan(
     }
     let config =
         position(&table, table_name, params, (&ids, &balls), rules, context).map_err(py_err)?;
-    let noise = match (noise_preset, noise_sigma) {
-        (Some(name), None) => kisstime::study::Noise::preset(name).ok_or_else(|| {
-            let names: Vec<&str> = kisstime::study::NOISE_PRESETS
-                .iter()
-                .map(|(n, _, _)| *n)
-                .collect();
-            PyValueError::new_err(format!(
-                "noise {name:?}: not a preset (one of {}), nor a dict of sigmas",
-                names.join(", ")
-            ))
-        })?,
-        (None, Some((v0, phi, theta, a, b))) => {
-            if ![v0, phi, theta, a, b]
-                .iter()
-                .all(|x| x.is_finite() && *x >= 0.0)
-            {
-                return Err(PyValueError::new_err(
-                    "noise: every sigma must be finite and at least 0",
-                ));
-            }
-            let r = config.params.ball.r;
-            kisstime::study::Noise {
-                v0,
-                phi,
-                theta,
-                a: a * r,
-                b: b * r,
-                physics: Default::default(),
-            }
-        }
-        _ => return Err(PyValueError::new_err("give one noise: a preset or sigmas")),
-    };
+    let noise = noise_of(noise_preset, noise_sigma, config.params.ball.r)?;
     if !(noise_scale.is_finite() && noise_scale >= 0.0) {
         return Err(PyValueError::new_err(format!(
             "noise_scale {noise_scale}: a finite factor of at least 0"
@@ -1431,12 +1400,265 @@ fn table_ids(name: &str, json: Option<&str>) -> PyResult<(Vec<String>, Vec<Strin
     Ok((t.linear_ids, t.circular_ids, t.pocket_ids))
 }
 
+/// Many games stepped at once for learning agents (`kisstime.gym`'s engine: the library's
+/// `env::VecEnv` with its shot engine). Actions and observations cross as flat NumPy
+/// arrays; a Python opponent is called with the GIL held, between the engine's calls.
+#[pyclass(name = "VecEnv", module = "kisstime._kisstime")]
+struct PyVecEnv {
+    env: kisstime::env::VecEnv,
+    engine: ShotEngine,
+}
+
+/// A Python opponent as [`kisstime::env::Policy`]: `policy(obs)` with the opponent's rows
+/// of observations (2-D float32), returning their actions (n × 7 float64); a Python
+/// exception is kept in `raised` and stops the step.
+fn py_policy<'a>(
+    policy: Option<&'a Py<PyAny>>,
+    raised: &'a mut Option<PyErr>,
+    obs_len: usize,
+) -> impl FnMut(&[usize], &[f32]) -> Result<Vec<f64>, Error> + 'a {
+    move |tables: &[usize], obs: &[f32]| {
+        let Some(policy) = policy else {
+            return Err(kisstime::error::InputError::new(
+                "the opponent is a policy, and none was given",
+            )
+            .into());
+        };
+        Python::attach(|py| {
+            let call = || -> PyResult<Vec<f64>> {
+                let rows = numpy::PyArrayMethods::reshape(
+                    &PyArray1::from_slice(py, obs),
+                    [tables.len(), obs_len],
+                )?;
+                let out = policy.call1(py, (rows,))?;
+                let np = py.import("numpy")?;
+                let flat = np
+                    .call_method1("ascontiguousarray", (out, "float64"))?
+                    .call_method1("reshape", (-1,))?;
+                flat.extract::<Vec<f64>>()
+            };
+            call().map_err(|e| {
+                *raised = Some(e);
+                kisstime::error::InputError::new("the opponent's policy raised").into()
+            })
+        })
+    }
+}
+
+#[pymethods]
+impl PyVecEnv {
+    #[new]
+    #[pyo3(signature = (task, drill_balls, tables, max_shots, rewards, noise_preset, noise_sigma, noise_scale, opponent, budget_samples, max_events, backend))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        task: &str,
+        drill_balls: usize,
+        tables: usize,
+        max_shots: u32,
+        rewards: (f64, f64, f64, f64),
+        noise_preset: Option<&str>,
+        noise_sigma: Option<(f64, f64, f64, f64, f64)>,
+        noise_scale: f64,
+        opponent: &str,
+        budget_samples: usize,
+        max_events: u64,
+        backend: &str,
+    ) -> PyResult<Self> {
+        use kisstime::env::{EnvOptions, Opponent, Rewards, Task};
+        let task = match task {
+            "8-ball" => Task::EightBall,
+            "9-ball" => Task::NineBall,
+            "drill" => Task::Drill { balls: drill_balls },
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "game {other:?}: \"8-ball\", \"9-ball\" or \"drill\""
+                )));
+            }
+        };
+        let opponent = match opponent {
+            "self" => Opponent::SelfPlay,
+            "policy" => Opponent::Policy,
+            name => Opponent::Agent(
+                kisstime::plan::agents::Agent::from_name(name).map_err(PyValueError::new_err)?,
+            ),
+        };
+        if !(noise_scale.is_finite() && noise_scale >= 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "noise_scale {noise_scale}: a finite factor of at least 0"
+            )));
+        }
+        let noise =
+            noise_of(noise_preset, noise_sigma, SimParams::default().ball.r)?.scaled(noise_scale);
+        let limits = Limits::new(max_events, f64::INFINITY).map_err(|e| py_err(e.into()))?;
+        let options = EnvOptions {
+            task,
+            tables,
+            max_shots,
+            rewards: Rewards {
+                pot: rewards.0,
+                foul: rewards.1,
+                win: rewards.2,
+                loss: rewards.3,
+            },
+            noise,
+            opponent,
+            budget: kisstime::plan::Budget::Samples(budget_samples),
+            limits,
+        };
+        let env = kisstime::env::VecEnv::new(options).map_err(py_err)?;
+        let engine = shot_engine_of(backend, Some("f64"))?;
+        Ok(PyVecEnv { env, engine })
+    }
+
+    /// Numbers in one table's observation.
+    #[getter]
+    fn obs_len(&self) -> usize {
+        self.env.obs_len()
+    }
+
+    /// Tables.
+    #[getter]
+    fn num_tables(&self) -> usize {
+        self.env.len()
+    }
+
+    /// What ran (`cpu f64 (2 threads)`, the adapter…).
+    fn describe(&self) -> String {
+        self.engine.describe()
+    }
+
+    /// Every table's observation, flat (tables × obs_len float32).
+    fn observe<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f32>> {
+        let mut out = vec![0f32; self.env.len() * self.env.obs_len()];
+        self.env.observe(&mut out);
+        PyArray1::from_vec(py, out)
+    }
+
+    /// New episodes (seeds: one a table, or None to go on); returns the opponent's shots
+    /// per table.
+    #[pyo3(signature = (seeds, policy=None))]
+    fn reset<'py>(
+        &mut self,
+        py: Python<'py>,
+        seeds: Option<Vec<u64>>,
+        policy: Option<Py<PyAny>>,
+    ) -> PyResult<Vec<u32>> {
+        let obs_len = self.env.obs_len();
+        let mut raised = None;
+        let (env, engine) = (&mut self.env, &mut self.engine);
+        let done = {
+            let mut policy = py_policy(policy.as_ref(), &mut raised, obs_len);
+            py.detach(|| env.reset(engine, seeds.as_deref(), &mut policy))
+        };
+        warn_notes(py, &mut self.engine)?;
+        if let Some(e) = raised {
+            return Err(e);
+        }
+        done.map_err(py_err)
+    }
+
+    /// The next episode of every table whose episode ended: `(which, opponent shots)`.
+    #[pyo3(signature = (policy=None))]
+    fn reset_ended(
+        &mut self,
+        py: Python<'_>,
+        policy: Option<Py<PyAny>>,
+    ) -> PyResult<(Vec<bool>, Vec<u32>)> {
+        let obs_len = self.env.obs_len();
+        let mut raised = None;
+        let (env, engine) = (&mut self.env, &mut self.engine);
+        let done = {
+            let mut policy = py_policy(policy.as_ref(), &mut raised, obs_len);
+            py.detach(|| env.reset_ended(engine, &mut policy))
+        };
+        warn_notes(py, &mut self.engine)?;
+        if let Some(e) = raised {
+            return Err(e);
+        }
+        done.map_err(py_err)
+    }
+
+    /// One step of every table (actions: tables × 7 float64, flat): `(rewards,
+    /// terminated, truncated, info)`, `info` a dict of per-table lists.
+    #[pyo3(signature = (actions, policy=None))]
+    #[allow(clippy::type_complexity)]
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: F64s<'py>,
+        policy: Option<Py<PyAny>>,
+    ) -> PyResult<(Vec<f64>, Vec<bool>, Vec<bool>, Bound<'py, PyDict>)> {
+        let actions = slice(&actions, "actions")?;
+        let obs_len = self.env.obs_len();
+        let mut raised = None;
+        let (env, engine) = (&mut self.env, &mut self.engine);
+        let done = {
+            let mut policy = py_policy(policy.as_ref(), &mut raised, obs_len);
+            py.detach(|| env.step(engine, actions, &mut policy))
+        };
+        warn_notes(py, &mut self.engine)?;
+        if let Some(e) = raised {
+            return Err(e);
+        }
+        let r = done.map_err(py_err)?;
+        let info = PyDict::new(py);
+        info.set_item("reset", r.reset)?;
+        info.set_item("fouled", r.fouled)?;
+        info.set_item("potted", r.potted)?;
+        info.set_item("won", r.won)?;
+        info.set_item("opponent_shots", r.opponent_shots)?;
+        info.set_item("cut", r.cut)?;
+        Ok((r.rewards, r.terminated, r.truncated, info))
+    }
+}
+
+/// The cue noise a preset's name or five sigmas in pooltool's units (V0 m/s; φ, θ
+/// degrees; a, b fractions of the radius `r`) name, one of the two.
+fn noise_of(
+    noise_preset: Option<&str>,
+    noise_sigma: Option<(f64, f64, f64, f64, f64)>,
+    r: f64,
+) -> PyResult<kisstime::study::Noise> {
+    Ok(match (noise_preset, noise_sigma) {
+        (Some(name), None) => kisstime::study::Noise::preset(name).ok_or_else(|| {
+            let names: Vec<&str> = kisstime::study::NOISE_PRESETS
+                .iter()
+                .map(|(n, _, _)| *n)
+                .collect();
+            PyValueError::new_err(format!(
+                "noise {name:?}: not a preset (one of {}), nor a dict of sigmas",
+                names.join(", ")
+            ))
+        })?,
+        (None, Some((v0, phi, theta, a, b))) => {
+            if ![v0, phi, theta, a, b]
+                .iter()
+                .all(|x| x.is_finite() && *x >= 0.0)
+            {
+                return Err(PyValueError::new_err(
+                    "noise: every sigma must be finite and at least 0",
+                ));
+            }
+            kisstime::study::Noise {
+                v0,
+                phi,
+                theta,
+                a: a * r,
+                b: b * r,
+                physics: Default::default(),
+            }
+        }
+        _ => return Err(PyValueError::new_err("give one noise: a preset or sigmas")),
+    })
+}
+
 /// The extension module.
 #[pymodule]
 fn _kisstime(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pair_times, m)?)?;
     m.add_function(wrap_pyfunction!(next_collisions, m)?)?;
     m.add_class::<PyBatch>()?;
+    m.add_class::<PyVecEnv>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_shots, m)?)?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;

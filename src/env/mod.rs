@@ -25,7 +25,9 @@
 //! it (its action is ignored; reward 0; Gymnasium's "next step" autoreset).
 //!
 //! **Reproducible**: table `k`'s episode `e` draws its drill position and every shot's
-//! noise from `(seed, k, e, shot)` alone, so a run is the same bit for bit for the same
+//! noise from `(seeds[k], e, shot)` alone ([`VecEnv::reset`]; Python gives table `k` the
+//! seed `seed + k`, Gymnasium's convention, so that a table of a vector environment plays
+//! as a single environment seeded so), so a run is the same bit for bit for the same
 //! seed and actions, whatever the thread count and on the CPU; on the GPU (f64) the
 //! positions agree to the simulation's ~1e-12 s (docs/gpu.md) and the verdicts are the
 //! same.
@@ -71,6 +73,9 @@ pub const MAX_DRILL_BALLS: usize = 9;
 /// ~25; balls frozen together can chatter through hundreds of thousands (seen in
 /// self-play), which would stall a whole step.
 pub const ENV_MAX_EVENTS: usize = 5_000;
+/// The most episodes in a row the opponent may end before the learner's first shot
+/// ([`VecEnv::reset`]).
+pub const MAX_RESTARTS: usize = 64;
 /// The most tables of one environment.
 pub const MAX_TABLES: usize = 1 << 24;
 
@@ -227,7 +232,7 @@ pub struct VecEnv {
     params: SimParams,
     ids: Vec<i64>,
     games: Vec<GameState>,
-    seed: u64,
+    seeds: Vec<u64>,
     episodes: Vec<u64>,
     ended: Vec<bool>,
 }
@@ -286,8 +291,9 @@ impl VecEnv {
             table: Table::nine_foot(),
             params,
             games: vec![placeholder; tables],
-            seed: 0,
-            episodes: vec![0; tables],
+            seeds: (0..tables as u64).collect(),
+            // no episode yet: the first is 0
+            episodes: vec![u64::MAX; tables],
             ended: vec![true; tables],
         })
     }
@@ -346,23 +352,95 @@ impl VecEnv {
         tail[3] = g.shots as f32 / self.options.max_shots as f32;
     }
 
-    /// Starts a new episode on every table, from `seed` (module docs); the opponent's
-    /// break is played where it breaks. Returns how many opponent shots were played.
+    /// Starts a new episode on every table: with `seeds` (one a table), table `k`'s first
+    /// episode from `seeds[k]` (module docs); without, each table's next episode (its
+    /// seed going on). The opponent's break is played where it breaks. Returns how many
+    /// opponent shots each table saw. Errors: a seed count other than the tables'.
     pub fn reset(
         &mut self,
         engine: &mut ShotEngine,
-        seed: u64,
+        seeds: Option<&[u64]>,
         policy: &mut Policy<'_>,
     ) -> Result<Vec<u32>, Error> {
-        self.seed = seed;
-        self.episodes.iter_mut().for_each(|e| *e = 0);
+        match seeds {
+            Some(seeds) if seeds.len() != self.len() => {
+                return Err(InputError::new(format!(
+                    "{} seeds for {} tables: one a table",
+                    seeds.len(),
+                    self.len()
+                ))
+                .into());
+            }
+            Some(seeds) => {
+                self.seeds.copy_from_slice(seeds);
+                self.episodes.iter_mut().for_each(|e| *e = 0);
+            }
+            None => self
+                .episodes
+                .iter_mut()
+                .for_each(|e| *e = e.wrapping_add(1)),
+        }
         let all: Vec<usize> = (0..self.len()).collect();
         for &k in &all {
             self.start_episode(k)?;
         }
         let mut opponent_shots = vec![0; self.len()];
-        self.opponent_turns(engine, &all, policy, None, &mut opponent_shots)?;
+        self.begin(engine, &all, policy, &mut opponent_shots)?;
         Ok(opponent_shots)
+    }
+
+    /// Plays the opponent's opening turns on `tables`, just started: an episode begins
+    /// with the learner to shoot, so one the opponent's turns end (a break that wins, or
+    /// the shot cap) is followed by the next, up to [`MAX_RESTARTS`] times.
+    fn begin(
+        &mut self,
+        engine: &mut ShotEngine,
+        tables: &[usize],
+        policy: &mut Policy<'_>,
+        shots: &mut [u32],
+    ) -> Result<(), Error> {
+        let max = self.options.max_shots;
+        let mut pending = tables.to_vec();
+        for _ in 0..MAX_RESTARTS {
+            self.opponent_turns(engine, &pending, policy, None, shots)?;
+            pending.retain(|&k| self.games[k].over || self.games[k].shots >= max);
+            if pending.is_empty() {
+                return Ok(());
+            }
+            for &k in &pending {
+                self.next_episode(k)?;
+            }
+        }
+        Err(InputError::new(format!(
+            "table {}: the opponent ended {MAX_RESTARTS} episodes in a row before the \
+             learner's first shot (max_shots {max})",
+            pending[0]
+        ))
+        .into())
+    }
+
+    /// Starts the next episode of every table whose episode ended (what [`VecEnv::step`]
+    /// does first; for callers that want the new episode's observation at once: Gymnasium's
+    /// "same step" autoreset). Returns which tables, and the opponent's shots on each.
+    pub fn reset_ended(
+        &mut self,
+        engine: &mut ShotEngine,
+        policy: &mut Policy<'_>,
+    ) -> Result<(Vec<bool>, Vec<u32>), Error> {
+        let ended = self.ended.clone();
+        let which: Vec<usize> = (0..self.len()).filter(|&k| ended[k]).collect();
+        for &k in &which {
+            self.next_episode(k)?;
+        }
+        let mut opponent_shots = vec![0; self.len()];
+        self.begin(engine, &which, policy, &mut opponent_shots)?;
+        Ok((ended, opponent_shots))
+    }
+
+    /// Table `k`'s next episode, its seed going on.
+    fn next_episode(&mut self, k: usize) -> Result<(), Error> {
+        self.episodes[k] = self.episodes[k].wrapping_add(1);
+        self.start_episode(k)
     }
 
     /// Table `k`'s next episode: the rack (the breaker alternating by episode) or the
@@ -387,7 +465,7 @@ impl VecEnv {
 
     /// The seed of table `k`'s current episode.
     fn episode_seed(&self, k: usize) -> u64 {
-        mix(mix(self.seed, k as u64), self.episodes[k])
+        mix(self.seeds[k], self.episodes[k])
     }
 
     /// A drill's position: the cue ball and the object balls uniformly on the playing
@@ -451,8 +529,7 @@ impl VecEnv {
         let mut learners = Vec::with_capacity(n);
         for k in 0..n {
             if self.ended[k] {
-                self.episodes[k] += 1;
-                self.start_episode(k)?;
+                self.next_episode(k)?;
                 report.reset[k] = true;
             } else {
                 learners.push(k);
@@ -471,19 +548,18 @@ impl VecEnv {
             report.potted[k] = res.own_potted.count_ones();
             report.cut[k] = res.cut;
         }
-        // the opponent's turns after the learner's (and the breaks of the tables reset)
-        let reset: Vec<usize> = (0..n).filter(|&k| report.reset[k]).collect();
-        let mut turns = learners;
-        turns.extend(reset);
+        // the opponent's turns after the learner's, and on the tables reset
         let mut rewards = std::mem::take(&mut report.rewards);
         let mut opponent_shots = std::mem::take(&mut report.opponent_shots);
         self.opponent_turns(
             engine,
-            &turns,
+            &learners,
             policy,
             Some(&mut rewards),
             &mut opponent_shots,
         )?;
+        let reset: Vec<usize> = (0..n).filter(|&k| report.reset[k]).collect();
+        self.begin(engine, &reset, policy, &mut opponent_shots)?;
         report.rewards = rewards;
         report.opponent_shots = opponent_shots;
         for k in 0..n {
