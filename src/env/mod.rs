@@ -536,10 +536,7 @@ impl VecEnv {
             }
         }
         // the learner's shots
-        let planned: Vec<Planned> = learners
-            .iter()
-            .map(|&k| self.learner_shot(k, &actions[k * 7..(k + 1) * 7]))
-            .collect();
+        let planned = self.action_shots(&learners, actions, true);
         let results = self.shoot(engine, &planned)?;
         for (p, res) in planned.iter().zip(&results) {
             let k = p.table;
@@ -623,11 +620,7 @@ impl VecEnv {
                     }
                     let actions = policy(&waiting, &obs)?;
                     check_actions(&actions, waiting.len(), "the opponent's policy: ")?;
-                    waiting
-                        .iter()
-                        .enumerate()
-                        .map(|(i, &k)| self.learner_shot(k, &actions[i * 7..(i + 1) * 7]))
-                        .collect()
+                    self.action_shots(&waiting, &actions, false)
                 }
             };
             self.shoot(engine, &planned)?;
@@ -694,29 +687,52 @@ impl VecEnv {
         })
     }
 
-    /// Table `k`'s shot from a checked action row: the cue ball placed where in hand (the
-    /// free spot nearest the action's x, y), the strike clipped and played under the noise.
-    fn learner_shot(&mut self, k: usize, action: &[f64]) -> Planned {
-        let clip = |i: usize| action[i].clamp(ACTION_LOW[i], ACTION_HIGH[i]);
-        let g = &mut self.games[k];
-        if g.in_hand {
-            let spot = g
-                .free_spot(&self.table, clip(5), clip(6))
-                .unwrap_or((TABLE_WIDTH / 2.0, TABLE_LENGTH / 4.0));
-            g.place_cue(spot.0, spot.1);
-        }
-        let strike = CueStrike {
-            v0: clip(0),
-            phi: clip(1),
-            theta: clip(2),
-            a: clip(3),
-            b: clip(4),
+    /// The shots of `tables` from checked action rows (row `i` of `actions` for
+    /// `tables[i]`, or row `k` for table `k` where `by_table`): the cue ball placed where
+    /// in hand (the free spot nearest the action's x, y), the strike clipped and played
+    /// under the noise. Rayon over the tables.
+    fn action_shots(&mut self, tables: &[usize], actions: &[f64], by_table: bool) -> Vec<Planned> {
+        let clip = |a: &[f64], i: usize| a[i].clamp(ACTION_LOW[i], ACTION_HIGH[i]);
+        let row_of = |i: usize, k: usize| {
+            let r = if by_table { k } else { i };
+            &actions[r * 7..(r + 1) * 7]
         };
-        Planned {
-            table: k,
-            strike: self.noisy(k, strike),
-            call: Call::AsPlayed,
+        let mut row = vec![usize::MAX; self.len()];
+        for (i, &k) in tables.iter().enumerate() {
+            row[k] = i;
         }
+        let table = &self.table;
+        self.games
+            .par_iter_mut()
+            .enumerate()
+            .filter(|(k, g)| row[*k] != usize::MAX && g.in_hand)
+            .for_each(|(k, g)| {
+                let a = row_of(row[k], k);
+                let spot = g
+                    .free_spot(table, clip(a, 5), clip(a, 6))
+                    .unwrap_or((TABLE_WIDTH / 2.0, TABLE_LENGTH / 4.0));
+                g.place_cue(spot.0, spot.1);
+            });
+        let this = &*self;
+        tables
+            .par_iter()
+            .enumerate()
+            .map(|(i, &k)| {
+                let a = row_of(i, k);
+                let strike = CueStrike {
+                    v0: clip(a, 0),
+                    phi: clip(a, 1),
+                    theta: clip(a, 2),
+                    a: clip(a, 3),
+                    b: clip(a, 4),
+                };
+                Planned {
+                    table: k,
+                    strike: this.noisy(k, strike),
+                    call: Call::AsPlayed,
+                }
+            })
+            .collect()
     }
 
     /// `strike` as played on table `k`'s next shot: plus the noise of `(seed, k, episode,
