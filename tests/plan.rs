@@ -510,3 +510,42 @@ fn cli_play_reports_each_agent_and_refuses_bad_input() {
         assert!(run.stdout.is_empty(), "{args:?}");
     }
 }
+
+#[test]
+fn ball_in_hand_places_the_cue_ball_clear_and_plays_at_least_as_well_as_a_bad_spot() {
+    use kisstime::plan::in_hand::{InHand, plan_in_hand};
+    let config = nine_ball();
+    let mut engine = cpu();
+    let options = PlanOptions {
+        noise: Noise::preset("fastfiz").unwrap(),
+        budget: Budget::Samples(60_000),
+        ..PlanOptions::default()
+    };
+    let from_there = plan(&mut engine, &config, &options).unwrap();
+    for region in [InHand::Anywhere, InHand::Kitchen] {
+        let placed = plan_in_hand(&mut engine, &config, &options, region).unwrap();
+        let (x, y) = placed.placement.expect("a placement");
+        let r = config.params.ball.r;
+        for (k, b) in config.balls.iter().enumerate() {
+            if k != config.cue {
+                assert!(
+                    (b.x - x).hypot(b.y - y) > 2.0 * r,
+                    "{region:?}: on ball {}",
+                    b.id
+                );
+            }
+        }
+        if region == InHand::Kitchen {
+            assert!(y < kisstime::game::progress::HEAD_STRING_Y, "{y}");
+        } else {
+            // free to go anywhere, it does no worse than where the cue ball stood
+            let (best, there) = (&placed.ranked[0].estimate, &from_there.ranked[0].estimate);
+            assert!(
+                best.p_keep().2 >= there.p_keep().1,
+                "in hand {:?}, from the cue ball's spot {:?}",
+                best.p_keep(),
+                there.p_keep()
+            );
+        }
+    }
+}

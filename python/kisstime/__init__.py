@@ -884,6 +884,8 @@ class Plan:
         rounds: Rounds of successive halving.
         seconds: Wall-clock seconds.
         rules: The game.
+        placement: With ``ball_in_hand``: where to place the cue ball, ``(x, y)`` in m;
+            else ``None``.
     """
 
     strike: dict
@@ -893,6 +895,7 @@ class Plan:
     rounds: int
     seconds: float
     rules: str
+    placement: Optional[tuple] = None
 
     @property
     def best(self) -> dict:
@@ -941,6 +944,7 @@ def plan(
     seed: int = 1,
     top: int = 5,
     backend: str = "cpu",
+    ball_in_hand: Optional[str] = None,
 ) -> Plan:
     """Which shot to play from an 8-ball or 9-ball position, under cue noise and the
     game's rules (``kisstime plan``; docs/plan.md).
@@ -968,6 +972,9 @@ def plan(
         seed: The noise draws' seed.
         top: Finalists estimated again and returned.
         backend: ``"cpu"``, ``"gpu"`` or ``"auto"``.
+        ball_in_hand: ``"anywhere"`` or ``"kitchen"`` (behind the head string): the cue
+            ball is in hand, and the plan chooses its placement too (:attr:`Plan.placement`;
+            a cue ball in ``balls`` is ignored, and may be left out). docs/plan.md.
 
     Raises:
         ValueError: a game other than 8-ball and 9-ball, balls off the table or
@@ -1005,6 +1012,7 @@ def plan(
         int(seed),
         int(top),
         backend,
+        ball_in_hand,
     )
     out = json.loads(text_json)
     return Plan(
@@ -1015,4 +1023,5 @@ def plan(
         rounds=out["rounds"],
         seconds=out["seconds"],
         rules=out["rules"],
+        placement=None if out.get("placement") is None else (out["placement"]["x"], out["placement"]["y"]),
     )

@@ -1,6 +1,6 @@
 """Type stubs of the compiled extension (the public API is in ``kisstime/__init__.py``)."""
 
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 import numpy.typing as npt
@@ -54,7 +54,7 @@ def plan(
     table_json: Optional[str], physics: _Physics, rules: str, hittable: Optional[list[int]],
     noise_preset: Optional[str], noise_sigma: Optional[tuple[float, float, float, float, float]],
     noise_scale: float, budget_seconds: Optional[float], budget_samples: Optional[int],
-    seed: int, top: int, backend: str,
+    seed: int, top: int, backend: str, ball_in_hand: Optional[str] = None,
 ) -> str: ...
 def study_chunk(
     kind: str, text: str, source: str, dir: Optional[str], physics: _Physics,
@@ -75,3 +75,22 @@ def study_ids(
 def table_ids(
     name: str, json: Optional[str] = None
 ) -> tuple[list[str], list[str], list[str]]: ...
+class VecEnv:
+    """Many games stepped at once (kisstime.gym's engine)."""
+    def __init__(
+        self, task: str, drill_balls: int, tables: int, max_shots: int,
+        rewards: tuple[float, float, float, float], noise_preset: Optional[str],
+        noise_sigma: Optional[tuple[float, float, float, float, float]], noise_scale: float,
+        opponent: str, budget_samples: int, max_events: int, backend: str,
+    ) -> None: ...
+    @property
+    def obs_len(self) -> int: ...
+    @property
+    def num_tables(self) -> int: ...
+    def describe(self) -> str: ...
+    def observe(self) -> np.ndarray: ...
+    def reset(self, seeds: Optional[list[int]], policy: Optional[Any] = None) -> list[int]: ...
+    def reset_ended(self, policy: Optional[Any] = None) -> tuple[list[bool], list[int]]: ...
+    def step(
+        self, actions: np.ndarray, policy: Optional[Any] = None
+    ) -> tuple[list[float], list[bool], list[bool], dict[str, list]]: ...

@@ -598,7 +598,7 @@ fn simulate<'py>(
 /// (seconds or samples), the seed, the finalists and the backend. The plan as JSON text
 /// (`kisstime::plan::json`).
 #[pyfunction]
-#[pyo3(signature = (ids, xs, ys, table_name, table_json, physics, rules, hittable, noise_preset, noise_sigma, noise_scale, budget_seconds, budget_samples, seed, top, backend))]
+#[pyo3(signature = (ids, xs, ys, table_name, table_json, physics, rules, hittable, noise_preset, noise_sigma, noise_scale, budget_seconds, budget_samples, seed, top, backend, ball_in_hand=None))]
 #[allow(clippy::too_many_arguments)]
 fn plan(
     py: Python<'_>,
@@ -618,9 +618,15 @@ fn plan(
     seed: u64,
     top: usize,
     backend: &str,
+    ball_in_hand: Option<&str>,
 ) -> PyResult<String> {
     use kisstime::model::ball_state::BallState;
+    use kisstime::plan::in_hand::{InHand, cue_in_hand, plan_in_hand};
     use kisstime::plan::{Budget, PlanOptions, position};
+    let region = ball_in_hand
+        .map(InHand::from_name)
+        .transpose()
+        .map_err(PyValueError::new_err)?;
     if xs.len() != ids.len() || ys.len() != ids.len() {
         return Err(PyValueError::new_err(
             "balls: ids, x and y of different lengths",
@@ -629,11 +635,15 @@ fn plan(
     let rules = Rules::from_name(rules).map_err(PyValueError::new_err)?;
     let table = table_of(table_name, table_json)?;
     let params = physics_of(&physics)?.unwrap_or_default();
-    let balls: Vec<BallState> = xs
+    let mut balls: Vec<BallState> = xs
         .iter()
         .zip(&ys)
         .map(|(&x, &y)| BallState::at_rest(x, y, params.ball.r))
         .collect();
+    let mut ids = ids;
+    if region.is_some() {
+        (ids, balls) = cue_in_hand(&table, params.ball.r, &ids, &balls).map_err(py_err)?;
+    }
     let mut context = default_context(rules);
     if let Some(h) = &hittable {
         for id in h {
@@ -675,7 +685,10 @@ fn plan(
     };
     let mut engine = shot_engine_of(backend, None)?;
     let planned = py
-        .detach(|| kisstime::plan::plan(&mut engine, &config, &options))
+        .detach(|| match region {
+            Some(region) => plan_in_hand(&mut engine, &config, &options, region),
+            None => kisstime::plan::plan(&mut engine, &config, &options),
+        })
         .map_err(py_err)?;
     warn_notes(py, &mut engine)?;
     Ok(kisstime::plan::json(&config, &planned).to_string())

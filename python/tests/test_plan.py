@@ -126,3 +126,22 @@ def test_the_bridge_plans_on_pooltools_objects():
     with pytest.raises(ValueError, match="pool balls"):
         kpt.plan({"cue": pt.Ball.create("cue", xy=(0.5, 0.5)),
                   "ghost": pt.Ball.create("ghost", xy=(0.3, 1.3))}, table, rules="9-ball")
+
+
+def test_ball_in_hand_chooses_the_placement_and_a_shot_from_it():
+    balls = {0: (0.3, 0.3), 1: (0.9, 1.9), 2: (0.4, 2.2), 9: (0.635, 1.0)}
+    out = kisstime.plan(balls, rules="9-ball", budget_s=None, budget_samples=30_000, ball_in_hand="anywhere")
+    x, y = out.placement
+    assert 0.0 < x < 1.27 and 0.0 < y < 2.54
+    # clear of every object ball
+    for bid, (bx, by) in balls.items():
+        if bid:
+            assert np.hypot(bx - x, by - y) > 2 * 0.028575
+    # the same position with the cue ball left out, and behind the head string
+    del balls[0]
+    kitchen = kisstime.plan(balls, rules="9-ball", budget_s=None, budget_samples=30_000, ball_in_hand="kitchen")
+    assert kitchen.placement[1] < 0.635
+    # from the chosen spot, the ball on (the 1) is hit first in most samples
+    assert kitchen.best["p_foul"][0] < 0.5
+    with pytest.raises(ValueError, match="ball in hand 'nowhere'|ball in hand \"nowhere\""):
+        kisstime.plan(balls, rules="9-ball", ball_in_hand="nowhere")

@@ -301,6 +301,10 @@ pub struct PlanArgs {
     /// (default: an open table, any ball but the 8; the 8 alone once the group is down).
     #[arg(long, value_name = "IDS")]
     pub hittable: Option<String>,
+    /// The cue ball is in hand: choose its placement too, `anywhere` or `kitchen`
+    /// (behind the head string). INPUT's cue ball, if any, is ignored.
+    #[arg(long, value_name = "WHERE")]
+    pub ball_in_hand: Option<String>,
     /// The table of INPUT to plan for (its id); needed when INPUT has several.
     #[arg(long, value_name = "K")]
     pub table_id: Option<i64>,

@@ -10,6 +10,7 @@ use kisstime::io::physics::read_physics_or_default;
 use kisstime::io::table_json::table_by_name;
 use kisstime::model::ball_state::BallState;
 use kisstime::plan::agents::Agent;
+use kisstime::plan::in_hand::{InHand, cue_in_hand, plan_in_hand};
 use kisstime::plan::play::{PlayOptions, PlayReport, PlayerStats, play};
 use kisstime::plan::{Budget, Kind, Plan, PlanOptions, Ranked, plan, position};
 use kisstime::study::wilson;
@@ -76,12 +77,19 @@ fn read_position(args: &PlanArgs, rules: Rules) -> Result<(i64, StudyConfig), Er
         }
     };
     let at = format!("{file}, table {}", batch.table_id(k));
-    let ids = batch.ball_ids(k);
-    let balls: Vec<BallState> = batch
+    let mut ids = batch.ball_ids(k).to_vec();
+    let mut balls: Vec<BallState> = batch
         .balls(k)
         .iter()
         .map(|b| BallState::from_ball(b, params.ball.r))
         .collect();
+    // in hand: the cue ball, wherever it is (or is not), waits at a free spot; the
+    // placement is the planner's
+    if args.ball_in_hand.is_some() {
+        (ids, balls) = cue_in_hand(&table, params.ball.r, &ids, &balls)
+            .map_err(|e| InputError::new(format!("{at}: {e}")))?;
+    }
+    let ids = &ids[..];
     let mut context = default_context(rules);
     if let Some(list) = &args.hittable {
         let mut set = Vec::new();
@@ -135,7 +143,13 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
         finalists: args.top,
         ..PlanOptions::default()
     };
-    let planned = plan(&mut engine, &config, &options)?;
+    let planned = match &args.ball_in_hand {
+        Some(region) => {
+            let region = InHand::from_name(region).map_err(InputError::new)?;
+            plan_in_hand(&mut engine, &config, &options, region)?
+        }
+        None => plan(&mut engine, &config, &options)?,
+    };
     for note in engine.take_notes() {
         eprintln!("kisstime: {note}");
     }
@@ -151,6 +165,9 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
     if args.json {
         println!("{}", kisstime::plan::json(&config, &planned));
     } else {
+        if let Some((x, y)) = planned.placement {
+            println!("cue ball in hand: place it at x = {x:.3} m, y = {y:.3} m");
+        }
         print!("{}", plan_table(&config, &planned));
     }
     if let Some(path) = &args.output {

@@ -95,10 +95,7 @@ pub fn choose(
     if candidates.is_empty() {
         return Ok(fallback(config));
     }
-    let pick = |c: &Candidate| Choice {
-        strike: c.strike,
-        call: Some((c.kind.ball(), c.kind.pocket())),
-    };
+    let pick = choice_of;
     match agent {
         // no pot: the nearest ball in reach, at the middle speed
         Agent::Greedy if matches!(candidates[0].kind, Kind::Safety { .. }) => {
@@ -157,6 +154,14 @@ pub fn choose(
             let planned = plan(engine, config, &options)?;
             Ok(pick(&planned.ranked[0].candidate))
         }
+    }
+}
+
+/// A candidate as a choice: its strike, its ball and pocket as the call.
+pub fn choice_of(c: &Candidate) -> Choice {
+    Choice {
+        strike: c.strike,
+        call: Some((c.kind.ball(), c.kind.pocket())),
     }
 }
 

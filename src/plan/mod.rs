@@ -22,6 +22,7 @@ pub mod agents;
 pub mod aim;
 pub mod candidates;
 pub mod evaluate;
+pub mod in_hand;
 pub mod play;
 
 use std::time::Instant;
@@ -104,6 +105,8 @@ pub struct Plan {
     pub rounds: usize,
     /// Wall-clock seconds.
     pub seconds: f64,
+    /// With the cue ball in hand ([`in_hand::plan_in_hand`]): where it is placed.
+    pub placement: Option<(f64, f64)>,
 }
 
 /// The shot to play from `config`'s position (its balls, table, physics and game with its
@@ -217,6 +220,7 @@ pub fn plan(
         samples: used,
         rounds,
         seconds: started.elapsed().as_secs_f64(),
+        placement: None,
     })
 }
 
@@ -368,6 +372,7 @@ pub fn json(config: &StudyConfig, planned: &Plan) -> serde_json::Value {
         "rounds": planned.rounds,
         "seconds": planned.seconds,
         "strike": planned.ranked.first().map(|r| strike(r.candidate.strike)),
+        "placement": planned.placement.map(|(x, y)| serde_json::json!({"x": x, "y": y})),
         "ranked": ranked,
     })
 }

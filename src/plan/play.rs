@@ -8,8 +8,9 @@
 //! shot is the shooter's agent's choice plus the noise, simulated to rest and judged, and
 //! the game goes on as [`crate::game::progress`] says (the turn, ball in hand, 8-ball's
 //! groups, the 9 spotted again, balls off the table). After a foul the next player has the
-//! cue ball in hand, placed where the easiest direct pot is easiest (the same rule for
-//! every agent: [`place_cue`]). A game is over when the verdict says so, or drawn at
+//! cue ball in hand: greedy and the sampler place it where the easiest direct pot is
+//! easiest ([`place_cue`]); the planner chooses the placement with the shot
+//! ([`super::in_hand`]). A game is over when the verdict says so, or drawn at
 //! [`PlayOptions::max_shots`].
 //!
 //! A ball can end a shot off the playing surface without being pocketed (seen in
@@ -18,8 +19,9 @@
 
 use std::time::Instant;
 
-use super::agents::{Agent, Choice, best_ease, choose};
-use super::{Budget, position};
+use super::agents::{Agent, Choice, best_ease, choice_of, choose};
+use super::in_hand::{InHand, plan_in_hand};
+use super::{Budget, PlanOptions, position};
 use crate::engine::ShotEngine;
 use crate::error::{Error, InputError};
 use crate::game::progress::{Call, FOOT_SPOT, GameState, MAX_IDS};
@@ -137,11 +139,13 @@ fn play_game(
     let mut states = [game.balls[0]; MAX_IDS];
     for shot in 0..options.max_shots {
         let s = game.shooter;
-        if game.in_hand {
+        // in hand: placed where the easiest pot is easiest; the planner places it itself
+        let in_hand = game.in_hand;
+        if in_hand {
             place_cue(&mut game, &table, params)?;
         }
-        let n = game.layout(&mut ids, &mut states);
-        let config = position(
+        let mut n = game.layout(&mut ids, &mut states);
+        let mut config = position(
             &table,
             "9ft",
             params,
@@ -154,14 +158,38 @@ fn play_game(
         } else {
             let started = Instant::now();
             let agent_seed = mix(game_seed, 1 + shot as u64);
-            let c = choose(
-                options.agents[s],
-                engine,
-                &config,
-                &options.noise,
-                options.budget,
-                agent_seed,
-            )?;
+            let c = if in_hand && options.agents[s] == Agent::Planner {
+                let plan_options = PlanOptions {
+                    noise: options.noise,
+                    seed: agent_seed,
+                    budget: options.budget,
+                    finalists: 3,
+                    ..PlanOptions::default()
+                };
+                let planned = plan_in_hand(engine, &config, &plan_options, InHand::Anywhere)?;
+                if let Some((x, y)) = planned.placement {
+                    game.place_cue(x, y);
+                    n = game.layout(&mut ids, &mut states);
+                    config = position(
+                        &table,
+                        "9ft",
+                        params,
+                        (&ids[..n], &states[..n]),
+                        rules,
+                        game.context(),
+                    )?;
+                }
+                choice_of(&planned.ranked[0].candidate)
+            } else {
+                choose(
+                    options.agents[s],
+                    engine,
+                    &config,
+                    &options.noise,
+                    options.budget,
+                    agent_seed,
+                )?
+            };
             report.players[s]
                 .decisions
                 .push(started.elapsed().as_secs_f64());
