@@ -254,3 +254,342 @@ fn npy_header_that_is_slow_to_parse_is_refused_quickly_with_a_short_message() {
         .to_string();
     assert!(err.contains("bytes long") && err.len() < 300, "{err}");
 }
+
+/// A shot simulated on the 9-ft table through the public engine (CPU), its events recorded
+/// and checked against every invariant of `simulate::invariants`.
+fn simulate_checked(
+    balls: &[kisstime::simulate::BallState],
+    strike: (usize, kisstime::simulate::CueStrike),
+) -> kisstime::gpu::GpuRun {
+    let (run, verdict) = simulate_and_check(balls, strike);
+    if let Err(v) = verdict {
+        panic!("{v}");
+    }
+    run
+}
+
+/// [`simulate_checked`] that returns the checker's verdict.
+fn simulate_and_check(
+    balls: &[kisstime::simulate::BallState],
+    strike: (usize, kisstime::simulate::CueStrike),
+) -> (
+    kisstime::gpu::GpuRun,
+    Result<kisstime::simulate::invariants::Margins, kisstime::simulate::invariants::Violation>,
+) {
+    use kisstime::engine::{Backend, Precision, ShotEngine};
+    use kisstime::simulate::invariants::{ShotRun, check_shot};
+    use kisstime::simulate::{Limits, SimParams, Table};
+    let table = Table::nine_foot();
+    let params = SimParams::default();
+    let limits = Limits::default();
+    let shots = [kisstime::gpu::GpuShot {
+        balls: balls.to_vec(),
+        strike: Some(strike),
+    }];
+    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let run = engine
+        .simulate(&table, params, limits, &shots, true)
+        .unwrap()
+        .remove(0);
+    let shot = ShotRun {
+        start: balls,
+        strike: Some(strike),
+        events: &run.events,
+        end: &run.balls,
+        outcome: run.outcome,
+        limits,
+    };
+    let verdict = check_shot(&table, &params, &shot);
+    (run, verdict)
+}
+
+/// event_loop and tests/invariants.rs, finding 7 (the known "ball off the table"): a ball
+/// frozen to a rail (its centre exactly R from the cushion) and struck into it gets no
+/// cushion event — pooltool's root τ = 0 fails its `τ > EPS` (Q6) — and rolls through the
+/// cushion and off the table, unpocketed (here to (−0.31, 2.48) m; in self-play once to
+/// (5.6, −3.4) m). pooltool 0.6.0 does the same, and kisstime reproduces it on purpose
+/// (`tests/sim_properties.rs` pins such a shot), so this test of the physical outcome is
+/// ignored until that is decided; the proposed fix (a touching ball moving into a
+/// straight cushion collides at once) is on branch `fuzz31-q6-contact-rule`. The test
+/// below pins what happens now, and that the checker tells it apart.
+#[test]
+#[ignore = "finding 7: pooltool's Q6, reproduced on purpose (FUZZING.md)"]
+fn ball_frozen_to_a_rail_and_struck_into_it_bounces_off_the_rail() {
+    use kisstime::simulate::{BallState, CueStrike, EventKind};
+    let r = 0.028575;
+    let pocketed = |x: f64, y: f64| BallState {
+        s: MotionState::Pocketed,
+        r: kisstime::simulate::Vec3::new(x, y, -0.08),
+        ..BallState::at_rest(x, y, r)
+    };
+    let balls = [
+        BallState::at_rest(1.0674885912422998, 2.511425, r),
+        pocketed(1.3385, 1.27),
+        BallState::at_rest(r, 2.357635912813119, r),
+        BallState::at_rest(0.5746293435328268, 1.2541083190290003, r),
+    ];
+    let strike = CueStrike {
+        v0: 2.492514017913911,
+        phi: 159.65987060310096,
+        theta: 2.865864972941639,
+        a: -0.4226011682650979,
+        b: 0.7419187900795443,
+    };
+    let run = simulate_checked(&balls, (2, strike));
+    let second = run.events[1].event;
+    assert_eq!(
+        (second.kind, second.ball, second.t),
+        (EventKind::BallLinearCushion, 2, 0.0),
+        "{second:?}"
+    );
+    // the same straight into each of the four rails, from rest against it
+    for (x, y, phi) in [
+        (r, 1.0, 180.0),
+        (1.27 - r, 1.0, 0.0),
+        (0.6, r, 270.0),
+        (0.6, 2.54 - r, 90.0),
+    ] {
+        let balls = [BallState::at_rest(x, y, r)];
+        let strike = CueStrike {
+            v0: 2.0,
+            phi,
+            theta: 0.0,
+            a: 0.0,
+            b: 0.0,
+        };
+        let run = simulate_checked(&balls, (0, strike));
+        assert_eq!(run.events[1].event.kind, EventKind::BallLinearCushion);
+    }
+}
+
+/// tests/invariants.rs, finding 7 again, by a collision: a ball frozen to the foot rail
+/// (y = R) is pushed into it by another ball (0.005 m/s into the rail) and sinks 0.24 mm
+/// into the cushion before its slide ends (a later cushion event brings it back). Ignored
+/// as the test above. (The layout as found had a 16th ball over the right side pocket,
+/// which the layout check now refuses: finding 8; it took no part in the shot.)
+#[test]
+#[ignore = "finding 7: pooltool's Q6, reproduced on purpose (FUZZING.md)"]
+fn ball_frozen_to_a_rail_and_pushed_into_it_stays_out_of_the_cushion() {
+    use kisstime::simulate::{BallState, CueStrike, EventKind};
+    let r = 0.028575;
+    let xy = [
+        (1.2200317696656886, 0.6443339495419106),
+        (0.03956269120173683, 1.2717556914036274),
+        (0.07193820811909898, 1.2246605918248645),
+        (1.0969351591226015, 0.24957153064738596),
+        (0.8524173329914325, 0.028575),
+        (1.0507124014110305, 0.2831824436153104),
+        (0.11699954253632878, 0.06959222102917992),
+        (1.0968027178468271, 0.8446069607380433),
+        (0.523055696143427, 2.487382634004259),
+        (0.4320910655712825, 0.6946689659676925),
+        (1.2699402052784616, 1.2462003189453048),
+        (0.5174897665227344, 0.6529714737465102),
+        (0.7649810510299767, 0.2377675770118586),
+        (0.1005389640977925, 0.8491979616587345),
+    ];
+    let balls: Vec<BallState> = xy
+        .iter()
+        .map(|&(x, y)| BallState::at_rest(x, y, r))
+        .collect();
+    let strike = CueStrike {
+        v0: 4.911536250754389,
+        phi: 82.36381216608387,
+        theta: 4.279429567903872,
+        a: 0.057942100940857486,
+        b: 0.6566524034032583,
+    };
+    let run = simulate_checked(&balls, (13, strike));
+    // ball 4 (frozen to the foot rail, segment 18 at index 4) is hit, and meets the rail
+    // at the same time
+    let hit = run
+        .events
+        .iter()
+        .position(|e| {
+            e.event.kind == EventKind::BallBall && (e.event.ball == 4 || e.event.other == 4)
+        })
+        .expect("ball 4 is hit");
+    let next = run.events[hit + 1].event;
+    assert_eq!(
+        (next.kind, next.ball, next.other, next.t),
+        (EventKind::BallLinearCushion, 4, 4, run.events[hit].event.t),
+        "{next:?}"
+    );
+}
+
+/// read_strikes (found by reading the code while writing the target): the strike files'
+/// `.npy` reader opened files with npyz directly, without the header checks of findings
+/// 3–5 that the batch reader makes, so a header of unclosed brackets hung it and a shape
+/// whose product overflows panicked in npyz. It now opens them through the same checks.
+#[test]
+fn strike_npy_headers_are_checked_as_batch_headers_are() {
+    use kisstime::io::Format;
+    use kisstime::io::strikes::{parse_sample_strikes, parse_strikes};
+    let deep = npy_v1(&format!("{{'descr': {}}}", "[".repeat(40)));
+    let overflow =
+        npy_v1("{'descr': '<f8', 'fortran_order': False, 'shape': (4444444444444444442, 10), }");
+    for bytes in [&deep, &overflow] {
+        let start = std::time::Instant::now();
+        let a = parse_strikes(&bytes[..], "s.npy", Format::Npy).unwrap_err();
+        let b = parse_sample_strikes(&bytes[..], "s.npy", Format::Npy).unwrap_err();
+        for e in [a.to_string(), b.to_string()] {
+            assert!(
+                e.contains("s.npy") && e.contains("not a readable .npy"),
+                "{e}"
+            );
+        }
+        assert!(start.elapsed().as_secs() < 5);
+    }
+    // a valid file still reads
+    let mut ok = npy_v1("{'descr': '<f8', 'fortran_order': False, 'shape': (1, 7), }");
+    for v in [3.0f64, 0.0, 2.0, 90.0, 0.0, 0.1, 0.2] {
+        ok.extend_from_slice(&v.to_le_bytes());
+    }
+    let rows = parse_strikes(&ok[..], "s.npy", Format::Npy).unwrap();
+    assert_eq!((rows[0].table, rows[0].strike.v0), (3, 2.0));
+}
+
+/// rules_judge, finding 9: events whose balls are not in the shot (here a first contact
+/// with ball 3,222,086,847 of a 1-ball shot) made snooker's judge index the ids out of
+/// bounds (a panic). Every judge now refuses facts that name a ball the shot does not
+/// have, and ids and states of different lengths.
+#[test]
+fn judges_refuse_events_of_balls_not_in_the_shot() {
+    use kisstime::game::{Context, Rules, Shot};
+    use kisstime::simulate::{BallState, Event, EventKind, EventRecord, NO_AGENT};
+    let r = 0.028575;
+    let record = |kind, ball, other| {
+        let s = BallState::at_rest(0.5, 0.5, r);
+        EventRecord {
+            event: Event {
+                kind,
+                t: 0.0,
+                ball,
+                other,
+            },
+            states: [s, s],
+        }
+    };
+    let ids = [0i64];
+    let start = [BallState::at_rest(0.5, 0.5, r)];
+    let cases = [
+        vec![
+            record(EventKind::StickBall, 0, NO_AGENT),
+            record(EventKind::BallBall, 0, 3_222_086_847),
+        ],
+        vec![
+            record(EventKind::StickBall, 0, NO_AGENT),
+            record(EventKind::BallPocket, 40, 0),
+        ],
+        vec![
+            record(EventKind::StickBall, 0, NO_AGENT),
+            record(EventKind::BallLinearCushion, 7, 2),
+        ],
+    ];
+    for events in &cases {
+        let shot = Shot {
+            ids: &ids,
+            start: &start,
+            events,
+        };
+        for (rules, _) in Rules::ALL {
+            let context = rules.context(Context::default());
+            let err = rules.judge(&shot, &context).expect_err("refused");
+            assert!(!err.to_string().is_empty());
+        }
+    }
+    // ids and states of different lengths
+    let shot = Shot {
+        ids: &[0, 1],
+        start: &start,
+        events: &cases[0][..1],
+    };
+    for (rules, _) in Rules::ALL {
+        assert!(rules.judge(&shot, &Context::default()).is_err());
+    }
+}
+
+/// Finding 7 as kisstime (and pooltool) simulate it today: the ball frozen to the left rail
+/// and struck into it leaves the table with no cushion event, and the invariant checker
+/// reports it as `RailTunnel` (the known Q6 behaviour), not as a plain `OffTable`.
+#[test]
+fn ball_frozen_to_a_rail_and_struck_into_it_goes_through_as_in_pooltool() {
+    use kisstime::simulate::invariants::Invariant;
+    use kisstime::simulate::{BallState, CueStrike, EventKind};
+    let r = 0.028575;
+    let balls = [
+        BallState::at_rest(r, 2.357635912813119, r),
+        BallState::at_rest(0.5746293435328268, 1.2541083190290003, r),
+    ];
+    let strike = CueStrike {
+        v0: 2.492514017913911,
+        phi: 159.65987060310096,
+        theta: 2.865864972941639,
+        a: -0.4226011682650979,
+        b: 0.7419187900795443,
+    };
+    let (run, verdict) = simulate_and_check(&balls, (0, strike));
+    assert!(
+        run.events
+            .iter()
+            .all(|e| e.event.kind != EventKind::BallLinearCushion || e.event.ball != 0)
+    );
+    assert!(run.balls[0].r.x < -0.2, "{:?}", run.balls[0].r);
+    let v = verdict.unwrap_err();
+    assert_eq!(
+        (v.invariant, v.ball),
+        (Invariant::RailTunnel, Some(0)),
+        "{v}"
+    );
+    assert!(v.detail.contains("segment 6"), "{v}");
+}
+
+/// rules_judge, finding 10: snooker's winner on the final black was decided from
+/// `score + points > opponent_score + foul_points` in u32, and a score of `u32::MAX` (which
+/// a context file may give: its scores are read as u32) overflowed (a panic with overflow
+/// checks on, a wrapped sum and the wrong winner without). The sums are now in u64.
+#[test]
+fn snooker_scores_at_the_top_of_u32_do_not_overflow() {
+    use kisstime::game::{Context, Rules, Shot};
+    use kisstime::simulate::{BallState, Event, EventKind, EventRecord, NO_AGENT};
+    let r = 0.028575;
+    // the white and the black alone; the white pots the black (ids 0 and 21)
+    let ids = [0i64, 21];
+    let start = [
+        BallState::at_rest(0.5, 0.5, r),
+        BallState::at_rest(0.5, 1.5, r),
+    ];
+    let record = |kind, ball, other, t| {
+        let s = BallState::at_rest(0.5, 0.5, r);
+        EventRecord {
+            event: Event {
+                kind,
+                t,
+                ball,
+                other,
+            },
+            states: [s, s],
+        }
+    };
+    let events = [
+        record(EventKind::StickBall, 0, NO_AGENT, 0.0),
+        record(EventKind::BallBall, 0, 1, 0.5),
+        record(EventKind::BallPocket, 1, 5, 1.0),
+    ];
+    let shot = Shot {
+        ids: &ids,
+        start: &start,
+        events: &events,
+    };
+    for (score, won) in [([u32::MAX, u32::MAX], true), ([0, u32::MAX], false)] {
+        let context = Rules::Snooker.context(Context {
+            hittable: 1 << 21,
+            ball_call: Some(21),
+            score,
+            ..Context::default()
+        });
+        let v = Rules::Snooker.judge(&shot, &context).unwrap();
+        assert!(v.legal && v.game_over, "{v:?}");
+        assert_eq!(v.won, won, "{score:?}: {v:?}");
+    }
+}
