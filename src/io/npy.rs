@@ -354,12 +354,13 @@ const MAX_HEADER_LEN: u64 = 10_000;
 /// offending line, which can be the whole header).
 const MAX_QUOTED: usize = 160;
 
+/// A `.npy` file opened by [`open_npy`]: its checked header read again, then the rest.
+pub(crate) type CheckedNpy<R> = npyz::NpyFile<std::io::Chain<std::io::Cursor<Vec<u8>>, R>>;
+
 /// Opens `.npy` bytes with npyz after the checks of [`check_header`] (every `.npy` reader
 /// of the crate comes through here: npyz alone hangs or panics on some headers); the error
 /// is the message, `not a readable .npy file: …`, for the caller to locate.
-pub(crate) fn open_npy<R: Read>(
-    mut reader: R,
-) -> Result<npyz::NpyFile<std::io::Chain<std::io::Cursor<Vec<u8>>, R>>, String> {
+pub(crate) fn open_npy<R: Read>(mut reader: R) -> Result<CheckedNpy<R>, String> {
     let prefix =
         read_header_prefix(&mut reader).map_err(|e| format!("not a readable .npy file: {e}"))?;
     check_header(&prefix).map_err(|e| format!("not a readable .npy file: {e}"))?;

@@ -238,7 +238,8 @@ pub fn momentum_steal_energy(states: &[BallState; 2], params: &SimParams) -> f64
     let [b1, b2] = states;
     let d = b2.r - b1.r;
     let len = d.norm();
-    if !(len > 0.0) || !(b1.v.norm() > 0.0 && b2.v.norm() > 0.0) {
+    let positive = |x: f64| x > 0.0;
+    if !(positive(len) && positive(b1.v.norm()) && positive(b2.v.norm())) {
         return 0.0;
     }
     let n = (1.0 / len) * d;
@@ -501,11 +502,11 @@ pub fn check_shot(
                     format!("{e:?} pockets the ball without a ball_pocket event"),
                 ));
             }
-            if s.s != MotionState::Pocketed {
-                if let Err(why) = check_on_table(table, r, s.r) {
-                    let why = format!("after {}: {why}", e.kind.name());
-                    return Err(off_table(i, &tunnel, at, why));
-                }
+            if s.s != MotionState::Pocketed
+                && let Err(why) = check_on_table(table, r, s.r)
+            {
+                let why = format!("after {}: {why}", e.kind.name());
+                return Err(off_table(i, &tunnel, at, why));
             }
         }
         // a ball back off a cushion is no longer going through one; a ball that touches
@@ -577,9 +578,15 @@ pub fn check_shot(
         }
     }
     // (a) pockets: each ball pocketed during the shot by exactly one event
-    for i in 0..n {
-        let was = run.start[i].s == MotionState::Pocketed;
-        let is = run.end[i].s == MotionState::Pocketed;
+    for (i, ((start, end), &count)) in run
+        .start
+        .iter()
+        .zip(run.end)
+        .zip(&pocket_events)
+        .enumerate()
+    {
+        let was = start.s == MotionState::Pocketed;
+        let is = end.s == MotionState::Pocketed;
         if was && !is {
             return Err(violation(
                 Invariant::BallCount,
@@ -588,24 +595,21 @@ pub fn check_shot(
                 "pocketed at the start, back on the table at the end".to_owned(),
             ));
         }
-        if is != (was || pocket_events[i] == 1) || pocket_events[i] > 1 {
+        if is != (was || count == 1) || count > 1 {
             return Err(violation(
                 Invariant::BallCount,
                 Some(i),
                 None,
-                format!(
-                    "{} ball_pocket events; pocketed at the start {was}, at the end {is}",
-                    pocket_events[i]
-                ),
+                format!("{count} ball_pocket events; pocketed at the start {was}, at the end {is}"),
             ));
         }
     }
     // (c) on the table at the end
     for (i, b) in run.end.iter().enumerate() {
-        if b.s != MotionState::Pocketed {
-            if let Err(why) = check_on_table(table, r, b.r) {
-                return Err(off_table(i, &tunnel, None, format!("at the end: {why}")));
-            }
+        if b.s != MotionState::Pocketed
+            && let Err(why) = check_on_table(table, r, b.r)
+        {
+            return Err(off_table(i, &tunnel, None, format!("at the end: {why}")));
         }
     }
     // (b) no overlap at the end
