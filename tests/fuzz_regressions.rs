@@ -593,3 +593,166 @@ fn snooker_scores_at_the_top_of_u32_do_not_overflow() {
         assert_eq!(v.won, won, "{score:?}: {v:?}");
     }
 }
+
+/// event_loop, finding 11: a gravity of 1e-320 (positive and finite, so accepted) makes
+/// every deceleration μ g a subnormal, every motion time v / (μ g) infinite, and a ball
+/// moving at 3 m/s never stopped: the loop found no event, ended, and did not report a
+/// cut. The simulation's parameters now refuse decelerations that are not normal f64, as
+/// the pair solver's do (finding 2).
+#[test]
+fn simulation_parameters_with_subnormal_decelerations_are_refused() {
+    use kisstime::simulate::{BallState, Limits, SimParams, Table, Vec3, simulate};
+    let mut params = SimParams::default();
+    params.ball.g = 1e-320;
+    let err = params.validate().unwrap_err().to_string();
+    assert!(err.contains("u_s * g"), "{err}");
+    let mut b = BallState::at_rest(0.3, 0.3, params.ball.r);
+    b.v = Vec3::new(-3.0, -3.0, 0.0);
+    b.s = MotionState::Sliding;
+    let table = Table::nine_foot();
+    assert!(simulate(&table, params, Limits::default(), &[b], None, |_, _| ()).is_err());
+    // a small but normal deceleration still simulates (and the run is cut by the time cap)
+    params.ball.g = 1e-300;
+    let limits = Limits {
+        max_events: 100,
+        max_time: 10.0,
+    };
+    let out = simulate(&table, params, limits, &[b], None, |_, _| ()).unwrap();
+    assert!(out.cut.is_some() || out.n_events > 0, "{out:?}");
+}
+
+/// event_loop, finding 12: a ball radius of 1e-320 (positive and finite, so accepted)
+/// made the spins `v / R` of a rolling ball infinite and its state NaN. The parameters now
+/// refuse a radius whose moment of inertia `2/5 m R²`, inverse `1/R` or spin deceleration
+/// `5 μ_sp g / (2R)` is not a normal f64.
+#[test]
+fn simulation_parameters_with_a_subnormal_radius_are_refused() {
+    use kisstime::simulate::SimParams;
+    for r in [1e-320, 1e-160, 1e200] {
+        let mut params = SimParams::default();
+        params.ball.r = r;
+        assert!(params.validate().is_err(), "R = {r}");
+    }
+    let mut params = SimParams::default();
+    params.ball.m = 1e-320;
+    assert!(params.validate().is_err());
+    // small but ordinary balls still pass
+    params = SimParams::default();
+    params.ball.r = 0.001;
+    params.validate().unwrap();
+}
+
+/// event_loop, finding 13 (not fixed): the layout check lets moving balls overlap (pooltool
+/// resolves an overlap at once, Q3), however deep. The fuzzer put 20 balls sliding at 4.2
+/// m/s on the very same spot in the bottom-left corner, beside a ball at rest: the first
+/// ball–ball resolution moves a ball back along its path (the kiss, Q1) 2 cm into the left
+/// cushion. Ignored: deciding how deep an overlap of moving balls to accept is open (the
+/// layout check accepts 0.1 mm on purpose); the `event_loop` target no longer makes such
+/// overlaps (a moving ball that overlaps another by more than 10 µm is put at rest, and
+/// the layout is then refused).
+#[test]
+#[ignore = "finding 13: deep overlaps of moving balls, open (FUZZING.md)"]
+fn deeply_overlapping_moving_balls_stay_on_the_table() {
+    use kisstime::simulate::{BallState, Vec3};
+    let r = 0.028575;
+    let moving = |x: f64, y: f64| BallState {
+        v: Vec3::new(-3.0, -3.0, 0.0),
+        w: Vec3::new(-100.0, -100.0, -100.0),
+        s: MotionState::Sliding,
+        ..BallState::at_rest(x, y, r)
+    };
+    let mut balls = vec![
+        BallState::at_rest(0.032034765625, r, r),
+        moving(0.0424140625, r),
+    ];
+    balls.extend((0..20).map(|_| moving(r, r)));
+    use kisstime::engine::{Backend, Precision, ShotEngine};
+    use kisstime::simulate::invariants::{ShotRun, check_shot};
+    use kisstime::simulate::{Limits, SimParams, Table};
+    let (table, params) = (Table::nine_foot(), SimParams::default());
+    let limits = Limits {
+        max_events: 400,
+        max_time: 20.0,
+    };
+    let shots = [kisstime::gpu::GpuShot {
+        balls: balls.clone(),
+        strike: None,
+    }];
+    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let run = engine
+        .simulate(&table, params, limits, &shots, true)
+        .unwrap()
+        .remove(0);
+    let shot = ShotRun {
+        start: &balls,
+        strike: None,
+        events: &run.events,
+        end: &run.balls,
+        outcome: run.outcome,
+        limits,
+    };
+    if let Err(v) = check_shot(&table, &params, &shot) {
+        panic!("{v}");
+    }
+}
+
+/// event_loop, finding 14: a strike of V0 = 1e-300 m/s gives the cue ball a speed whose
+/// energy rounds to 0, so after the strike the table still looked at rest at t = 0 and the
+/// strike was offered again: 400 strikes at t = 0, to the event cap. The strike now happens
+/// once.
+#[test]
+fn a_strike_too_soft_to_move_the_ball_happens_once() {
+    use kisstime::simulate::{BallState, CueStrike, EventKind};
+    let r = 0.028575;
+    let balls = [BallState::at_rest(
+        1.2561225524902344,
+        2.4912409606933594,
+        r,
+    )];
+    let strike = CueStrike {
+        v0: 1e-300,
+        phi: 115.257568359375,
+        theta: -10.0,
+        a: 1.0,
+        b: 0.0,
+    };
+    let (run, verdict) = simulate_and_check(&balls, (0, strike));
+    let strikes = run
+        .events
+        .iter()
+        .filter(|e| e.event.kind == EventKind::StickBall)
+        .count();
+    assert_eq!(strikes, 1, "{:?}", run.outcome);
+    assert!(run.outcome.cut.is_none(), "{:?}", run.outcome);
+    verdict.unwrap();
+}
+
+/// event_loop, finding 15: a tip on the rim of the ball (a = 0.9569…, b = −0.2902…, which
+/// `CueStrike::validate` accepts: a² + b² ≤ 1) made `1 − a² − b²` round to −1e-17, its
+/// square root NaN, the strike NaN, and the shot's event times NaN. The difference is
+/// clamped at 0 now.
+#[test]
+fn a_strike_on_the_rim_of_the_ball_is_finite() {
+    use kisstime::simulate::{BallState, CueStrike};
+    let r = 0.028575;
+    let balls = [BallState::at_rest(0.032198023509979246, 0.7839516206642613, r)];
+    let strike = CueStrike {
+        v0: 9.999847412109375,
+        phi: 359.9945068359375,
+        theta: 0.0,
+        a: 0.9569403357322088,
+        b: -0.2902846772544625,
+    };
+    strike.validate().unwrap();
+    assert!(1.0 - strike.a * strike.a - strike.b * strike.b < 0.0);
+    let (run, verdict) = simulate_and_check(&balls, (0, strike));
+    assert!(run.outcome.t_end.is_finite(), "{:?}", run.outcome);
+    if let Err(v) = verdict {
+        // the ball may go through the rail it is struck into (finding 7); nothing else
+        assert_eq!(
+            v.invariant,
+            kisstime::simulate::invariants::Invariant::RailTunnel,
+            "{v}"
+        );
+    }
+}
