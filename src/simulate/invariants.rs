@@ -255,9 +255,12 @@ pub fn momentum_steal_energy(states: &[BallState; 2], params: &SimParams) -> f64
 /// The straight cushion (its index in `table.linear`) that ball `b` touches while moving
 /// into it, if any: its centre on the segment's checked line (the line `R` from the
 /// segment on its checked side) or inside it (up to the segment itself), within the
-/// segment's extent, and its path heading into the cushion (velocity, or acceleration
-/// from rest along the normal). pooltool's detection finds no root τ > EPS for such a
-/// ball (Q6): no cushion event comes, and the ball goes into the cushion.
+/// segment's extent, and its path heading into the cushion (its velocity, or its
+/// acceleration: a ball the kiss (Q1) left a micrometre inside the line, moving out slowly
+/// while its spin curves it in, never crosses the line from outside). pooltool's detection
+/// finds no root τ > EPS for such a ball (Q6): no cushion event comes, and the ball goes
+/// into the cushion. (A ball that does leave the line and comes back meets the cushion
+/// as usual, and its flag is cleared at that event.)
 pub fn touching_into_cushion(table: &Table, params: &SimParams, b: &BallState) -> Option<usize> {
     if b.s == MotionState::Pocketed || !b.translating() {
         return None;
@@ -283,7 +286,7 @@ pub fn touching_into_cushion(table: &Table, params: &SimParams, b: &BallState) -
             // depth past the checked line, into the cushion
             let depth = inward * value + r;
             let (v_in, a_in) = (inward * speed, inward * accel);
-            (-CONTACT_TOL..=r).contains(&depth) && (v_in > 0.0 || (v_in == 0.0 && a_in > 0.0))
+            (-CONTACT_TOL..=r).contains(&depth) && (v_in > 0.0 || a_in > 0.0)
         })
     })
 }
