@@ -735,7 +735,11 @@ fn a_strike_too_soft_to_move_the_ball_happens_once() {
 fn a_strike_on_the_rim_of_the_ball_is_finite() {
     use kisstime::simulate::{BallState, CueStrike};
     let r = 0.028575;
-    let balls = [BallState::at_rest(0.032198023509979246, 0.7839516206642613, r)];
+    let balls = [BallState::at_rest(
+        0.032198023509979246,
+        0.7839516206642613,
+        r,
+    )];
     let strike = CueStrike {
         v0: 9.999847412109375,
         phi: 359.9945068359375,
@@ -755,4 +759,90 @@ fn a_strike_on_the_rim_of_the_ball_is_finite() {
             "{v}"
         );
     }
+}
+
+/// event_loop, finding 16 (not fixed): at a straight cushion the ball left with more
+/// kinetic energy than it brought: 2.17 J after the event against 1.63 J just before (the
+/// whole table had 2.08 J after the event before). Parameters far from pooltool's (cushion
+/// friction f_c = 0.79, 4 times its default; restitution e_c = 0.26; sliding friction
+/// 0.055) and a ball spinning at 150 rad/s (side and top spin), sliding at 3.4 m/s into
+/// the foot rail. The cushion's resolution is pooltool's Stronge compliant model
+/// (`resolve::ball_cushion`), not yet examined for it. Ignored until it is.
+#[test]
+#[ignore = "finding 16: energy gained at a cushion, open (FUZZING.md)"]
+fn a_cushion_does_not_add_energy() {
+    use kisstime::engine::{Backend, Precision, ShotEngine};
+    use kisstime::simulate::invariants::{ShotRun, check_shot};
+    use kisstime::simulate::{BallState, Limits, SimParams, Table, Vec3};
+    let mut params = SimParams::default();
+    params.ball.u_s = 0.055084161926952604;
+    params.ball.u_r = 0.002500317317734928;
+    params.ball.u_sp = 0.019301464723413223;
+    params.ball.e_b = 0.5;
+    params.ball.e_c = 0.26104106999514737;
+    params.ball.f_c = 0.7913824105551804;
+    let r = params.ball.r;
+    let balls = [BallState {
+        v: Vec3::new(-3.0, -3.0, 0.0),
+        w: Vec3::new(-100.0, -100.0, -100.0),
+        s: MotionState::Sliding,
+        ..BallState::at_rest(0.09667239379882812, 2.4915564453125003, r)
+    }];
+    let table = Table::nine_foot();
+    let limits = Limits {
+        max_events: 400,
+        max_time: 20.0,
+    };
+    let shots = [kisstime::gpu::GpuShot {
+        balls: balls.to_vec(),
+        strike: None,
+    }];
+    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let run = engine
+        .simulate(&table, params, limits, &shots, true)
+        .unwrap()
+        .remove(0);
+    let shot = ShotRun {
+        start: &balls,
+        strike: None,
+        events: &run.events,
+        end: &run.balls,
+        outcome: run.outcome,
+        limits,
+    };
+    if let Err(v) = check_shot(&table, &params, &shot) {
+        panic!("{v}");
+    }
+}
+
+/// event_loop, finding 7 again, by a massé: the cue ball frozen to the left rail and to a
+/// second ball is struck almost vertically (theta 87.5°, a = 1). The collision at t = 0
+/// and its kiss (Q1) leave it 1.1 µm inside the rail's checked line, moving out at 0.7 mm/s
+/// while its spin curves it back in: it never crosses the line from outside, gets no
+/// cushion event, and ends 1 m off the table. The checker reports it as `RailTunnel` (the
+/// ball was on the line with its path heading in), as pooltool's Q6.
+#[test]
+fn a_masse_off_a_frozen_ball_goes_through_the_rail_as_in_pooltool() {
+    use kisstime::simulate::invariants::Invariant;
+    use kisstime::simulate::{BallState, CueStrike};
+    let r = 0.028575;
+    let balls = [
+        BallState::at_rest(r, 0.48687539405822755, r),
+        BallState::at_rest(0.08572485156246025, 0.4868754614567604, r),
+    ];
+    let strike = CueStrike {
+        v0: 1.49017333984375,
+        phi: 37.55126953125,
+        theta: 87.5390625,
+        a: 1.0,
+        b: 0.0,
+    };
+    let (run, verdict) = simulate_and_check(&balls, (0, strike));
+    assert!(run.balls[0].r.x < -0.5, "{:?}", run.balls[0].r);
+    let v = verdict.unwrap_err();
+    assert_eq!(
+        (v.invariant, v.ball),
+        (Invariant::RailTunnel, Some(0)),
+        "{v}"
+    );
 }
