@@ -139,8 +139,10 @@ impl BallParams {
                 return Err(SimError::Param { name, value: v });
             }
         }
+        // normal f64: a subnormal e_c (1e-320) made Stronge's cushion model divide into
+        // NaN (the `event_loop` fuzz target's finding 17, FUZZING.md)
         for (name, v) in [("e_b", self.e_b), ("e_c", self.e_c)] {
-            if !(v > 0.0 && v <= 1.0) {
+            if !(v.is_normal() && v > 0.0 && v <= 1.0) {
                 return Err(SimError::Param { name, value: v });
             }
         }
