@@ -846,3 +846,20 @@ fn a_masse_off_a_frozen_ball_goes_through_the_rail_as_in_pooltool() {
         "{v}"
     );
 }
+
+/// event_loop, finding 17: a cushion restitution of 1e-320 (in (0, 1], so accepted) made
+/// the cushion's resolution NaN, and with it the shot's end time and the ball's position.
+/// Restitutions must be normal f64 now.
+#[test]
+fn subnormal_restitutions_are_refused() {
+    use kisstime::simulate::SimParams;
+    for (e_b, e_c) in [(0.95, 1e-320), (1e-320, 0.85), (0.95, 0.0)] {
+        let mut params = SimParams::default();
+        params.ball.e_b = e_b;
+        params.ball.e_c = e_c;
+        assert!(params.validate().is_err(), "e_b {e_b}, e_c {e_c}");
+    }
+    let mut params = SimParams::default();
+    params.ball.e_c = 1e-300;
+    params.validate().unwrap();
+}
