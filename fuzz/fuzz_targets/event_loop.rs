@@ -321,7 +321,7 @@ fuzz_target!(|data: &[u8]| {
             } else if let Err(v) = verdict {
                 panic!(
                     "{v}\nballs: {balls:?}\nstrike: {strike:?}\nparams: {params:?}\noutcome: \
-                     {:?}\nevents: {}",
+                     {:?}\nevents: {}\ntable: {table:?}",
                     run.outcome,
                     run.events.len()
                 );
