@@ -254,3 +254,671 @@ fn npy_header_that_is_slow_to_parse_is_refused_quickly_with_a_short_message() {
         .to_string();
     assert!(err.contains("bytes long") && err.len() < 300, "{err}");
 }
+
+/// A shot simulated on the 9-ft table through the public engine (CPU), its events recorded
+/// and checked against every invariant of `simulate::invariants`.
+fn simulate_checked(
+    balls: &[kisstime::simulate::BallState],
+    strike: (usize, kisstime::simulate::CueStrike),
+) -> kisstime::gpu::GpuRun {
+    let (run, verdict) = simulate_and_check(balls, strike);
+    if let Err(v) = verdict {
+        panic!("{v}");
+    }
+    run
+}
+
+/// [`simulate_checked`] that returns the checker's verdict.
+fn simulate_and_check(
+    balls: &[kisstime::simulate::BallState],
+    strike: (usize, kisstime::simulate::CueStrike),
+) -> (
+    kisstime::gpu::GpuRun,
+    Result<kisstime::simulate::invariants::Margins, kisstime::simulate::invariants::Violation>,
+) {
+    use kisstime::engine::{Backend, Precision, ShotEngine};
+    use kisstime::simulate::invariants::{ShotRun, check_shot};
+    use kisstime::simulate::{Limits, SimParams, Table};
+    let table = Table::nine_foot();
+    let params = SimParams::default();
+    let limits = Limits::default();
+    let shots = [kisstime::gpu::GpuShot {
+        balls: balls.to_vec(),
+        strike: Some(strike),
+    }];
+    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let run = engine
+        .simulate(&table, params, limits, &shots, true)
+        .unwrap()
+        .remove(0);
+    let shot = ShotRun {
+        start: balls,
+        strike: Some(strike),
+        events: &run.events,
+        end: &run.balls,
+        outcome: run.outcome,
+        limits,
+    };
+    let verdict = check_shot(&table, &params, &shot);
+    (run, verdict)
+}
+
+/// event_loop and tests/invariants.rs, finding 7 (the known "ball off the table"): a ball
+/// frozen to a rail (its centre exactly R from the cushion) and struck into it gets no
+/// cushion event — pooltool's root τ = 0 fails its `τ > EPS` (Q6) — and rolls through the
+/// cushion and off the table, unpocketed (here to (−0.31, 2.48) m; in self-play once to
+/// (5.6, −3.4) m). pooltool 0.6.0 does the same, and kisstime reproduces it on purpose
+/// (`tests/sim_properties.rs` pins such a shot), so this test of the physical outcome is
+/// ignored until that is decided; the proposed fix (a touching ball moving into a
+/// straight cushion collides at once) is on branch `fuzz31-q6-contact-rule`. The test
+/// below pins what happens now, and that the checker tells it apart.
+#[test]
+#[ignore = "finding 7: pooltool's Q6, reproduced on purpose (FUZZING.md)"]
+fn ball_frozen_to_a_rail_and_struck_into_it_bounces_off_the_rail() {
+    use kisstime::simulate::{BallState, CueStrike, EventKind};
+    let r = 0.028575;
+    let pocketed = |x: f64, y: f64| BallState {
+        s: MotionState::Pocketed,
+        r: kisstime::simulate::Vec3::new(x, y, -0.08),
+        ..BallState::at_rest(x, y, r)
+    };
+    let balls = [
+        BallState::at_rest(1.0674885912422998, 2.511425, r),
+        pocketed(1.3385, 1.27),
+        BallState::at_rest(r, 2.357635912813119, r),
+        BallState::at_rest(0.5746293435328268, 1.2541083190290003, r),
+    ];
+    let strike = CueStrike {
+        v0: 2.492514017913911,
+        phi: 159.65987060310096,
+        theta: 2.865864972941639,
+        a: -0.4226011682650979,
+        b: 0.7419187900795443,
+    };
+    let run = simulate_checked(&balls, (2, strike));
+    let second = run.events[1].event;
+    assert_eq!(
+        (second.kind, second.ball, second.t),
+        (EventKind::BallLinearCushion, 2, 0.0),
+        "{second:?}"
+    );
+    // the same straight into each of the four rails, from rest against it
+    for (x, y, phi) in [
+        (r, 1.0, 180.0),
+        (1.27 - r, 1.0, 0.0),
+        (0.6, r, 270.0),
+        (0.6, 2.54 - r, 90.0),
+    ] {
+        let balls = [BallState::at_rest(x, y, r)];
+        let strike = CueStrike {
+            v0: 2.0,
+            phi,
+            theta: 0.0,
+            a: 0.0,
+            b: 0.0,
+        };
+        let run = simulate_checked(&balls, (0, strike));
+        assert_eq!(run.events[1].event.kind, EventKind::BallLinearCushion);
+    }
+}
+
+/// tests/invariants.rs, finding 7 again, by a collision: a ball frozen to the foot rail
+/// (y = R) is pushed into it by another ball (0.005 m/s into the rail) and sinks 0.24 mm
+/// into the cushion before its slide ends (a later cushion event brings it back). Ignored
+/// as the test above. (The layout as found had a 16th ball over the right side pocket,
+/// which the layout check now refuses: finding 8; it took no part in the shot.)
+#[test]
+#[ignore = "finding 7: pooltool's Q6, reproduced on purpose (FUZZING.md)"]
+fn ball_frozen_to_a_rail_and_pushed_into_it_stays_out_of_the_cushion() {
+    use kisstime::simulate::{BallState, CueStrike, EventKind};
+    let r = 0.028575;
+    let xy = [
+        (1.2200317696656886, 0.6443339495419106),
+        (0.03956269120173683, 1.2717556914036274),
+        (0.07193820811909898, 1.2246605918248645),
+        (1.0969351591226015, 0.24957153064738596),
+        (0.8524173329914325, 0.028575),
+        (1.0507124014110305, 0.2831824436153104),
+        (0.11699954253632878, 0.06959222102917992),
+        (1.0968027178468271, 0.8446069607380433),
+        (0.523055696143427, 2.487382634004259),
+        (0.4320910655712825, 0.6946689659676925),
+        (1.2699402052784616, 1.2462003189453048),
+        (0.5174897665227344, 0.6529714737465102),
+        (0.7649810510299767, 0.2377675770118586),
+        (0.1005389640977925, 0.8491979616587345),
+    ];
+    let balls: Vec<BallState> = xy
+        .iter()
+        .map(|&(x, y)| BallState::at_rest(x, y, r))
+        .collect();
+    let strike = CueStrike {
+        v0: 4.911536250754389,
+        phi: 82.36381216608387,
+        theta: 4.279429567903872,
+        a: 0.057942100940857486,
+        b: 0.6566524034032583,
+    };
+    let run = simulate_checked(&balls, (13, strike));
+    // ball 4 (frozen to the foot rail, segment 18 at index 4) is hit, and meets the rail
+    // at the same time
+    let hit = run
+        .events
+        .iter()
+        .position(|e| {
+            e.event.kind == EventKind::BallBall && (e.event.ball == 4 || e.event.other == 4)
+        })
+        .expect("ball 4 is hit");
+    let next = run.events[hit + 1].event;
+    assert_eq!(
+        (next.kind, next.ball, next.other, next.t),
+        (EventKind::BallLinearCushion, 4, 4, run.events[hit].event.t),
+        "{next:?}"
+    );
+}
+
+/// read_strikes (found by reading the code while writing the target): the strike files'
+/// `.npy` reader opened files with npyz directly, without the header checks of findings
+/// 3–5 that the batch reader makes, so a header of unclosed brackets hung it and a shape
+/// whose product overflows panicked in npyz. It now opens them through the same checks.
+#[test]
+fn strike_npy_headers_are_checked_as_batch_headers_are() {
+    use kisstime::io::Format;
+    use kisstime::io::strikes::{parse_sample_strikes, parse_strikes};
+    let deep = npy_v1(&format!("{{'descr': {}}}", "[".repeat(40)));
+    let overflow =
+        npy_v1("{'descr': '<f8', 'fortran_order': False, 'shape': (4444444444444444442, 10), }");
+    for bytes in [&deep, &overflow] {
+        let start = std::time::Instant::now();
+        let a = parse_strikes(&bytes[..], "s.npy", Format::Npy).unwrap_err();
+        let b = parse_sample_strikes(&bytes[..], "s.npy", Format::Npy).unwrap_err();
+        for e in [a.to_string(), b.to_string()] {
+            assert!(
+                e.contains("s.npy") && e.contains("not a readable .npy"),
+                "{e}"
+            );
+        }
+        assert!(start.elapsed().as_secs() < 5);
+    }
+    // a valid file still reads
+    let mut ok = npy_v1("{'descr': '<f8', 'fortran_order': False, 'shape': (1, 7), }");
+    for v in [3.0f64, 0.0, 2.0, 90.0, 0.0, 0.1, 0.2] {
+        ok.extend_from_slice(&v.to_le_bytes());
+    }
+    let rows = parse_strikes(&ok[..], "s.npy", Format::Npy).unwrap();
+    assert_eq!((rows[0].table, rows[0].strike.v0), (3, 2.0));
+}
+
+/// rules_judge, finding 9: events whose balls are not in the shot (here a first contact
+/// with ball 3,222,086,847 of a 1-ball shot) made snooker's judge index the ids out of
+/// bounds (a panic). Every judge now refuses facts that name a ball the shot does not
+/// have, and ids and states of different lengths.
+#[test]
+fn judges_refuse_events_of_balls_not_in_the_shot() {
+    use kisstime::game::{Context, Rules, Shot};
+    use kisstime::simulate::{BallState, Event, EventKind, EventRecord, NO_AGENT};
+    let r = 0.028575;
+    let record = |kind, ball, other| {
+        let s = BallState::at_rest(0.5, 0.5, r);
+        EventRecord {
+            event: Event {
+                kind,
+                t: 0.0,
+                ball,
+                other,
+            },
+            states: [s, s],
+        }
+    };
+    let ids = [0i64];
+    let start = [BallState::at_rest(0.5, 0.5, r)];
+    let cases = [
+        vec![
+            record(EventKind::StickBall, 0, NO_AGENT),
+            record(EventKind::BallBall, 0, 3_222_086_847),
+        ],
+        vec![
+            record(EventKind::StickBall, 0, NO_AGENT),
+            record(EventKind::BallPocket, 40, 0),
+        ],
+        vec![
+            record(EventKind::StickBall, 0, NO_AGENT),
+            record(EventKind::BallLinearCushion, 7, 2),
+        ],
+    ];
+    for events in &cases {
+        let shot = Shot {
+            ids: &ids,
+            start: &start,
+            events,
+        };
+        for (rules, _) in Rules::ALL {
+            let context = rules.context(Context::default());
+            let err = rules.judge(&shot, &context).expect_err("refused");
+            assert!(!err.to_string().is_empty());
+        }
+    }
+    // ids and states of different lengths
+    let shot = Shot {
+        ids: &[0, 1],
+        start: &start,
+        events: &cases[0][..1],
+    };
+    for (rules, _) in Rules::ALL {
+        assert!(rules.judge(&shot, &Context::default()).is_err());
+    }
+}
+
+/// Finding 7 as kisstime (and pooltool) simulate it today: the ball frozen to the left rail
+/// and struck into it leaves the table with no cushion event, and the invariant checker
+/// reports it as `RailTunnel` (the known Q6 behaviour), not as a plain `OffTable`.
+#[test]
+fn ball_frozen_to_a_rail_and_struck_into_it_goes_through_as_in_pooltool() {
+    use kisstime::simulate::invariants::Invariant;
+    use kisstime::simulate::{BallState, CueStrike, EventKind};
+    let r = 0.028575;
+    let balls = [
+        BallState::at_rest(r, 2.357635912813119, r),
+        BallState::at_rest(0.5746293435328268, 1.2541083190290003, r),
+    ];
+    let strike = CueStrike {
+        v0: 2.492514017913911,
+        phi: 159.65987060310096,
+        theta: 2.865864972941639,
+        a: -0.4226011682650979,
+        b: 0.7419187900795443,
+    };
+    let (run, verdict) = simulate_and_check(&balls, (0, strike));
+    assert!(
+        run.events
+            .iter()
+            .all(|e| e.event.kind != EventKind::BallLinearCushion || e.event.ball != 0)
+    );
+    assert!(run.balls[0].r.x < -0.2, "{:?}", run.balls[0].r);
+    let v = verdict.unwrap_err();
+    assert_eq!(
+        (v.invariant, v.ball),
+        (Invariant::RailTunnel, Some(0)),
+        "{v}"
+    );
+    assert!(v.detail.contains("segment 6"), "{v}");
+}
+
+/// rules_judge, finding 10: snooker's winner on the final black was decided from
+/// `score + points > opponent_score + foul_points` in u32, and a score of `u32::MAX` (which
+/// a context file may give: its scores are read as u32) overflowed (a panic with overflow
+/// checks on, a wrapped sum and the wrong winner without). The sums are now in u64.
+#[test]
+fn snooker_scores_at_the_top_of_u32_do_not_overflow() {
+    use kisstime::game::{Context, Rules, Shot};
+    use kisstime::simulate::{BallState, Event, EventKind, EventRecord, NO_AGENT};
+    let r = 0.028575;
+    // the white and the black alone; the white pots the black (ids 0 and 21)
+    let ids = [0i64, 21];
+    let start = [
+        BallState::at_rest(0.5, 0.5, r),
+        BallState::at_rest(0.5, 1.5, r),
+    ];
+    let record = |kind, ball, other, t| {
+        let s = BallState::at_rest(0.5, 0.5, r);
+        EventRecord {
+            event: Event {
+                kind,
+                t,
+                ball,
+                other,
+            },
+            states: [s, s],
+        }
+    };
+    let events = [
+        record(EventKind::StickBall, 0, NO_AGENT, 0.0),
+        record(EventKind::BallBall, 0, 1, 0.5),
+        record(EventKind::BallPocket, 1, 5, 1.0),
+    ];
+    let shot = Shot {
+        ids: &ids,
+        start: &start,
+        events: &events,
+    };
+    for (score, won) in [([u32::MAX, u32::MAX], true), ([0, u32::MAX], false)] {
+        let context = Rules::Snooker.context(Context {
+            hittable: 1 << 21,
+            ball_call: Some(21),
+            score,
+            ..Context::default()
+        });
+        let v = Rules::Snooker.judge(&shot, &context).unwrap();
+        assert!(v.legal && v.game_over, "{v:?}");
+        assert_eq!(v.won, won, "{score:?}: {v:?}");
+    }
+}
+
+/// event_loop, finding 11: a gravity of 1e-320 (positive and finite, so accepted) makes
+/// every deceleration μ g a subnormal, every motion time v / (μ g) infinite, and a ball
+/// moving at 3 m/s never stopped: the loop found no event, ended, and did not report a
+/// cut. The simulation's parameters now refuse decelerations that are not normal f64, as
+/// the pair solver's do (finding 2).
+#[test]
+fn simulation_parameters_with_subnormal_decelerations_are_refused() {
+    use kisstime::simulate::{BallState, Limits, SimParams, Table, Vec3, simulate};
+    let mut params = SimParams::default();
+    params.ball.g = 1e-320;
+    let err = params.validate().unwrap_err().to_string();
+    assert!(err.contains("u_s * g"), "{err}");
+    let mut b = BallState::at_rest(0.3, 0.3, params.ball.r);
+    b.v = Vec3::new(-3.0, -3.0, 0.0);
+    b.s = MotionState::Sliding;
+    let table = Table::nine_foot();
+    assert!(simulate(&table, params, Limits::default(), &[b], None, |_, _| ()).is_err());
+    // a small but normal deceleration still simulates (and the run is cut by the time cap)
+    params.ball.g = 1e-300;
+    let limits = Limits {
+        max_events: 100,
+        max_time: 10.0,
+    };
+    let out = simulate(&table, params, limits, &[b], None, |_, _| ()).unwrap();
+    assert!(out.cut.is_some() || out.n_events > 0, "{out:?}");
+}
+
+/// event_loop, finding 12: a ball radius of 1e-320 (positive and finite, so accepted)
+/// made the spins `v / R` of a rolling ball infinite and its state NaN. The parameters now
+/// refuse a radius whose moment of inertia `2/5 m R²`, inverse `1/R` or spin deceleration
+/// `5 μ_sp g / (2R)` is not a normal f64.
+#[test]
+fn simulation_parameters_with_a_subnormal_radius_are_refused() {
+    use kisstime::simulate::SimParams;
+    for r in [1e-320, 1e-160, 1e200] {
+        let mut params = SimParams::default();
+        params.ball.r = r;
+        assert!(params.validate().is_err(), "R = {r}");
+    }
+    let mut params = SimParams::default();
+    params.ball.m = 1e-320;
+    assert!(params.validate().is_err());
+    // small but ordinary balls still pass
+    params = SimParams::default();
+    params.ball.r = 0.001;
+    params.validate().unwrap();
+}
+
+/// event_loop, finding 13 (not fixed): the layout check lets moving balls overlap (pooltool
+/// resolves an overlap at once, Q3), however deep. The fuzzer put 20 balls sliding at 4.2
+/// m/s on the very same spot in the bottom-left corner, beside a ball at rest: the first
+/// ball–ball resolution moves a ball back along its path (the kiss, Q1) 2 cm into the left
+/// cushion. Ignored: deciding how deep an overlap of moving balls to accept is open (the
+/// layout check accepts 0.1 mm on purpose); the `event_loop` target no longer makes such
+/// overlaps (a moving ball that overlaps another by more than 10 µm is put at rest, and
+/// the layout is then refused).
+#[test]
+#[ignore = "finding 13: deep overlaps of moving balls, open (FUZZING.md)"]
+fn deeply_overlapping_moving_balls_stay_on_the_table() {
+    use kisstime::simulate::{BallState, Vec3};
+    let r = 0.028575;
+    let moving = |x: f64, y: f64| BallState {
+        v: Vec3::new(-3.0, -3.0, 0.0),
+        w: Vec3::new(-100.0, -100.0, -100.0),
+        s: MotionState::Sliding,
+        ..BallState::at_rest(x, y, r)
+    };
+    let mut balls = vec![
+        BallState::at_rest(0.032034765625, r, r),
+        moving(0.0424140625, r),
+    ];
+    balls.extend((0..20).map(|_| moving(r, r)));
+    use kisstime::engine::{Backend, Precision, ShotEngine};
+    use kisstime::simulate::invariants::{ShotRun, check_shot};
+    use kisstime::simulate::{Limits, SimParams, Table};
+    let (table, params) = (Table::nine_foot(), SimParams::default());
+    let limits = Limits {
+        max_events: 400,
+        max_time: 20.0,
+    };
+    let shots = [kisstime::gpu::GpuShot {
+        balls: balls.clone(),
+        strike: None,
+    }];
+    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let run = engine
+        .simulate(&table, params, limits, &shots, true)
+        .unwrap()
+        .remove(0);
+    let shot = ShotRun {
+        start: &balls,
+        strike: None,
+        events: &run.events,
+        end: &run.balls,
+        outcome: run.outcome,
+        limits,
+    };
+    if let Err(v) = check_shot(&table, &params, &shot) {
+        panic!("{v}");
+    }
+}
+
+/// event_loop, finding 14: a strike of V0 = 1e-300 m/s gives the cue ball a speed whose
+/// energy rounds to 0, so after the strike the table still looked at rest at t = 0 and the
+/// strike was offered again: 400 strikes at t = 0, to the event cap. The strike now happens
+/// once.
+#[test]
+fn a_strike_too_soft_to_move_the_ball_happens_once() {
+    use kisstime::simulate::{BallState, CueStrike, EventKind};
+    let r = 0.028575;
+    let balls = [BallState::at_rest(
+        1.2561225524902344,
+        2.4912409606933594,
+        r,
+    )];
+    let strike = CueStrike {
+        v0: 1e-300,
+        phi: 115.257568359375,
+        theta: -10.0,
+        a: 1.0,
+        b: 0.0,
+    };
+    let (run, verdict) = simulate_and_check(&balls, (0, strike));
+    let strikes = run
+        .events
+        .iter()
+        .filter(|e| e.event.kind == EventKind::StickBall)
+        .count();
+    assert_eq!(strikes, 1, "{:?}", run.outcome);
+    assert!(run.outcome.cut.is_none(), "{:?}", run.outcome);
+    verdict.unwrap();
+}
+
+/// event_loop, finding 15: a tip on the rim of the ball (a = 0.9569…, b = −0.2902…, which
+/// `CueStrike::validate` accepts: a² + b² ≤ 1) made `1 − a² − b²` round to −1e-17, its
+/// square root NaN, the strike NaN, and the shot's event times NaN. The difference is
+/// clamped at 0 now.
+#[test]
+fn a_strike_on_the_rim_of_the_ball_is_finite() {
+    use kisstime::simulate::{BallState, CueStrike};
+    let r = 0.028575;
+    let balls = [BallState::at_rest(
+        0.032198023509979246,
+        0.7839516206642613,
+        r,
+    )];
+    let strike = CueStrike {
+        v0: 9.999847412109375,
+        phi: 359.9945068359375,
+        theta: 0.0,
+        a: 0.9569403357322088,
+        b: -0.2902846772544625,
+    };
+    strike.validate().unwrap();
+    assert!(1.0 - strike.a * strike.a - strike.b * strike.b < 0.0);
+    let (run, verdict) = simulate_and_check(&balls, (0, strike));
+    assert!(run.outcome.t_end.is_finite(), "{:?}", run.outcome);
+    if let Err(v) = verdict {
+        // the ball may go through the rail it is struck into (finding 7); nothing else
+        assert_eq!(
+            v.invariant,
+            kisstime::simulate::invariants::Invariant::RailTunnel,
+            "{v}"
+        );
+    }
+}
+
+/// event_loop, finding 16 (not fixed): at a straight cushion the ball left with more
+/// kinetic energy than it brought: 2.17 J after the event against 1.63 J just before (the
+/// whole table had 2.08 J after the event before). Parameters far from pooltool's (cushion
+/// friction f_c = 0.79, 4 times its default; restitution e_c = 0.26; sliding friction
+/// 0.055) and a ball spinning at 150 rad/s (side and top spin), sliding at 3.4 m/s into
+/// the foot rail. The cushion's resolution is pooltool's Stronge compliant model
+/// (`resolve::ball_cushion`), not yet examined for it. Ignored until it is.
+#[test]
+#[ignore = "finding 16: energy gained at a cushion, open (FUZZING.md)"]
+fn a_cushion_does_not_add_energy() {
+    use kisstime::engine::{Backend, Precision, ShotEngine};
+    use kisstime::simulate::invariants::{ShotRun, check_shot};
+    use kisstime::simulate::{BallState, Limits, SimParams, Table, Vec3};
+    let mut params = SimParams::default();
+    params.ball.u_s = 0.055084161926952604;
+    params.ball.u_r = 0.002500317317734928;
+    params.ball.u_sp = 0.019301464723413223;
+    params.ball.e_b = 0.5;
+    params.ball.e_c = 0.26104106999514737;
+    params.ball.f_c = 0.7913824105551804;
+    let r = params.ball.r;
+    let balls = [BallState {
+        v: Vec3::new(-3.0, -3.0, 0.0),
+        w: Vec3::new(-100.0, -100.0, -100.0),
+        s: MotionState::Sliding,
+        ..BallState::at_rest(0.09667239379882812, 2.4915564453125003, r)
+    }];
+    let table = Table::nine_foot();
+    let limits = Limits {
+        max_events: 400,
+        max_time: 20.0,
+    };
+    let shots = [kisstime::gpu::GpuShot {
+        balls: balls.to_vec(),
+        strike: None,
+    }];
+    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let run = engine
+        .simulate(&table, params, limits, &shots, true)
+        .unwrap()
+        .remove(0);
+    let shot = ShotRun {
+        start: &balls,
+        strike: None,
+        events: &run.events,
+        end: &run.balls,
+        outcome: run.outcome,
+        limits,
+    };
+    if let Err(v) = check_shot(&table, &params, &shot) {
+        panic!("{v}");
+    }
+}
+
+/// event_loop, finding 7 again, by a massé: the cue ball frozen to the left rail and to a
+/// second ball is struck almost vertically (theta 87.5°, a = 1). The collision at t = 0
+/// and its kiss (Q1) leave it 1.1 µm inside the rail's checked line, moving out at 0.7 mm/s
+/// while its spin curves it back in: it never crosses the line from outside, gets no
+/// cushion event, and ends 1 m off the table. The checker reports it as `RailTunnel` (the
+/// ball was on the line with its path heading in), as pooltool's Q6.
+#[test]
+fn a_masse_off_a_frozen_ball_goes_through_the_rail_as_in_pooltool() {
+    use kisstime::simulate::invariants::Invariant;
+    use kisstime::simulate::{BallState, CueStrike};
+    let r = 0.028575;
+    let balls = [
+        BallState::at_rest(r, 0.48687539405822755, r),
+        BallState::at_rest(0.08572485156246025, 0.4868754614567604, r),
+    ];
+    let strike = CueStrike {
+        v0: 1.49017333984375,
+        phi: 37.55126953125,
+        theta: 87.5390625,
+        a: 1.0,
+        b: 0.0,
+    };
+    let (run, verdict) = simulate_and_check(&balls, (0, strike));
+    assert!(run.balls[0].r.x < -0.5, "{:?}", run.balls[0].r);
+    let v = verdict.unwrap_err();
+    assert_eq!(
+        (v.invariant, v.ball),
+        (Invariant::RailTunnel, Some(0)),
+        "{v}"
+    );
+}
+
+/// event_loop, finding 17: a cushion restitution of 1e-320 (in (0, 1], so accepted) made
+/// the cushion's resolution NaN, and with it the shot's end time and the ball's position.
+/// Restitutions must be normal f64 now.
+#[test]
+fn subnormal_restitutions_are_refused() {
+    use kisstime::simulate::SimParams;
+    for (e_b, e_c) in [(0.95, 1e-320), (1e-320, 0.85), (0.95, 0.0)] {
+        let mut params = SimParams::default();
+        params.ball.e_b = e_b;
+        params.ball.e_c = e_c;
+        assert!(params.validate().is_err(), "e_b {e_b}, e_c {e_c}");
+    }
+    let mut params = SimParams::default();
+    params.ball.e_c = 1e-300;
+    params.validate().unwrap();
+}
+
+/// event_loop, finding 19 (not fixed, not yet understood): on a pocketless 3 m × 3 m
+/// table, a ball sliding at 4.2 m/s with 150 rad/s of spin and no cushion friction
+/// (f_c = 0, allowed) is, after its third event (a straight-cushion collision), at
+/// (0.667, 3.0285) m: 2.85 cm beyond the top cushion, outside the table. The checker does
+/// not see it touch that cushion moving in first, so this is not finding 7's Q6 case as
+/// far as it can tell. Ignored until examined; the failure message lists the events.
+#[test]
+#[ignore = "finding 19: a ball beyond a rectangle's cushion after a cushion event, open (FUZZING.md)"]
+fn a_ball_stays_inside_a_rectangle_table() {
+    use kisstime::engine::{Backend, Precision, ShotEngine};
+    use kisstime::simulate::invariants::{ShotRun, check_shot};
+    use kisstime::simulate::{BallState, Limits, SimParams, Table, Vec3};
+    let side = 2.9999618530273438;
+    let table = Table::rectangle(side, side, 0.036576).unwrap();
+    let mut params = SimParams::default();
+    params.ball.f_c = 0.0;
+    let balls = [BallState {
+        v: Vec3::new(-3.0, -3.0, 0.0),
+        w: Vec3::new(-100.0, -100.0, -100.0),
+        s: MotionState::Sliding,
+        ..BallState::at_rest(2.8219471886157987, 0.07527489512860774, params.ball.r)
+    }];
+    let limits = Limits {
+        max_events: 400,
+        max_time: 20.0,
+    };
+    let shots = [kisstime::gpu::GpuShot {
+        balls: balls.to_vec(),
+        strike: None,
+    }];
+    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let run = engine
+        .simulate(&table, params, limits, &shots, true)
+        .unwrap()
+        .remove(0);
+    let shot = ShotRun {
+        start: &balls,
+        strike: None,
+        events: &run.events,
+        end: &run.balls,
+        outcome: run.outcome,
+        limits,
+    };
+    if let Err(v) = check_shot(&table, &params, &shot) {
+        let events: Vec<String> = run
+            .events
+            .iter()
+            .map(|e| {
+                let s = e.states[0];
+                format!(
+                    "{:?} t {} other {} at ({}, {}) v ({}, {})",
+                    e.event.kind, e.event.t, e.event.other, s.r.x, s.r.y, s.v.x, s.v.y
+                )
+            })
+            .collect();
+        panic!("{v}\n{}", events.join("\n"));
+    }
+}

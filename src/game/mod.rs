@@ -145,7 +145,14 @@ impl Rules {
 
     /// The verdict on a shot known by its facts (what a watched study keeps of each
     /// sample), in `context`.
+    ///
+    /// Errors (never panics) on a shot that does not hold together, whatever the game:
+    /// ids and start states of different lengths, facts that follow a ball that is not in
+    /// the shot, or that name one (a first contact, a pocketed ball, a ball at a cushion)
+    /// that is not (what events for balls out of range would give: the `rules_judge` fuzz
+    /// target's finding 9, FUZZING.md).
     pub fn judge_played(self, played: &Played<'_>, context: &Context) -> Result<Verdict, SimError> {
+        played.check()?;
         match self {
             Rules::NineBall => nine_ball::judge(played, context.break_shot, context.wpa),
             Rules::EightBall => eight_ball::judge(played, context),
@@ -375,6 +382,43 @@ pub struct Played<'a> {
 }
 
 impl Played<'_> {
+    /// Checks that the facts and the balls hold together (see [`Rules::judge_played`]).
+    fn check(&self) -> Result<(), SimError> {
+        let n = self.ids.len();
+        if self.start.len() != n {
+            return Err(SimError::Table(format!(
+                "{n} ball ids for {} balls",
+                self.start.len()
+            )));
+        }
+        if self.cue >= n {
+            return Err(SimError::Ball {
+                index: self.cue,
+                reason: format!("the shot's facts follow ball {}, of {n}", self.cue),
+            });
+        }
+        let mask = if n >= 64 { u64::MAX } else { (1u64 << n) - 1 };
+        let beyond = |set: u64| set & !mask;
+        let f = self.facts;
+        let stray = f
+            .first_ball
+            .map(|(_, b)| b as usize)
+            .filter(|&b| b >= n)
+            .or_else(|| {
+                [f.pocketed, f.at_cushion]
+                    .into_iter()
+                    .find(|&set| beyond(set) != 0)
+                    .map(|set| beyond(set).trailing_zeros() as usize)
+            });
+        match stray {
+            Some(index) => Err(SimError::Ball {
+                index,
+                reason: format!("an event of ball {index}, but the shot has {n} balls"),
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// The cue ball of a pool game ([`pool_cue`]), which must be the ball the facts follow.
     fn pool_cue(&self) -> Result<usize, SimError> {
         self.check_cue(pool_cue(self.ids, self.start)?, "the cue ball")

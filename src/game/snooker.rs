@@ -217,7 +217,10 @@ pub fn judge(shot: &Played<'_>, context: &Context) -> Result<Verdict, SimError> 
     let final_black = on_at_start == id_bit(WHITE) | id_bit(BLACK);
     let game_over = final_black && (!legal || pocketed & id_bit(BLACK) != 0);
     let [mine, theirs] = context.score;
-    let won = game_over && mine + points > theirs + foul_points;
+    // in u64: a score read from a context file may be any u32 (the `rules_judge` fuzz
+    // target's finding 10: `u32::MAX` overflowed the sum)
+    let won = game_over
+        && u64::from(mine) + u64::from(points) > u64::from(theirs) + u64::from(foul_points);
     Ok(Verdict {
         legal,
         foul,

@@ -90,17 +90,7 @@ struct NextRecord {
 /// in error messages.
 pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
     let bad = |msg: String| Error::from(InputError::new(msg).in_file(file));
-    let mut reader = reader;
-    let prefix = read_header_prefix(&mut reader)
-        .map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
-    check_header(&prefix).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
-    let reader = std::io::Cursor::new(prefix).chain(reader);
-    let npy = npyz::NpyFile::new(reader).map_err(|e| {
-        bad(format!(
-            "not a readable .npy file: {}",
-            first_line(&e.to_string())
-        ))
-    })?;
+    let npy = open_npy(reader).map_err(bad)?;
     if npy.uses_pickled_array() {
         return Err(bad(
             "object arrays (pickled) are not read; use numeric dtypes".into(),
@@ -363,6 +353,21 @@ const MAX_HEADER_LEN: u64 = 10_000;
 /// The longest part of a header parser's message quoted in an error (pest quotes the whole
 /// offending line, which can be the whole header).
 const MAX_QUOTED: usize = 160;
+
+/// A `.npy` file opened by [`open_npy`]: its checked header read again, then the rest.
+pub(crate) type CheckedNpy<R> = npyz::NpyFile<std::io::Chain<std::io::Cursor<Vec<u8>>, R>>;
+
+/// Opens `.npy` bytes with npyz after the checks of [`check_header`] (every `.npy` reader
+/// of the crate comes through here: npyz alone hangs or panics on some headers); the error
+/// is the message, `not a readable .npy file: …`, for the caller to locate.
+pub(crate) fn open_npy<R: Read>(mut reader: R) -> Result<CheckedNpy<R>, String> {
+    let prefix =
+        read_header_prefix(&mut reader).map_err(|e| format!("not a readable .npy file: {e}"))?;
+    check_header(&prefix).map_err(|e| format!("not a readable .npy file: {e}"))?;
+    let reader = std::io::Cursor::new(prefix).chain(reader);
+    npyz::NpyFile::new(reader)
+        .map_err(|e| format!("not a readable .npy file: {}", first_line(&e.to_string())))
+}
 
 /// The magic string, version, header length and header of a `.npy` file, as far as the
 /// reader has them (at most [`MAX_HEADER_LEN`] bytes of header; a short file gives fewer

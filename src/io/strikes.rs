@@ -95,9 +95,18 @@ pub fn read_strikes(path: &Path) -> Result<Vec<StrikeRow>, Error> {
     };
     let file = std::fs::File::open(path).map_err(io)?;
     let reader = std::io::BufReader::new(file);
-    match Format::of(Some(path)) {
-        Format::Csv => read_csv(reader, &name, &STRIKE_COLUMNS),
-        Format::Npy => read_npy(reader, &name, &STRIKE_COLUMNS),
+    parse_strikes(reader, &name, Format::of(Some(path)))
+}
+
+/// [`read_strikes`] of bytes from `reader` in `format` (`file` names them in errors).
+pub fn parse_strikes(
+    reader: impl std::io::Read,
+    file: &str,
+    format: Format,
+) -> Result<Vec<StrikeRow>, Error> {
+    match format {
+        Format::Csv => read_csv(reader, file, &STRIKE_COLUMNS),
+        Format::Npy => read_npy(reader, file, &STRIKE_COLUMNS),
     }
 }
 
@@ -113,12 +122,21 @@ pub fn read_sample_strikes(path: &Path) -> Result<Vec<SampleStrike>, Error> {
         source,
     })?;
     let reader = std::io::BufReader::new(file);
-    let format = Format::of(Some(path));
+    parse_sample_strikes(reader, &name, Format::of(Some(path)))
+}
+
+/// [`read_sample_strikes`] of bytes from `reader` in `format` (`file` names them in
+/// errors).
+pub fn parse_sample_strikes(
+    reader: impl std::io::Read,
+    file: &str,
+    format: Format,
+) -> Result<Vec<SampleStrike>, Error> {
     let rows = match format {
-        Format::Csv => read_csv(reader, &name, &SAMPLE_STRIKE_COLUMNS)?,
-        Format::Npy => read_npy(reader, &name, &SAMPLE_STRIKE_COLUMNS)?,
+        Format::Csv => read_csv(reader, file, &SAMPLE_STRIKE_COLUMNS)?,
+        Format::Npy => read_npy(reader, file, &SAMPLE_STRIKE_COLUMNS)?,
     };
-    sample_strikes(rows, &name, format)
+    sample_strikes(rows, file, format)
 }
 
 /// A study's strikes from columns held in memory (the Python package's arrays), checked
@@ -320,8 +338,8 @@ fn read_npy(
 ) -> Result<Vec<StrikeRow>, Error> {
     let ids = columns.len() - 5;
     let bad = |msg: String| Error::from(InputError::new(msg).in_file(file));
-    let npy =
-        npyz::NpyFile::new(reader).map_err(|e| bad(format!("not a readable .npy file: {e}")))?;
+    // the header checked as a batch's is (a fuzzed header hung or overflowed npyz)
+    let npy = crate::io::npy::open_npy(reader).map_err(bad)?;
     let expected = format!(
         "expected a 1-D structured array with fields {} ({} integer{}), or a 2-D float64 \
          array of shape (N, {})",

@@ -114,18 +114,35 @@ impl BallParams {
                 return Err(SimError::Param { name, value: v });
             }
         }
-        // each is positive; their products, the decelerations, must not underflow to 0
+        // each is positive; their products, the decelerations, must be normal f64 (as
+        // `Params::validate` asks): one that underflows to a subnormal (g = 1e-320) made
+        // every motion time v / (μ g) infinite, and a moving ball never stopped, with no
+        // event and no cut (the `event_loop` fuzz target's finding 11, FUZZING.md)
         for (name, v) in [
             ("u_s * g", self.u_s * self.g),
             ("u_r * g", self.u_r * self.g),
             ("u_sp * g", self.u_sp * self.g),
         ] {
-            if !(v.is_finite() && v > 0.0) {
+            if !v.is_normal() {
                 return Err(SimError::Param { name, value: v });
             }
         }
+        // the moment of inertia 2/5 m R² and the spin deceleration 5 μ_sp g / (2R) too: a
+        // subnormal R (1e-320) made every spin v / R infinite and a state NaN (the
+        // `event_loop` fuzz target's finding 12, FUZZING.md)
+        for (name, v) in [
+            ("m * R^2", 0.4 * self.m * self.r * self.r),
+            ("u_sp * g / R", self.spin_decel()),
+            ("1 / R", 1.0 / self.r),
+        ] {
+            if !v.is_normal() {
+                return Err(SimError::Param { name, value: v });
+            }
+        }
+        // normal f64: a subnormal e_c (1e-320) made Stronge's cushion model divide into
+        // NaN (the `event_loop` fuzz target's finding 17, FUZZING.md)
         for (name, v) in [("e_b", self.e_b), ("e_c", self.e_c)] {
-            if !(v > 0.0 && v <= 1.0) {
+            if !(v.is_normal() && v > 0.0 && v <= 1.0) {
                 return Err(SimError::Param { name, value: v });
             }
         }

@@ -66,7 +66,10 @@ pub fn squirt_angle(a: f64, p: &BallParams, cue: &CueParams) -> f64 {
 fn strike_ball_frame(s: &CueStrike, p: &BallParams, cue: &CueParams) -> (f64, Vec3) {
     let theta = s.theta.to_radians();
     let (st, ct) = theta.sin_cos();
-    let c_cue = (1.0 - s.a * s.a - s.b * s.b).sqrt();
+    // clamped: for a tip on the ball's rim (a² + b² = 1, which validation accepts) the
+    // difference can round below 0, and its root was NaN (pooltool's too): a NaN strike
+    // and NaN event times (the `event_loop` fuzz target's finding 15, FUZZING.md)
+    let c_cue = (1.0 - s.a * s.a - s.b * s.b).max(0.0).sqrt();
     let (a_b, c_b, b_b) = (s.a, ct * c_cue - st * s.b, st * c_cue + ct * s.b);
     let (qa, qc, qb) = (p.r * a_b, p.r * c_b, p.r * b_b);
     let i_m = 0.4 * p.r * p.r;

@@ -8,7 +8,11 @@
 //! pocketed must be at least R − [`LAYOUT_TOLERANCE`] from every straight cushion segment
 //! and from every jaw arc (not inside a cushion), and enclosed by the table: each of the
 //! four rays from the centre along ±x and ±y must meet a cushion segment, a jaw or a pocket
-//! circle (a ball behind a rail or away from the table has a ray that escapes).
+//! circle (a ball behind a rail or away from the table has a ray that escapes), and not
+//! over a pocket: a centre inside a pocket's circle is refused (the event loop pockets a
+//! ball when its centre *enters* the circle, so a ball that starts inside is never
+//! pocketed, and once struck it rolled out behind the cushions and off the table: the
+//! `event_loop` fuzz target's finding 8, FUZZING.md).
 
 use crate::error::SimError;
 use crate::model::MotionState;
@@ -92,6 +96,15 @@ pub fn check_on_table(table: &Table, radius: f64, p: Vec3) -> Result<(), String>
             return Err(format!(
                 "inside the jaw {} (centre {d:.6} m from the arc's centre)",
                 table.circular_ids[k]
+            ));
+        }
+    }
+    for (k, q) in table.pockets.iter().enumerate() {
+        let d = ((p.x - q.center.x).powi(2) + (p.y - q.center.y).powi(2)).sqrt();
+        if d < q.radius {
+            return Err(format!(
+                "over pocket {} (centre {d:.6} m from the pocket's centre, inside its radius                  {}): a ball there has fallen in; give it as pocketed",
+                table.pocket_ids[k], q.radius
             ));
         }
     }
@@ -193,8 +206,11 @@ mod tests {
         assert!(check_on_table(&table, R, Vec3::new(R, 0.6, R)).is_ok());
         let err = check_on_table(&table, R, Vec3::new(R - 1e-3, 0.6, R)).unwrap_err();
         assert!(err.contains("inside cushion segment 3"), "{err}");
-        // in a pocket's mouth
-        assert!(check_on_table(&table, R, Vec3::new(-0.01, 1.27, R)).is_ok());
+        // in a pocket's mouth, short of the pocket's circle (lc: centre x = −0.0685,
+        // radius 0.0645); over it, the ball has fallen in
+        assert!(check_on_table(&table, R, Vec3::new(-0.003, 1.27, R)).is_ok());
+        let err = check_on_table(&table, R, Vec3::new(-0.01, 1.27, R)).unwrap_err();
+        assert!(err.contains("over pocket lc"), "{err}");
     }
 
     #[test]

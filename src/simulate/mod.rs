@@ -16,6 +16,7 @@
 //! | resolution | [`crate::resolve`]: `stick_ball`, `ball_ball`, `ball_cushion`, `stronge`, `ball_pocket`, `transition` |
 //! | the loop | here: [`cache`], [`event_loop`], [`events`] |
 //! | layout checks, many tables at once | here: [`check`], [`batch`] ([`simulate_batch`]) |
+//! | invariants of a simulated shot (fuzzing, property tests) | here: [`invariants`] |
 //! | a study's view of the events (first contact, pots) | here: [`watch`] |
 //!
 //! Agreement: on `data/fullshots` (300 pooltool shots, 26,936 events) every event
@@ -59,6 +60,7 @@ pub mod cache;
 pub mod check;
 pub mod event_loop;
 pub mod events;
+pub mod invariants;
 pub mod watch;
 
 pub use crate::error::SimError;
