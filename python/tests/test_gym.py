@@ -221,3 +221,26 @@ def test_the_training_example_runs_shortened(tmp_path):
     assert done.returncode == 0, done.stderr
     assert png.stat().st_size > 1000
     assert "mean reward" in done.stdout
+
+
+def test_the_pettingzoo_aec_environment_passes_pettingzoos_api_test():
+    need("pettingzoo")
+    from pettingzoo.test import api_test
+
+    from kisstime.pettingzoo import PoolAECEnv
+
+    env = PoolAECEnv(game="9-ball", max_shots=12)
+    api_test(env, num_cycles=40)
+    # turns follow the rules: a player who pots shoots again
+    env.reset(seed=2)
+    turns = []
+    for agent in env.agent_iter(max_iter=30):
+        obs, reward, term, trunc, info = env.last()
+        if term or trunc:
+            env.step(None)
+            continue
+        turns.append((agent, int(obs[-2])))
+        env.step(env.action_space(agent).sample())
+    assert all(agent == f"player_{seat}" for agent, seat in turns)
+    with pytest.raises(ValueError, match="two players"):
+        PoolAECEnv(game="drill")
