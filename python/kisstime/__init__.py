@@ -867,6 +867,19 @@ NOISE_PRESETS = ("fastfiz", "club", "casual", "none")
 _NOISE_KEYS = ("V0", "phi", "theta", "a", "b")
 
 
+def _noise_arg(noise: Any) -> tuple:
+    """A ``noise=`` argument as ``(preset, sigmas)``, one of them ``None``: a preset's name,
+    or a dict of σ in pooltool's units keyed by :data:`_NOISE_KEYS` (missing ones 0)."""
+    if isinstance(noise, str):
+        return noise, None
+    if isinstance(noise, Mapping):
+        unknown = set(noise) - set(_NOISE_KEYS)
+        if unknown:
+            raise ValueError(f"noise: unknown keys {sorted(unknown)} (keys: {_NOISE_KEYS})")
+        return None, tuple(float(noise.get(k, 0.0)) for k in _NOISE_KEYS)
+    raise TypeError(f"noise: a preset name or a dict of sigmas, not {type(noise).__name__}")
+
+
 @dataclass
 class Plan:
     """The shot to play (:func:`plan`).
@@ -983,15 +996,7 @@ def plan(
     """
     ids, xs, ys = _plan_balls(balls)
     name, text = _table(table)
-    if isinstance(noise, str):
-        preset, sigma = noise, None
-    elif isinstance(noise, Mapping):
-        unknown = set(noise) - set(_NOISE_KEYS)
-        if unknown:
-            raise ValueError(f"noise: unknown keys {sorted(unknown)} (keys: {_NOISE_KEYS})")
-        preset, sigma = None, tuple(float(noise.get(k, 0.0)) for k in _NOISE_KEYS)
-    else:
-        raise TypeError(f"noise: a preset name or a dict of sigmas, not {type(noise).__name__}")
+    preset, sigma = _noise_arg(noise)
     if (budget_s is None) == (budget_samples is None):
         raise ValueError("give one budget: budget_s or budget_samples (with budget_s=None)")
     _quiet_mesa(backend)

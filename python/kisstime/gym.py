@@ -42,7 +42,7 @@ from gymnasium import spaces
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from . import _kisstime, _NOISE_KEYS, _quiet_mesa
+from . import _kisstime, _noise_arg, _quiet_mesa
 
 __all__ = [
     "ACTION_NAMES",
@@ -161,15 +161,7 @@ class PoolVectorEnv(VectorEnv):
             if key not in _REWARD_KEYS:
                 raise ValueError(f"rewards: unknown key {key!r} (keys: {_REWARD_KEYS})")
             weights[key] = float(value)
-        if isinstance(noise, str):
-            preset, sigma = noise, None
-        elif isinstance(noise, Mapping):
-            unknown = set(noise) - set(_NOISE_KEYS)
-            if unknown:
-                raise ValueError(f"noise: unknown keys {sorted(unknown)} (keys: {_NOISE_KEYS})")
-            preset, sigma = None, tuple(float(noise.get(k, 0.0)) for k in _NOISE_KEYS)
-        else:
-            raise TypeError(f"noise: a preset name or a dict of sigmas, not {type(noise).__name__}")
+        preset, sigma = _noise_arg(noise)
         self._policy = None
         if opponent is None:
             who = "self"

@@ -144,15 +144,20 @@ fn play_game(
         if in_hand {
             place_cue(&mut game, &table, params)?;
         }
-        let mut n = game.layout(&mut ids, &mut states);
-        let mut config = position(
-            &table,
-            "9ft",
-            params,
-            (&ids[..n], &states[..n]),
-            rules,
-            game.context(),
-        )?;
+        // the position of the game's balls as the planner sees it
+        let position_of = |game: &GameState, ids: &mut [i64; MAX_IDS], states: &mut _| {
+            let n = game.layout(ids, states);
+            let config = position(
+                &table,
+                "9ft",
+                params,
+                (&ids[..n], &states[..n]),
+                rules,
+                game.context(),
+            );
+            config.map(|c| (n, c))
+        };
+        let (mut n, mut config) = position_of(&game, &mut ids, &mut states)?;
         let choice = if game.break_shot {
             break_choice(&config)
         } else {
@@ -169,15 +174,7 @@ fn play_game(
                 let planned = plan_in_hand(engine, &config, &plan_options, InHand::Anywhere)?;
                 if let Some((x, y)) = planned.placement {
                     game.place_cue(x, y);
-                    n = game.layout(&mut ids, &mut states);
-                    config = position(
-                        &table,
-                        "9ft",
-                        params,
-                        (&ids[..n], &states[..n]),
-                        rules,
-                        game.context(),
-                    )?;
+                    (n, config) = position_of(&game, &mut ids, &mut states)?;
                 }
                 choice_of(&planned.ranked[0].candidate)
             } else {
