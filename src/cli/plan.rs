@@ -154,8 +154,10 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
         eprintln!("kisstime: {note}");
     }
     eprintln!(
-        "kisstime: {} candidates, {} samples in {:.2} s ({} rounds, {:.0} samples/s) on {}",
+        "kisstime: {} candidates ({} of them refined strikes), {} samples in {:.2} s ({} rounds, \
+         {:.0} samples/s) on {}",
         planned.candidates,
+        planned.refined,
         planned.samples,
         planned.seconds,
         planned.rounds,
@@ -190,7 +192,8 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
     Ok(())
 }
 
-/// The shot a candidate tries, in words: `3 -> rt (cut 12.3°)`.
+/// The shot a candidate tries, in words: `3 -> rt (cut 12.3°)`, `bank 3 -> rc (rail 2)`,
+/// `combo 1-9 -> lb`, `kick: rail 0, then 4`, `safety: hit 2 full`.
 fn shot_name(config: &StudyConfig, r: &Ranked) -> String {
     let ball = &config.balls[r.candidate.kind.ball()].id;
     match r.candidate.kind {
@@ -198,7 +201,17 @@ fn shot_name(config: &StudyConfig, r: &Ranked) -> String {
             "{ball} -> {} (cut {:.1}°)",
             config.table.pocket_ids[pocket], r.candidate.aim.cut
         ),
-        Kind::Safety { .. } => format!("safety: hit {ball} full"),
+        Kind::Bank { pocket, rail, .. } => format!(
+            "bank {ball} -> {} (rail {rail})",
+            config.table.pocket_ids[pocket]
+        ),
+        Kind::Combo { first, pocket, .. } => format!(
+            "combo {}-{ball} -> {}",
+            config.balls[first].id, config.table.pocket_ids[pocket]
+        ),
+        Kind::Kick { rail, .. } => format!("kick: rail {rail}, then {ball}"),
+        Kind::Safety { .. } if r.candidate.aim.cut == 0.0 => format!("safety: hit {ball} full"),
+        Kind::Safety { .. } => format!("safety: hit {ball} thin"),
     }
 }
 

@@ -8,12 +8,14 @@
 //!   [`SAMPLER_SAMPLES`] times under the noise in one call, the best immediate outcome
 //!   (P(keep the table); among safeties, the fewest fouls) wins; no position, no
 //!   refinement;
-//! - [`Agent::Planner`]: [`super::plan`] with its budget.
+//! - [`Agent::Planner`]: [`super::plan`] with its budget (its own candidates: banks,
+//!   combinations, safeties and kicks too).
 //!
-//! Without a playable direct pot the candidates are [`safeties`] (full hits on the balls
-//! on in straight reach): greedy takes the nearest at 2 m/s, the sampler and the planner
-//! choose by simulation. With none of those either, every agent plays the same fallback:
-//! a full hit on the nearest ball it may hit, at 2 m/s ([`fallback`]).
+//! Without a playable direct pot, greedy's and the sampler's candidates are [`safeties`]
+//! (full hits on the balls on in straight reach): greedy takes the nearest at 2 m/s, the
+//! sampler chooses by simulation (the fewest fouls). With none of those either, they play
+//! the fallback: a full hit on the nearest ball it may hit, at 2 m/s ([`fallback`]); the
+//! planner plays it too where it finds nothing to try.
 
 use super::candidates::{
     Candidate, Kind, THETA, direct_pots, ease, easiest_pot, safeties, targets,
@@ -88,6 +90,11 @@ pub fn choose(
     budget: Budget,
     seed: u64,
 ) -> Result<Choice, Error> {
+    let greedy = match agent {
+        Agent::Greedy => true,
+        Agent::Sampler => false,
+        Agent::Planner => return planner_choice(engine, config, noise, budget, seed),
+    };
     let mut candidates = direct_pots(config).unwrap_or_default();
     if candidates.is_empty() {
         candidates = safeties(config).unwrap_or_default();
@@ -96,64 +103,74 @@ pub fn choose(
         return Ok(fallback(config));
     }
     let pick = choice_of;
-    match agent {
+    if greedy {
         // no pot: the nearest ball in reach, at the middle speed
-        Agent::Greedy if matches!(candidates[0].kind, Kind::Safety { .. }) => {
+        if matches!(candidates[0].kind, Kind::Safety { .. }) {
             let best = candidates
                 .iter()
                 .filter(|c| c.strike.v0 == 2.0)
                 .min_by(|x, y| x.aim.cue_travel.total_cmp(&y.aim.cue_travel))
                 .expect("every safety at 2 m/s");
-            Ok(pick(best))
+            return Ok(pick(best));
         }
-        Agent::Greedy => {
-            let best = candidates
-                .iter()
-                .filter(|c| c.strike.a == 0.0 && c.strike.b == 0.0)
-                .max_by(|x, y| ease(&x.aim).total_cmp(&ease(&y.aim)))
-                .expect("every pot has a centre-ball candidate");
-            Ok(Choice {
-                strike: CueStrike {
-                    v0: GREEDY_SPEED,
-                    ..best.strike
-                },
-                ..pick(best)
-            })
-        }
-        Agent::Sampler => {
-            let all: Vec<usize> = (0..candidates.len()).collect();
-            let mut estimates = vec![Estimate::default(); candidates.len()];
-            evaluate(
-                engine,
-                config,
-                &candidates,
-                &all,
-                (noise, seed, 0..SAMPLER_SAMPLES),
-                &mut estimates,
-            )?;
-            let best = (0..candidates.len())
-                .max_by(|&x, &y| {
-                    // the table kept, then (a safety keeps none) the value: no foul
-                    let (ex, ey) = (&estimates[x], &estimates[y]);
-                    ex.kept
-                        .cmp(&ey.kept)
-                        .then(ex.value().total_cmp(&ey.value()))
-                        .then(y.cmp(&x))
-                })
-                .expect("candidates");
-            Ok(pick(&candidates[best]))
-        }
-        Agent::Planner => {
-            let options = PlanOptions {
-                noise: *noise,
-                seed,
-                budget,
-                finalists: 3,
-                ..PlanOptions::default()
-            };
-            let planned = plan(engine, config, &options)?;
-            Ok(pick(&planned.ranked[0].candidate))
-        }
+        let best = candidates
+            .iter()
+            .filter(|c| c.strike.a == 0.0 && c.strike.b == 0.0)
+            .max_by(|x, y| ease(&x.aim).total_cmp(&ease(&y.aim)))
+            .expect("every pot has a centre-ball candidate");
+        return Ok(Choice {
+            strike: CueStrike {
+                v0: GREEDY_SPEED,
+                ..best.strike
+            },
+            ..pick(best)
+        });
+    }
+    // the sampler
+    let all: Vec<usize> = (0..candidates.len()).collect();
+    let mut estimates = vec![Estimate::default(); candidates.len()];
+    evaluate(
+        engine,
+        config,
+        &candidates,
+        &all,
+        (noise, seed, 0..SAMPLER_SAMPLES),
+        &mut estimates,
+    )?;
+    let best = (0..candidates.len())
+        .max_by(|&x, &y| {
+            // the table kept, then (a safety keeps none) the fewest fouls
+            let (ex, ey) = (&estimates[x], &estimates[y]);
+            ex.kept
+                .cmp(&ey.kept)
+                .then(ey.fouls.cmp(&ex.fouls))
+                .then(y.cmp(&x))
+        })
+        .expect("candidates");
+    Ok(pick(&candidates[best]))
+}
+
+/// The planner's choice: [`plan`] with `budget`, keeping 3 finalists; where it finds
+/// nothing to try, the [`fallback`] as the other agents.
+fn planner_choice(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    noise: &Noise,
+    budget: Budget,
+    seed: u64,
+) -> Result<Choice, Error> {
+    let options = PlanOptions {
+        noise: *noise,
+        seed,
+        budget,
+        finalists: 3,
+        ..PlanOptions::default()
+    };
+    match plan(engine, config, &options) {
+        Ok(planned) => Ok(choice_of(&planned.ranked[0].candidate)),
+        // nothing to try: the fallback, as the other agents
+        Err(Error::Input(_)) => Ok(fallback(config)),
+        Err(e) => Err(e),
     }
 }
 

@@ -11,6 +11,13 @@
 //! left out: the candidates' strikes then go through the simulator, which has them.
 //! Source: the standard ghost-ball construction (Alciatore, *The Illustrated Principles of
 //! Pool and Billiards*, 2004, ch. 3).
+//!
+//! Banks and kicks aim by the mirror: a ball rebounding off a rail as a light ray off a
+//! mirror reaches a point `P` where it would reach `P` mirrored in the rail's line (the
+//! line of the touching ball's centre, a radius off the cushion: [`Rail`]). Real rebounds
+//! are not mirrors (the cushion's restitution and friction and the ball's spin turn them:
+//! pooltool's Han (2005) model); the candidates therefore try a fan of aims around the
+//! mirror's and let the simulation choose.
 
 /// A direct pot's aim ([`ghost_ball`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,6 +85,92 @@ pub fn path_clear(
     })
 }
 
+/// A straight stretch of cushion as a ball's centre meets it: the line
+/// `coordinate[axis] = at` on which the centre of a ball touching the cushion lies, over
+/// the stretch `lo..hi` of the other coordinate (the cushion segment's own extent). Only
+/// the axis-aligned segments of a table are rails here (the jaws' angled segments and the
+/// circular jaw tips are left out): what a player banks from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rail {
+    /// 0: the rail is a line of constant x; 1: of constant y.
+    pub axis: usize,
+    /// The constant coordinate of a touching ball's centre, m.
+    pub at: f64,
+    /// The stretch of the other coordinate the cushion covers, m (`lo < hi`).
+    pub lo: f64,
+    /// See [`Rail::lo`].
+    pub hi: f64,
+}
+
+impl Rail {
+    /// `p` mirrored in the rail's line: the point a ball aimed at from the table's side
+    /// reaches, after an ideal (mirror) rebound, where it would have reached `p`.
+    pub fn mirror(&self, p: (f64, f64)) -> (f64, f64) {
+        if self.axis == 0 {
+            (2.0 * self.at - p.0, p.1)
+        } else {
+            (p.0, 2.0 * self.at - p.1)
+        }
+    }
+
+    /// Where the straight path from `from` to `to` (a mirrored point: the far side of the
+    /// rail's line from `from`) crosses the rail's line, if it crosses it on the stretch
+    /// at least `margin` from either end.
+    pub fn bounce(&self, from: (f64, f64), to: (f64, f64), margin: f64) -> Option<(f64, f64)> {
+        let (f, t) = if self.axis == 0 {
+            ((from.0, from.1), (to.0, to.1))
+        } else {
+            ((from.1, from.0), (to.1, to.0))
+        };
+        let (da, db) = (self.at - f.0, t.0 - self.at);
+        // `from` and `to` strictly on either side of the line
+        if da * db <= 0.0 || da.is_nan() || db.is_nan() {
+            return None;
+        }
+        let s = da / (t.0 - f.0);
+        let along = f.1 + s * (t.1 - f.1);
+        if !(along >= self.lo + margin && along <= self.hi - margin) {
+            return None;
+        }
+        Some(if self.axis == 0 {
+            (self.at, along)
+        } else {
+            (along, self.at)
+        })
+    }
+}
+
+/// The rails of `table` for balls of radius `r` ([`Rail`]): each axis-aligned straight
+/// cushion segment, its line moved `r` towards the middle of the table (the centre of
+/// its cushions' endpoints).
+pub fn rails(table: &crate::model::table::Table, r: f64) -> Vec<Rail> {
+    let n = (table.linear.len() * 2).max(1) as f64;
+    let mid = table.linear.iter().fold((0.0, 0.0), |m, s| {
+        (m.0 + (s.p1.x + s.p2.x) / n, m.1 + (s.p1.y + s.p2.y) / n)
+    });
+    let mut out = Vec::new();
+    for s in &table.linear {
+        let (axis, c, a, b) = if s.p1.x == s.p2.x {
+            (0, s.p1.x, s.p1.y, s.p2.y)
+        } else if s.p1.y == s.p2.y {
+            (1, s.p1.y, s.p1.x, s.p2.x)
+        } else {
+            continue;
+        };
+        let m = if axis == 0 { mid.0 } else { mid.1 };
+        if a == b || c == m {
+            continue;
+        }
+        out.push(Rail {
+            axis,
+            at: c + r * (m - c).signum(),
+            lo: a.min(b),
+            hi: a.max(b),
+        });
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -122,5 +215,33 @@ mod tests {
         assert!(path_clear(a, b, R, [(1.0 + 2.0 * R + 1e-9, 0.0)]));
         assert!(!path_clear(a, b, R, [(1.0 + R, 0.0)]));
         assert!(!path_clear(a, b, R, [(0.7, 0.01), (3.0, 3.0)]));
+    }
+
+    #[test]
+    fn a_rail_mirrors_and_finds_the_bounce_point() {
+        let table = crate::model::table::Table::nine_foot();
+        let rails = rails(&table, R);
+        // the 9-ft table: two stretches on each long rail, one on each short rail
+        assert_eq!(rails.len(), 6, "{rails:?}");
+        let left = rails
+            .iter()
+            .find(|r| r.axis == 0 && r.at < 0.5)
+            .expect("a left rail");
+        assert!((left.at - R).abs() < 1e-12);
+        assert_eq!(left.mirror((0.3, 0.7)), (2.0 * R - 0.3, 0.7));
+        // from (0.3, 0.4) to (0.3, 0.8) off the left rail: the bounce half-way up
+        let b = left
+            .bounce((0.3, 0.4), left.mirror((0.3, 0.8)), 0.0)
+            .unwrap();
+        assert!(
+            (b.0 - R).abs() < 1e-12 && (b.1 - 0.6).abs() < 1e-12,
+            "{b:?}"
+        );
+        // not across the line, or past the stretch's end
+        assert!(left.bounce((0.3, 0.4), (0.2, 0.8), 0.0).is_none());
+        assert!(
+            left.bounce((0.3, 0.4), left.mirror((0.3, 5.0)), 0.0)
+                .is_none()
+        );
     }
 }

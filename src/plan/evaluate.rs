@@ -4,14 +4,18 @@
 //! are the strikes', not the noise's), all of them in one engine call, each sample judged
 //! by the game's rules in the candidate's own context (its call).
 //!
-//! A sample's value: the game won, `1 + POSITION_WEIGHT`; the table kept (legal, turn not
-//! over), `1 + POSITION_WEIGHT · ease`, where `ease` in [0, 1] scores the best next shot
-//! from where the cue ball stopped ([`next_shot_ease`]); a foul, `−FOUL_COST`; the game
-//! lost, −1; a legal miss, 0.
+//! A sample's value, a rough stand-in for what the shot does to the shooter's chance of
+//! winning: the game won, [`WIN_VALUE`]; the table kept (legal, turn not over),
+//! `1 + POSITION_WEIGHT · ease`, where `ease` in [0, 1] scores the best next shot from
+//! where the cue ball stopped ([`next_shot_ease`]); a legal miss (the turn passes),
+//! `−OPPONENT_WEIGHT · ease'`, where `ease'` scores the opponent's best shot from there
+//! ([`opponent_ease`]): a miss that leaves nothing is a good safety, one that leaves a
+//! hanger is not; a foul, `−FOUL_COST` (the opponent's ball in hand: about the easiest
+//! shot there is, and more); the game lost, [`LOSS_VALUE`].
 
 use rayon::prelude::*;
 
-use super::candidates::{Candidate, balls_on, easiest_pot};
+use super::candidates::{Candidate, balls_on, easiest_pot, opponent_on};
 use crate::engine::ShotEngine;
 use crate::error::Error;
 use crate::game::{Context, Rules, Verdict};
@@ -20,8 +24,16 @@ use crate::study::{Noise, RunOptions, Sample, Samples, StudyConfig, noisy_strike
 
 /// What the position after a kept shot adds to its value at most (a sure next shot).
 pub const POSITION_WEIGHT: f64 = 0.5;
-/// What a foul costs (the opponent's ball in hand).
-pub const FOUL_COST: f64 = 0.25;
+/// What a foul costs (the opponent's ball in hand: more than a miss that leaves the
+/// opponent the easiest shot, `OPPONENT_WEIGHT`).
+pub const FOUL_COST: f64 = 0.7;
+/// What the opponent's position after a legal miss takes off its value at most (a sure
+/// shot left).
+pub const OPPONENT_WEIGHT: f64 = 0.6;
+/// The value of a sample that wins the game.
+pub const WIN_VALUE: f64 = 2.0;
+/// The value of a sample that loses it.
+pub const LOSS_VALUE: f64 = -2.0;
 
 /// A candidate's counts over its samples.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -42,6 +54,10 @@ pub struct Estimate {
     pub value_sum: f64,
     /// The sum of the next shot's ease over the kept samples.
     pub ease_sum: f64,
+    /// Samples that passed the turn on a legal shot (legal misses).
+    pub passed: usize,
+    /// The sum of the opponent's next shot's ease over the legal misses.
+    pub opponent_sum: f64,
 }
 
 impl Estimate {
@@ -74,6 +90,15 @@ impl Estimate {
         }
     }
 
+    /// The mean ease of the opponent's next shot over the legal misses (0 with none).
+    pub fn opponent(&self) -> f64 {
+        if self.passed == 0 {
+            0.0
+        } else {
+            self.opponent_sum / self.passed as f64
+        }
+    }
+
     fn add(&mut self, other: &Estimate) {
         self.samples += other.samples;
         self.kept += other.kept;
@@ -83,6 +108,8 @@ impl Estimate {
         self.lost += other.lost;
         self.value_sum += other.value_sum;
         self.ease_sum += other.ease_sum;
+        self.passed += other.passed;
+        self.opponent_sum += other.opponent_sum;
     }
 }
 
@@ -183,10 +210,10 @@ fn judge_sample(config: &StudyConfig, s: &Sample) -> Estimate {
             e.won = 1;
             e.kept = 1;
             e.ease_sum = 1.0;
-            e.value_sum = 1.0 + POSITION_WEIGHT;
+            e.value_sum = WIN_VALUE;
         } else {
             e.lost = 1;
-            e.value_sum = -1.0;
+            e.value_sum = LOSS_VALUE;
         }
     } else if v.legal && !v.turn_over {
         let ease = next_shot_ease(config, s);
@@ -195,6 +222,11 @@ fn judge_sample(config: &StudyConfig, s: &Sample) -> Estimate {
         e.value_sum = 1.0 + POSITION_WEIGHT * ease;
     } else if v.foul.is_some() {
         e.value_sum = -FOUL_COST;
+    } else {
+        let ease = opponent_ease(config, s);
+        e.passed = 1;
+        e.opponent_sum = ease;
+        e.value_sum = -OPPONENT_WEIGHT * ease;
     }
     e
 }
@@ -207,4 +239,14 @@ pub fn next_shot_ease(config: &StudyConfig, s: &Sample) -> f64 {
     let left = |k: usize| k != config.cue && s.pocket_of(k).is_none();
     let others: Vec<usize> = (0..config.balls.len()).filter(|&k| left(k)).collect();
     easiest_pot(config, s.cue_final, &balls_on(config, left), &others)
+}
+
+/// How easy the opponent's best shot is from where sample `s` left the cue ball, in
+/// [0, 1]: [`easiest_pot`] among the balls the opponent may hit ([`opponent_on`]: 9-ball
+/// the lowest left; 8-ball the other group left, else the 8). The same cheap estimate as
+/// [`next_shot_ease`].
+pub fn opponent_ease(config: &StudyConfig, s: &Sample) -> f64 {
+    let left = |k: usize| k != config.cue && s.pocket_of(k).is_none();
+    let others: Vec<usize> = (0..config.balls.len()).filter(|&k| left(k)).collect();
+    easiest_pot(config, s.cue_final, &opponent_on(config, left), &others)
 }

@@ -71,7 +71,7 @@ pub fn plan_in_hand(
         Budget::Samples(n) => Budget::Samples(n / k),
     };
     let mut best: Option<(Plan, (f64, f64))> = None;
-    let (mut candidates, mut samples, mut rounds) = (0, 0, 0);
+    let (mut candidates, mut refined, mut samples, mut rounds) = (0, 0, 0, 0);
     let mut last_error = None;
     for (i, &spot) in spots.iter().enumerate() {
         let placed = at(config, spot);
@@ -89,6 +89,7 @@ pub fn plan_in_hand(
             Err(e) => return Err(e),
         };
         candidates += planned.candidates;
+        refined += planned.refined;
         samples += planned.samples;
         rounds = rounds.max(planned.rounds);
         let value = planned.ranked[0].estimate.value();
@@ -106,6 +107,7 @@ pub fn plan_in_hand(
     };
     planned.placement = Some(spot);
     planned.candidates = candidates;
+    planned.refined = refined;
     planned.samples = samples;
     planned.rounds = rounds;
     planned.seconds = started.elapsed().as_secs_f64();

@@ -1,22 +1,24 @@
-//! Which shot to play: a shot planner under cue noise and a game's rules (issue 29's first
-//! part: direct pots in 8-ball and 9-ball).
+//! Which shot to play: a shot planner under cue noise and a game's rules (8-ball and
+//! 9-ball: direct pots, banks, combinations, kicks and safeties; the cue ball in hand).
 //!
 //! - [`aim`]: the ghost-ball aim, the cut angle, whether a path is clear;
 //! - [`candidates`]: the shots tried (each target ball into each pocket, where the aim is
-//!   playable, over a grid of speeds and spins) and full-hit safeties (no pot called);
+//!   playable, over a grid of speeds and spins; one-rail banks, two-ball combinations,
+//!   one-rail kicks) and safeties (no pot meant);
 //! - [`evaluate`](mod@evaluate): candidates under the same noise draws (common random
 //!   numbers), in one engine call, judged by the game in each candidate's context, and
 //!   each sample's value (the table kept, the position left, fouls, the game);
 //! - [`plan`]: successive halving over the candidates (every survivor of a round gets as
-//!   many new samples as it had, the lower half is dropped), then the finalists estimated
-//!   again on fresh draws, so that the figures reported are not the ones that chose them
-//!   (a candidate chosen for a lucky run would otherwise report its luck).
+//!   many new samples as it had, the lower half is dropped), then the best few refined in
+//!   the continuous strike ([`refine`](mod@refine): the cross-entropy method on common random
+//!   numbers), then the finalists estimated again on fresh draws, so that the figures
+//!   reported are not the ones that chose them (a candidate chosen for a lucky run would
+//!   otherwise report its luck).
 //!
 //! - [`play`](mod@play): self-play, whole games between two [`agents`] (`greedy`,
 //!   `sampler`, the planner) on kisstime's own simulator.
 //!
-//! Not yet: banks, kicks, combinations, safeties, ball in hand, the break, a refinement in
-//! the continuous strike, and a position value checked against nested studies.
+//! Not yet: the break, and a position value checked against nested studies.
 
 pub mod agents;
 pub mod aim;
@@ -24,12 +26,15 @@ pub mod candidates;
 pub mod evaluate;
 pub mod in_hand;
 pub mod play;
+pub mod refine;
 
 use std::time::Instant;
 
-pub use aim::{Aim, ghost_ball, path_clear};
-pub use candidates::{Candidate, Kind, balls_on, direct_pots, easiest_pot, safeties, targets};
-pub use evaluate::{Estimate, context_of, next_shot_ease};
+pub use aim::{Aim, Rail, ghost_ball, path_clear, rails};
+pub use candidates::{
+    Candidate, Kind, balls_on, direct_pots, ease, easiest_pot, opponent_on, safeties, targets,
+};
+pub use evaluate::{Estimate, context_of, next_shot_ease, opponent_ease};
 
 use crate::engine::ShotEngine;
 use crate::error::{Error, InputError};
@@ -38,6 +43,14 @@ use crate::study::{Noise, StudyConfig};
 /// Where the final estimates' noise draws start: far from the halving's, so that the
 /// finalists meet fresh noise.
 pub const FRESH_DRAWS: u64 = 1 << 40;
+
+/// Where the refinement's noise draws start: apart from the halving's and the final
+/// estimates', so that the strikes it keeps are not chosen on the draws that then judge
+/// them.
+pub const REFINE_DRAWS: u64 = 1 << 41;
+
+/// The fewest samples a strike the refinement plays gets: with fewer, it is skipped.
+pub const REFINE_SAMPLES: u64 = 32;
 
 /// The fewest samples of a first round (over all candidates).
 pub const FIRST_ROUND: usize = 4096;
@@ -69,6 +82,9 @@ pub struct PlanOptions {
     pub first_samples: usize,
     /// Candidates estimated again on fresh draws at the end, and reported.
     pub finalists: usize,
+    /// Whether the best few are refined in the continuous strike ([`refine`]) when the
+    /// budget allows it.
+    pub refine: bool,
 }
 
 impl Default for PlanOptions {
@@ -79,6 +95,7 @@ impl Default for PlanOptions {
             budget: Budget::Seconds(1.0),
             first_samples: 64,
             finalists: 5,
+            refine: true,
         }
     }
 }
@@ -97,8 +114,10 @@ pub struct Ranked {
 pub struct Plan {
     /// The finalists, by their fresh estimate's value, best first.
     pub ranked: Vec<Ranked>,
-    /// Candidates generated.
+    /// Candidates generated (the refinement's strikes included).
     pub candidates: usize,
+    /// Of them, the strikes the refinement drew ([`refine`]).
+    pub refined: usize,
     /// Samples simulated in all.
     pub samples: usize,
     /// Rounds of halving.
@@ -123,14 +142,12 @@ pub fn plan(
     options: &PlanOptions,
 ) -> Result<Plan, Error> {
     let started = Instant::now();
-    // the pots, and the safeties beside them: a poor pot may be worth less than a safety
-    let mut candidates = direct_pots(config).map_err(InputError::new)?;
-    candidates.extend(safeties(config).map_err(InputError::new)?);
+    let mut candidates = candidates_of(config).map_err(InputError::new)?;
     if candidates.is_empty() {
         return Err(InputError::new(
-            "no direct pot is playable from this position (every cut is past 80° or every path \
-             blocked) and no ball on is in the cue ball's straight reach (banks and kicks are \
-             not planned yet)",
+            "no shot to try from this position: no direct pot, bank or combination is \
+             playable (every cut too thin or every path blocked), no ball on is in the cue \
+             ball's straight reach and no one-rail kick reaches one",
         )
         .into());
     }
@@ -188,16 +205,42 @@ pub fn plan(
         rank(&mut alive, &estimates);
         alive.truncate(alive.len().div_ceil(2).max(finalists));
         per = done;
-        // the halving may spend two thirds of the budget; the final estimates the rest
-        if used + alive.len() * per as usize > total * 2 / 3 {
+        // the halving may spend half the budget; the refinement and the final estimates
+        // the rest
+        if used + alive.len() * per as usize > total / 2 {
             break;
         }
     }
     rank(&mut alive, &estimates);
+    // the refinement, where it fits in three quarters of the budget with 32 samples a
+    // strike at least (at most as many as the halving gave each survivor)
+    let mut refined = 0;
+    let total = budget.unwrap_or_else(|| samples_in_time(options.budget, used, &started));
+    let leaders: Vec<usize> = alive.iter().take(refine::LEADERS).copied().collect();
+    let room = (total * 3 / 4).saturating_sub(used) / refine::cost(leaders.len(), 1).max(1);
+    let per_strike = (room as u64).min(done);
     alive.truncate(finalists);
+    if options.refine && per_strike >= REFINE_SAMPLES {
+        let before = candidates.len();
+        let mut better = refine::refine(
+            engine,
+            config,
+            &mut candidates,
+            &leaders,
+            draws(REFINE_DRAWS..REFINE_DRAWS + per_strike),
+        )?;
+        used += refine::cost(leaders.len(), per_strike);
+        refined = candidates.len() - before;
+        // each better child takes the place of the last original finalist (the best
+        // original stays)
+        let keep = finalists.saturating_sub(better.len()).max(1);
+        better.truncate(finalists.saturating_sub(keep));
+        alive.truncate(keep);
+        alive.extend(better);
+    }
     let total = budget.unwrap_or_else(|| samples_in_time(options.budget, used, &started));
     let fresh = (total.saturating_sub(used) / alive.len()).max(first) as u64;
-    let mut finals = vec![Estimate::default(); n];
+    let mut finals = vec![Estimate::default(); candidates.len()];
     evaluate::evaluate(
         engine,
         config,
@@ -216,12 +259,35 @@ pub fn plan(
                 estimate: finals[c],
             })
             .collect(),
-        candidates: n,
+        candidates: candidates.len(),
+        refined,
         samples: used,
         rounds,
         seconds: started.elapsed().as_secs_f64(),
         placement: None,
     })
+}
+
+/// Every candidate the planner tries from `config`'s position ([`candidates`]): the direct
+/// pots, the banks and the combinations; the safeties beside them (a poor pot may be worth
+/// less than a safety), with the fuller fan of thinner and softer hits where no direct pot
+/// is easy ([`candidates::WEAK_POT`]); and, where no ball on is in straight reach, the
+/// kicks. Errors: as [`targets`].
+pub fn candidates_of(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
+    let mut out = direct_pots(config)?;
+    let easiest = out.iter().map(|c| ease(&c.aim)).fold(0.0, f64::max);
+    out.extend(candidates::banks(config)?);
+    out.extend(candidates::combos(config)?);
+    let safe = if easiest < candidates::WEAK_POT {
+        candidates::safety_fan(config)?
+    } else {
+        safeties(config)?
+    };
+    if safe.is_empty() {
+        out.extend(candidates::kicks(config)?);
+    }
+    out.extend(safe);
+    Ok(out)
 }
 
 /// A planner's position as a study's configuration: the balls on the table at rest
@@ -328,13 +394,17 @@ pub fn position(
     })
 }
 
-/// The plan as JSON: `rules`, `candidates`, `samples`, `rounds`, `seconds`, `strike` (the
+/// The plan as JSON: `rules`, `candidates`, `refined` (of them, the refinement's),
+/// `samples`, `rounds`, `seconds`, `strike` (the
 /// chosen one: `V0`, `phi`, `theta`, `a`, `b` in pooltool's `Cue` conventions) and
-/// `ranked`, the finalists best first, each with `kind` (`pot` or `safety`: a full hit
-/// meant as a legal contact, 8-ball calling the pocket nearest the ball), `ball` and `pocket` (the
-/// position's and the table's ids), `cut` (degrees), `strike`, `samples`, `p_keep`,
-/// `p_foul`, `p_scratch` (each `[p, low, high]`, the 95 % Wilson interval), `p_won`,
-/// `p_lost`, `position` and `value`.
+/// `ranked`, the finalists best first, each with `kind` (`pot`, `bank`, `combo`, `kick` or
+/// `safety`: [`Kind`]; a kick and a safety are meant as a legal contact, 8-ball calling the
+/// pocket nearest the ball), `first` (the ball the cue ball is to hit first), `ball` (the
+/// ball called) and `pocket` (the position's and the table's ids), `cut` (degrees),
+/// `strike`, `samples`, `p_keep`, `p_foul`, `p_scratch` (each `[p, low, high]`, the 95 %
+/// Wilson interval), `p_won`, `p_lost`, `position` (the mean ease of the next shot over
+/// the samples that kept the table), `opponent` (the mean ease of the opponent's shot over
+/// the legal misses) and `value`.
 pub fn json(config: &StudyConfig, planned: &Plan) -> serde_json::Value {
     let strike = |s: crate::resolve::stick_ball::CueStrike| serde_json::json!({"V0": s.v0, "phi": s.phi, "theta": s.theta, "a": s.a, "b": s.b});
     let ranked: Vec<serde_json::Value> = planned
@@ -346,10 +416,8 @@ pub fn json(config: &StudyConfig, planned: &Plan) -> serde_json::Value {
             let p = |(v, lo, hi): (f64, f64, f64)| serde_json::json!([v, lo, hi]);
             let share = |k: usize| k as f64 / e.samples.max(1) as f64;
             serde_json::json!({
-                "kind": match r.candidate.kind {
-                    Kind::Pot { .. } => "pot",
-                    Kind::Safety { .. } => "safety",
-                },
+                "kind": r.candidate.kind.name(),
+                "first": config.balls[r.candidate.kind.first()].id,
                 "ball": config.balls[ball].id,
                 "pocket": config.table.pocket_ids[pocket],
                 "cut": r.candidate.aim.cut,
@@ -361,6 +429,7 @@ pub fn json(config: &StudyConfig, planned: &Plan) -> serde_json::Value {
                 "p_won": share(e.won),
                 "p_lost": share(e.lost),
                 "position": e.position(),
+                "opponent": e.opponent(),
                 "value": e.value(),
             })
         })
@@ -368,6 +437,7 @@ pub fn json(config: &StudyConfig, planned: &Plan) -> serde_json::Value {
     serde_json::json!({
         "rules": config.game.as_ref().map_or("", |g| g.rules.name()),
         "candidates": planned.candidates,
+        "refined": planned.refined,
         "samples": planned.samples,
         "rounds": planned.rounds,
         "seconds": planned.seconds,
