@@ -68,7 +68,7 @@ pub fn refine(
     (noise, seed, draws): (&Noise, u64, std::ops::Range<u64>),
 ) -> Result<Vec<usize>, Error> {
     let mut estimates = vec![Estimate::default(); candidates.len()];
-    let mut rng = Pcg64Mcg::seed_from_u64(mix(seed, 0x6365_6d));
+    let mut rng = Pcg64Mcg::seed_from_u64(mix(seed, 0x0063_656d));
     // each leader's search: its mean, σ and the strikes seen (indices)
     let mut searches: Vec<([f64; 4], [f64; 4], Vec<usize>)> = leaders
         .iter()
