@@ -887,18 +887,23 @@ class Plan:
     Attributes:
         strike: The chosen strike in pooltool's ``Cue`` conventions: ``V0`` (m/s), ``phi``,
             ``theta`` (degrees), ``a``, ``b`` (fractions of the ball radius).
-        ranked: The finalists, best first, each a dict: ``kind`` (``"pot"``), ``ball`` and
-            ``pocket`` (ids), ``cut`` (degrees), ``strike``, ``samples``, ``p_keep``,
+        ranked: The finalists, best first, each a dict: ``kind`` (``"pot"``, ``"bank"``,
+            ``"combo"``, ``"kick"``, ``"safety"`` or ``"break"``), ``first`` (the ball the
+            cue ball is to hit first), ``ball`` (the ball called) and ``pocket`` (ids;
+            ``None`` on a break), ``cut`` (degrees), ``strike``, ``samples``, ``p_keep``,
             ``p_foul``, ``p_scratch`` (each ``[p, low, high]``: the 95 % Wilson interval),
-            ``p_won``, ``p_lost``, ``position`` (the next shot's ease, 0 to 1) and
-            ``value``; estimated on noise draws of their own, not those that chose them.
-        candidates: Candidates tried.
+            ``p_won``, ``p_lost``, ``position`` (the next shot's ease, 0 to 1, over the
+            samples that keep the table), ``opponent`` (the opponent's next shot's ease
+            over the legal misses) and ``value``; estimated on noise draws of their own,
+            not those that chose them.
+        candidates: Candidates tried (the refinement's strikes included).
         samples: Samples simulated in all.
         rounds: Rounds of successive halving.
         seconds: Wall-clock seconds.
         rules: The game.
-        placement: With ``ball_in_hand``: where to place the cue ball, ``(x, y)`` in m;
-            else ``None``.
+        placement: With ``ball_in_hand`` or ``break_shot``: where to place the cue ball,
+            ``(x, y)`` in m; else ``None``.
+        refined: Of the candidates, the strikes the refinement drew.
     """
 
     strike: dict
@@ -909,6 +914,7 @@ class Plan:
     seconds: float
     rules: str
     placement: Optional[tuple] = None
+    refined: int = 0
 
     @property
     def best(self) -> dict:
@@ -958,14 +964,17 @@ def plan(
     top: int = 5,
     backend: str = "cpu",
     ball_in_hand: Optional[str] = None,
+    break_shot: bool = False,
 ) -> Plan:
     """Which shot to play from an 8-ball or 9-ball position, under cue noise and the
     game's rules (``kisstime plan``; docs/plan.md).
 
     The planner tries each ball the player may hit into each pocket where the ghost-ball
-    aim is playable, over speeds and spins; plays every candidate under the same noise
-    draws, judged by the rules (8-ball: called on that ball and pocket), halving the field
-    each round; then estimates the ``top`` finalists again on fresh draws.
+    aim is playable, over speeds and spins, with one-rail banks, two-ball combinations,
+    safeties and (with no ball on in straight reach) one-rail kicks; plays every candidate
+    under the same noise draws, judged by the rules (8-ball: called on that ball and
+    pocket), halving the field each round; refines the best three in the continuous strike
+    (the cross-entropy method); then estimates the ``top`` finalists again on fresh draws.
 
     Args:
         balls: The position, every ball at rest: ``{id: (x, y)}``, rows ``(id, x, y)`` or
@@ -988,6 +997,8 @@ def plan(
         ball_in_hand: ``"anywhere"`` or ``"kitchen"`` (behind the head string): the cue
             ball is in hand, and the plan chooses its placement too (:attr:`Plan.placement`;
             a cue ball in ``balls`` is ignored, and may be left out). docs/plan.md.
+        break_shot: Plan the break of the rack in ``balls``: the cue ball's spot behind the
+            head string (:attr:`Plan.placement`) and the strike.
 
     Raises:
         ValueError: a game other than 8-ball and 9-ball, balls off the table or
@@ -1018,6 +1029,7 @@ def plan(
         int(top),
         backend,
         ball_in_hand,
+        bool(break_shot),
     )
     out = json.loads(text_json)
     return Plan(
@@ -1029,4 +1041,5 @@ def plan(
         seconds=out["seconds"],
         rules=out["rules"],
         placement=None if out.get("placement") is None else (out["placement"]["x"], out["placement"]["y"]),
+        refined=out.get("refined", 0),
     )

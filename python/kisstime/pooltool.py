@@ -1270,8 +1270,9 @@ def plan(
             "b": 0.003}`` (m/s; degrees; fractions of the radius).
         budget_s: About this many seconds (or ``budget_s=None, budget_samples=N``).
         kwargs: The rest of ``kisstime.plan``'s (``budget_samples``, ``seed``, ``top``,
-            ``noise_scale``, ``backend``, ``ball_in_hand``: then ``.placement`` is where to
-            put the cue ball, ``(x, y)`` in pooltool's table coordinates).
+            ``noise_scale``, ``backend``, ``ball_in_hand`` or ``break_shot=True``: then
+            ``.placement`` is where to put the cue ball, ``(x, y)`` in pooltool's table
+            coordinates).
 
     Returns:
         The ``kisstime.Plan``: its ``.strike`` is a dict in pooltool's ``Cue`` conventions

@@ -595,10 +595,11 @@ fn simulate<'py>(
 /// centres (at rest), the table, the physics, the game and its hittable balls (8-ball's
 /// group; `None`: an open table), the noise (a preset's name, or the five σ in pooltool's
 /// units: V0 m/s, φ and θ degrees, a and b fractions of R) times `noise_scale`, the budget
-/// (seconds or samples), the seed, the finalists and the backend. The plan as JSON text
+/// (seconds or samples), the seed, the finalists and the backend; the cue ball in hand
+/// (`anywhere`, `kitchen`) or the break (the placement the planner's). The plan as JSON text
 /// (`kisstime::plan::json`).
 #[pyfunction]
-#[pyo3(signature = (ids, xs, ys, table_name, table_json, physics, rules, hittable, noise_preset, noise_sigma, noise_scale, budget_seconds, budget_samples, seed, top, backend, ball_in_hand=None))]
+#[pyo3(signature = (ids, xs, ys, table_name, table_json, physics, rules, hittable, noise_preset, noise_sigma, noise_scale, budget_seconds, budget_samples, seed, top, backend, ball_in_hand=None, break_shot=false))]
 #[allow(clippy::too_many_arguments)]
 fn plan(
     py: Python<'_>,
@@ -619,8 +620,10 @@ fn plan(
     top: usize,
     backend: &str,
     ball_in_hand: Option<&str>,
+    break_shot: bool,
 ) -> PyResult<String> {
     use kisstime::model::ball_state::BallState;
+    use kisstime::plan::breaks::plan_break;
     use kisstime::plan::in_hand::{InHand, cue_in_hand, plan_in_hand};
     use kisstime::plan::{Budget, PlanOptions, position};
     let region = ball_in_hand
@@ -641,10 +644,16 @@ fn plan(
         .map(|(&x, &y)| BallState::at_rest(x, y, params.ball.r))
         .collect();
     let mut ids = ids;
-    if region.is_some() {
+    if region.is_some() && break_shot {
+        return Err(PyValueError::new_err(
+            "ball_in_hand and break_shot: a break places the cue ball itself",
+        ));
+    }
+    if region.is_some() || break_shot {
         (ids, balls) = cue_in_hand(&table, params.ball.r, &ids, &balls).map_err(py_err)?;
     }
     let mut context = default_context(rules);
+    context.break_shot = break_shot;
     if let Some(h) = &hittable {
         for id in h {
             if *id <= 0 || !ids.contains(id) {
@@ -687,6 +696,7 @@ fn plan(
     let planned = py
         .detach(|| match region {
             Some(region) => plan_in_hand(&mut engine, &config, &options, region),
+            None if break_shot => plan_break(&mut engine, &config, &options),
             None => kisstime::plan::plan(&mut engine, &config, &options),
         })
         .map_err(py_err)?;

@@ -305,6 +305,10 @@ pub struct PlanArgs {
     /// (behind the head string). INPUT's cue ball, if any, is ignored.
     #[arg(long, value_name = "WHERE")]
     pub ball_in_hand: Option<String>,
+    /// Plan the break of INPUT's rack: the cue ball's spot behind the head string and the
+    /// strike (INPUT's cue ball, if any, is ignored).
+    #[arg(long = "break", conflicts_with = "ball_in_hand")]
+    pub break_shot: bool,
     /// The table of INPUT to plan for (its id); needed when INPUT has several.
     #[arg(long, value_name = "K")]
     pub table_id: Option<i64>,

@@ -10,6 +10,7 @@ use kisstime::io::physics::read_physics_or_default;
 use kisstime::io::table_json::table_by_name;
 use kisstime::model::ball_state::BallState;
 use kisstime::plan::agents::Agent;
+use kisstime::plan::breaks::plan_break;
 use kisstime::plan::in_hand::{InHand, cue_in_hand, plan_in_hand};
 use kisstime::plan::play::{PlayOptions, PlayReport, PlayerStats, play};
 use kisstime::plan::{Budget, Kind, Plan, PlanOptions, Ranked, plan, position};
@@ -85,12 +86,13 @@ fn read_position(args: &PlanArgs, rules: Rules) -> Result<(i64, StudyConfig), Er
         .collect();
     // in hand: the cue ball, wherever it is (or is not), waits at a free spot; the
     // placement is the planner's
-    if args.ball_in_hand.is_some() {
+    if args.ball_in_hand.is_some() || args.break_shot {
         (ids, balls) = cue_in_hand(&table, params.ball.r, &ids, &balls)
             .map_err(|e| InputError::new(format!("{at}: {e}")))?;
     }
     let ids = &ids[..];
     let mut context = default_context(rules);
+    context.break_shot = args.break_shot;
     if let Some(list) = &args.hittable {
         let mut set = Vec::new();
         for item in list
@@ -144,6 +146,7 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
         ..PlanOptions::default()
     };
     let planned = match &args.ball_in_hand {
+        None if args.break_shot => plan_break(&mut engine, &config, &options)?,
         Some(region) => {
             let region = InHand::from_name(region).map_err(InputError::new)?;
             plan_in_hand(&mut engine, &config, &options, region)?
@@ -167,8 +170,12 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
     if args.json {
         println!("{}", kisstime::plan::json(&config, &planned));
     } else {
-        if let Some((x, y)) = planned.placement {
-            println!("cue ball in hand: place it at x = {x:.3} m, y = {y:.3} m");
+        match planned.placement {
+            Some((x, y)) if args.break_shot => {
+                println!("break from x = {x:.3} m, y = {y:.3} m")
+            }
+            Some((x, y)) => println!("cue ball in hand: place it at x = {x:.3} m, y = {y:.3} m"),
+            None => {}
         }
         print!("{}", plan_table(&config, &planned));
     }
@@ -192,8 +199,8 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
     Ok(())
 }
 
-/// The shot a candidate tries, in words: `3 -> rt (cut 12.3°)`, `bank 3 -> rc (rail 2)`,
-/// `combo 1-9 -> lb`, `kick: rail 0, then 4`, `safety: hit 2 full`.
+/// The shot a candidate tries, in words: `3 -> rt (cut 12.3°)`, `bank 3 -> rc off 3`,
+/// `combo 1-9 -> lb`, `kick off 15 at 4`, `safety: hit 2 full` (cushions by their ids).
 fn shot_name(config: &StudyConfig, r: &Ranked) -> String {
     let ball = &config.balls[r.candidate.kind.ball()].id;
     match r.candidate.kind {
@@ -202,14 +209,15 @@ fn shot_name(config: &StudyConfig, r: &Ranked) -> String {
             config.table.pocket_ids[pocket], r.candidate.aim.cut
         ),
         Kind::Bank { pocket, rail, .. } => format!(
-            "bank {ball} -> {} (rail {rail})",
-            config.table.pocket_ids[pocket]
+            "bank {ball} -> {} off {}",
+            config.table.pocket_ids[pocket], config.table.linear_ids[rail]
         ),
         Kind::Combo { first, pocket, .. } => format!(
             "combo {}-{ball} -> {}",
             config.balls[first].id, config.table.pocket_ids[pocket]
         ),
-        Kind::Kick { rail, .. } => format!("kick: rail {rail}, then {ball}"),
+        Kind::Kick { rail, .. } => format!("kick off {} at {ball}", config.table.linear_ids[rail]),
+        Kind::Break { .. } => format!("break at {ball} (cut {:.1}°)", r.candidate.aim.cut),
         Kind::Safety { .. } if r.candidate.aim.cut == 0.0 => format!("safety: hit {ball} full"),
         Kind::Safety { .. } => format!("safety: hit {ball} thin"),
     }

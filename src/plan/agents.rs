@@ -174,11 +174,11 @@ fn planner_choice(
     }
 }
 
-/// A candidate as a choice: its strike, its ball and pocket as the call.
+/// A candidate as a choice: its strike, its ball and pocket as the call (a break: none).
 pub fn choice_of(c: &Candidate) -> Choice {
     Choice {
         strike: c.strike,
-        call: Some((c.kind.ball(), c.kind.pocket())),
+        call: c.kind.calls().then(|| (c.kind.ball(), c.kind.pocket())),
     }
 }
 

@@ -100,6 +100,8 @@ pub struct Rail {
     pub lo: f64,
     /// See [`Rail::lo`].
     pub hi: f64,
+    /// The cushion segment's index in the table's straight cushions (`Table::linear`).
+    pub segment: usize,
 }
 
 impl Rail {
@@ -149,7 +151,7 @@ pub fn rails(table: &crate::model::table::Table, r: f64) -> Vec<Rail> {
         (m.0 + (s.p1.x + s.p2.x) / n, m.1 + (s.p1.y + s.p2.y) / n)
     });
     let mut out = Vec::new();
-    for s in &table.linear {
+    for (segment, s) in table.linear.iter().enumerate() {
         let (axis, c, a, b) = if s.p1.x == s.p2.x {
             (0, s.p1.x, s.p1.y, s.p2.y)
         } else if s.p1.y == s.p2.y {
@@ -166,6 +168,7 @@ pub fn rails(table: &crate::model::table::Table, r: f64) -> Vec<Rail> {
             at: c + r * (m - c).signum(),
             lo: a.min(b),
             hi: a.max(b),
+            segment,
         });
     }
     out

@@ -5,7 +5,8 @@
 //!
 //! Beside them:
 //! - [`banks`]: one-rail banks (the object ball off a rail into a pocket, aimed by the
-//!   mirror with a fan of aims around it), the [`MAX_BANKS`] easiest;
+//!   mirror with a wide fan of aims around it, of which the planner keeps those that pot
+//!   without noise), the [`MAX_BANKS`] easiest;
 //! - [`combos`]: two-ball combinations (the cue ball hits a ball on, which pots another
 //!   the player may pot), the [`MAX_COMBOS`] easiest;
 //! - [`safeties`]: hits on each ball on that the cue ball reaches straight, full at
@@ -49,8 +50,8 @@ pub enum Kind {
         /// The pocket.
         pocket: usize,
     },
-    /// A one-rail bank: ball `ball` sent off rail `rail` (an index in
-    /// [`super::aim::rails`]) into pocket `pocket` ([`banks`]).
+    /// A one-rail bank: ball `ball` sent off rail `rail` (the cushion segment's index in
+    /// the table's straight cushions) into pocket `pocket` ([`banks`]).
     Bank {
         /// The object ball.
         ball: usize,
@@ -69,7 +70,8 @@ pub enum Kind {
         /// The pocket.
         pocket: usize,
     },
-    /// A kick: the cue ball off rail `rail` first, then a hit on ball `ball`, meant as a
+    /// A kick: the cue ball off rail `rail` (the cushion segment's index in the table's
+    /// straight cushions) first, then a hit on ball `ball`, meant as a
     /// legal contact where no ball on is in straight reach ([`kicks`]); 8-ball calls that
     /// ball in the pocket nearest it.
     Kick {
@@ -79,6 +81,12 @@ pub enum Kind {
         nearest: usize,
         /// The rail the cue ball comes off.
         rail: usize,
+    },
+    /// The break: the cue ball at the head ball `ball` of the rack ([`break_shots`]); no
+    /// call.
+    Break {
+        /// The head ball (the object ball nearest the cue ball).
+        ball: usize,
     },
     /// A hit on ball `ball`, meant as a legal contact rather than a pot ([`safeties`]);
     /// where the game calls every shot (8-ball), it calls that ball in the pocket nearest
@@ -100,6 +108,7 @@ impl Kind {
             | Kind::Bank { ball, .. }
             | Kind::Combo { ball, .. }
             | Kind::Kick { ball, .. }
+            | Kind::Break { ball }
             | Kind::Safety { ball, .. } => ball,
         }
     }
@@ -113,14 +122,20 @@ impl Kind {
     }
 
     /// The pocket it calls (an index in the table's pockets): a pot's, a safety's or a
-    /// kick's nearest.
+    /// kick's nearest; a break calls none (0).
     pub fn pocket(&self) -> usize {
         match *self {
             Kind::Pot { pocket, .. } | Kind::Bank { pocket, .. } | Kind::Combo { pocket, .. } => {
                 pocket
             }
             Kind::Kick { nearest, .. } | Kind::Safety { nearest, .. } => nearest,
+            Kind::Break { .. } => 0,
         }
+    }
+
+    /// Whether it calls a ball and a pocket (every kind but the break).
+    pub fn calls(&self) -> bool {
+        !matches!(self, Kind::Break { .. })
     }
 
     /// Whether it means to pot the ball it calls.
@@ -131,13 +146,14 @@ impl Kind {
         )
     }
 
-    /// `pot`, `bank`, `combo`, `kick` or `safety`.
+    /// `pot`, `bank`, `combo`, `kick`, `break` or `safety`.
     pub fn name(&self) -> &'static str {
         match self {
             Kind::Pot { .. } => "pot",
             Kind::Bank { .. } => "bank",
             Kind::Combo { .. } => "combo",
             Kind::Kick { .. } => "kick",
+            Kind::Break { .. } => "break",
             Kind::Safety { .. } => "safety",
         }
     }
@@ -155,20 +171,21 @@ pub struct Candidate {
 }
 
 /// The balls the player may hit first in `config`'s game (indices in its balls): 9-ball
-/// the lowest-numbered ball on the table; 8-ball the context's hittable balls on it.
-/// Errors where the game is not one the planner plays, on a break, or where no such ball
-/// is on the table.
+/// the lowest-numbered ball on the table; 8-ball the context's hittable balls on it; on a
+/// break, the head ball ([`head_ball`]). Errors where the game is not one the planner
+/// plays, or where no such ball is on the table.
 pub fn targets(config: &StudyConfig) -> Result<Vec<usize>, String> {
     let game = config
         .game
         .as_ref()
         .ok_or("the planner needs a game (8-ball or 9-ball)")?;
     match game.rules {
-        Rules::NineBall => {}
-        Rules::EightBall if game.context.break_shot => {
-            return Err("the planner does not plan breaks yet".into());
+        Rules::NineBall | Rules::EightBall if game.context.break_shot => {
+            return head_ball(config)
+                .map(|k| vec![k])
+                .ok_or_else(|| "no object ball to break".into());
         }
-        Rules::EightBall => {}
+        Rules::NineBall | Rules::EightBall => {}
         other => {
             return Err(format!(
                 "the planner plays 8-ball and 9-ball for now, not {}",
@@ -179,6 +196,68 @@ pub fn targets(config: &StudyConfig) -> Result<Vec<usize>, String> {
     let out = balls_on(config, |_| true);
     if out.is_empty() {
         return Err("no ball the player may hit first is on the table".into());
+    }
+    Ok(out)
+}
+
+/// The head ball of a rack: the object ball nearest the cue ball (an index in `config`'s
+/// balls), if any.
+pub fn head_ball(config: &StudyConfig) -> Option<usize> {
+    let cue = &config.balls[config.cue];
+    let far = |k: &usize| (config.balls[*k].x - cue.x).hypot(config.balls[*k].y - cue.y);
+    (0..config.balls.len())
+        .filter(|&k| k != config.cue)
+        .min_by(|a, b| far(a).total_cmp(&far(b)))
+}
+
+/// The aims of a break: the cue ball's line moved sideways from the head ball's centre by
+/// these fractions of R (a full hit, and a little to either side).
+pub const BREAK_OFFSETS: [f64; 3] = [-0.3, 0.0, 0.3];
+/// A break's speeds, m/s.
+pub const BREAK_SPEEDS: [f64; 3] = [6.0, 7.5, 9.0];
+/// A break's tip offsets: centre, and a little draw (which keeps the cue ball near the
+/// middle after a full hit).
+pub const BREAK_SPINS: [(f64, f64); 2] = [(0.0, 0.0), (0.0, -0.3)];
+
+/// The break's candidates from where the cue ball is: at the head ball ([`head_ball`]),
+/// each of [`BREAK_OFFSETS`] × [`BREAK_SPEEDS`] × [`BREAK_SPINS`], a level cue.
+pub fn break_shots(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
+    let r = config.params.ball.r;
+    let ball = head_ball(config).ok_or("no object ball to break")?;
+    let cue = (config.balls[config.cue].x, config.balls[config.cue].y);
+    let o = (config.balls[ball].x, config.balls[ball].y);
+    let (dx, dy) = (o.0 - cue.0, o.1 - cue.1);
+    let d = dx.hypot(dy);
+    if d <= 2.0 * r {
+        return Err("the cue ball touches the head ball".into());
+    }
+    let n = (-dy / d, dx / d);
+    let mut out = Vec::new();
+    for s in BREAK_OFFSETS {
+        let p = (o.0 + s * r * n.0, o.1 + s * r * n.1);
+        let (px, py) = (p.0 - cue.0, p.1 - cue.1);
+        let aim = Aim {
+            phi: py.atan2(px).to_degrees().rem_euclid(360.0),
+            cut: (s.abs() / 2.0).asin().to_degrees(),
+            ghost: p,
+            cue_travel: d - 2.0 * r,
+            object_travel: 0.0,
+        };
+        for v0 in BREAK_SPEEDS {
+            for (a, b) in BREAK_SPINS {
+                out.push(Candidate {
+                    kind: Kind::Break { ball },
+                    strike: CueStrike {
+                        v0,
+                        phi: aim.phi,
+                        theta: 0.0,
+                        a,
+                        b,
+                    },
+                    aim,
+                });
+            }
+        }
     }
     Ok(out)
 }
@@ -415,8 +494,12 @@ pub const MAX_COMBOS: usize = 4;
 pub const MAX_KICKS: usize = 6;
 /// The cut angle past which a bank or a combination's cut is not tried, degrees.
 pub const MAX_BANK_CUT: f64 = 60.0;
-/// The turns of the object ball's line tried around a bank's mirror aim, degrees.
-pub const BANK_FAN: [f64; 5] = [-2.0, -1.0, 0.0, 1.0, 2.0];
+/// The turns of the object ball's line tried around a bank's mirror aim, degrees: wide,
+/// as a real rebound leaves the mirror's line by several degrees (the planner keeps those
+/// that pot without noise: [`super::screen`]).
+pub const BANK_FAN: [f64; 13] = [
+    -6.0, -5.0, -4.0, -3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0,
+];
 /// A bank's speeds, m/s.
 pub const BANK_SPEEDS: [f64; 2] = [2.5, 4.0];
 /// The turns of the cue ball's line tried around a kick's mirror aim, degrees.
@@ -455,7 +538,7 @@ pub fn banks(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
         };
         for (pocket, p) in config.table.pockets.iter().enumerate() {
             let target = (p.center.x, p.center.y);
-            for (k, rail) in rails.iter().enumerate() {
+            for rail in &rails {
                 let mirrored = rail.mirror(target);
                 let Some(bounce) = rail.bounce(o, mirrored, r) else {
                     continue;
@@ -475,7 +558,7 @@ pub fn banks(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
                 let kind = Kind::Bank {
                     ball,
                     pocket,
-                    rail: k,
+                    rail: rail.segment,
                 };
                 found.push((ease(&aim), kind, mirrored));
             }
@@ -621,7 +704,7 @@ pub fn kicks(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
                 .filter(move |&k| k != config.cue && k != ball)
                 .map(at)
         };
-        for (k, rail) in rails.iter().enumerate() {
+        for rail in &rails {
             let mirrored = rail.mirror(o);
             let Some(bounce) = rail.bounce(cue, mirrored, r) else {
                 continue;
@@ -634,7 +717,7 @@ pub fn kicks(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
             let kind = Kind::Kick {
                 ball,
                 nearest: nearest_pocket(config, o),
-                rail: k,
+                rail: rail.segment,
             };
             found.push((travel, kind, mirrored));
         }

@@ -119,14 +119,15 @@ fn interval(k: usize, n: usize) -> (f64, f64, f64) {
 }
 
 /// The context a candidate is judged in: the game's, with its call (8-ball calls every
-/// shot: a pot's ball and pocket, a safety's ball in the pocket nearest it).
+/// shot but the break: a pot's ball and pocket, a safety's ball in the pocket nearest
+/// it).
 pub fn context_of(config: &StudyConfig, c: &Candidate) -> Context {
     let game = config
         .game
         .as_ref()
         .expect("the planner's position has a game");
     match game.rules {
-        Rules::EightBall => Context {
+        Rules::EightBall if c.kind.calls() => Context {
             ball_call: Some(game.ids[c.kind.ball()]),
             pocket_call: Some(c.kind.pocket()),
             ..game.context
@@ -187,8 +188,8 @@ pub fn evaluate(
     Ok(())
 }
 
-/// One sample as an [`Estimate`] of one sample.
-fn judge_sample(config: &StudyConfig, s: &Sample) -> Estimate {
+/// One sample as an [`Estimate`] of one sample: its counts and its value (module docs).
+pub fn judge_sample(config: &StudyConfig, s: &Sample) -> Estimate {
     let v: Verdict = s.verdict.unwrap_or(Verdict {
         legal: false,
         foul: None,

@@ -65,6 +65,26 @@ pub fn plan_in_hand(
     if spots.is_empty() {
         return Err(InputError::new("no free spot for the cue ball in hand").into());
     }
+    let mut planned = plan_at(engine, config, options, &spots)?;
+    planned.seconds = started.elapsed().as_secs_f64();
+    Ok(planned)
+}
+
+/// The best of the plans from each of `spots` (the cue ball put there; the budget shared
+/// between them): the plan whose best shot's fresh estimate has the highest value, with
+/// [`Plan::placement`] its spot and its counts (candidates, samples) those of every spot
+/// planned. Errors: as [`plan`]'s (a spot from which nothing can be planned is skipped;
+/// with none left, the last such error); no spots.
+pub fn plan_at(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    options: &PlanOptions,
+    spots: &[(f64, f64)],
+) -> Result<Plan, Error> {
+    let started = Instant::now();
+    if spots.is_empty() {
+        return Err(InputError::new("no free spot for the cue ball").into());
+    }
     let k = spots.len();
     let budget = match options.budget {
         Budget::Seconds(s) => Budget::Seconds(s / k as f64),

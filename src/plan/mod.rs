@@ -18,10 +18,13 @@
 //! - [`play`](mod@play): self-play, whole games between two [`agents`] (`greedy`,
 //!   `sampler`, the planner) on kisstime's own simulator.
 //!
-//! Not yet: the break, and a position value checked against nested studies.
+//! - [`breaks`]: the break, the cue ball's spot behind the head string and the strike.
+//!
+//! Not yet: a position value checked against nested studies.
 
 pub mod agents;
 pub mod aim;
+pub mod breaks;
 pub mod candidates;
 pub mod evaluate;
 pub mod in_hand;
@@ -52,7 +55,8 @@ pub const REFINE_DRAWS: u64 = 1 << 41;
 /// The fewest samples a strike the refinement plays gets: with fewer, it is skipped.
 pub const REFINE_SAMPLES: u64 = 32;
 
-/// The fewest samples of a first round (over all candidates).
+/// The fewest samples of a first round (over all candidates) by default
+/// ([`PlanOptions::first_round`]).
 pub const FIRST_ROUND: usize = 4096;
 
 /// The most a planner may be given: an hour, or 10⁹ samples.
@@ -80,6 +84,9 @@ pub struct PlanOptions {
     pub budget: Budget,
     /// Samples of each candidate in the first round.
     pub first_samples: usize,
+    /// The fewest samples of the first round over all candidates (with a time budget,
+    /// its rate sizes the rest).
+    pub first_round: usize,
     /// Candidates estimated again on fresh draws at the end, and reported.
     pub finalists: usize,
     /// Whether the best few are refined in the continuous strike ([`refine`]) when the
@@ -94,6 +101,7 @@ impl Default for PlanOptions {
             seed: 1,
             budget: Budget::Seconds(1.0),
             first_samples: 64,
+            first_round: FIRST_ROUND,
             finalists: 5,
             refine: true,
         }
@@ -131,7 +139,10 @@ pub struct Plan {
 /// The shot to play from `config`'s position (its balls, table, physics and game with its
 /// context; its `[shot]` is not used) under `options`, simulated on `engine` (module docs).
 ///
-/// Errors: a game the planner does not play, a break, no ball the player may hit on the
+/// On a break, the break's strikes from where the cue ball is ([`breaks::plan_break`]
+/// chooses the spot too).
+///
+/// Errors: a game the planner does not play, no ball the player may hit on the
 /// table, no playable direct pot nor a ball on in straight reach, a budget that is not positive and finite or past
 /// [`MAX_BUDGET_SECONDS`] / [`MAX_BUDGET_SAMPLES`] or smaller than a sample of every
 /// candidate and the finalists
@@ -151,9 +162,20 @@ pub fn plan(
         )
         .into());
     }
+    let screened = screen(engine, config, &mut candidates, options.seed)?;
+    if candidates.is_empty() {
+        return Err(InputError::new(
+            "no shot to try from this position: no bank or combination pots without noise, \
+             and nothing else is playable",
+        )
+        .into());
+    }
     let n = candidates.len();
     // a first round of at least FIRST_ROUND samples: a time budget is sized by its rate
-    let mut first = options.first_samples.max(FIRST_ROUND.div_ceil(n)).max(1);
+    let mut first = options
+        .first_samples
+        .max(options.first_round.div_ceil(n))
+        .max(1);
     let finalists = options.finalists.max(1);
     let budget = match options.budget {
         Budget::Seconds(s) if s.is_finite() && s > 0.0 && s <= MAX_BUDGET_SECONDS => None,
@@ -185,7 +207,7 @@ pub fn plan(
     let draws = |ids: std::ops::Range<u64>| (&options.noise, options.seed, ids);
     let mut estimates = vec![Estimate::default(); n];
     let mut alive: Vec<usize> = (0..n).collect();
-    let (mut per, mut done, mut used, mut rounds) = (first as u64, 0u64, 0usize, 0usize);
+    let (mut per, mut done, mut used, mut rounds) = (first as u64, 0u64, screened, 0usize);
     loop {
         evaluate::evaluate(
             engine,
@@ -272,8 +294,12 @@ pub fn plan(
 /// pots, the banks and the combinations; the safeties beside them (a poor pot may be worth
 /// less than a safety), with the fuller fan of thinner and softer hits where no direct pot
 /// is easy ([`candidates::WEAK_POT`]); and, where no ball on is in straight reach, the
-/// kicks. Errors: as [`targets`].
+/// kicks. On a break, the break's shots ([`candidates::break_shots`]). Errors: as
+/// [`targets`].
 pub fn candidates_of(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
+    if config.game.as_ref().is_some_and(|g| g.context.break_shot) {
+        return candidates::break_shots(config);
+    }
     let mut out = direct_pots(config)?;
     let easiest = out.iter().map(|c| ease(&c.aim)).fold(0.0, f64::max);
     out.extend(candidates::banks(config)?);
@@ -288,6 +314,41 @@ pub fn candidates_of(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
     }
     out.extend(safe);
     Ok(out)
+}
+
+/// Drops the banks and combinations of `candidates` that do not pot what they call when
+/// played once without noise (their aims are the mirror's and the ghost ball's, which a
+/// real rebound or throw departs from: of a bank's wide fan, only the aims that work
+/// stay). Returns the samples it played (one a bank or combination).
+pub fn screen(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    candidates: &mut Vec<Candidate>,
+    seed: u64,
+) -> Result<usize, Error> {
+    let which: Vec<usize> = (0..candidates.len())
+        .filter(|&k| matches!(candidates[k].kind, Kind::Bank { .. } | Kind::Combo { .. }))
+        .collect();
+    if which.is_empty() {
+        return Ok(0);
+    }
+    let mut e = vec![Estimate::default(); candidates.len()];
+    let none = Noise::default().scaled(0.0);
+    evaluate::evaluate(
+        engine,
+        config,
+        candidates,
+        &which,
+        (&none, seed, 0..1),
+        &mut e,
+    )?;
+    let mut k = 0;
+    candidates.retain(|c| {
+        let keep = !matches!(c.kind, Kind::Bank { .. } | Kind::Combo { .. }) || e[k].kept > 0;
+        k += 1;
+        keep
+    });
+    Ok(which.len())
 }
 
 /// A planner's position as a study's configuration: the balls on the table at rest
@@ -400,7 +461,8 @@ pub fn position(
 /// `ranked`, the finalists best first, each with `kind` (`pot`, `bank`, `combo`, `kick` or
 /// `safety`: [`Kind`]; a kick and a safety are meant as a legal contact, 8-ball calling the
 /// pocket nearest the ball), `first` (the ball the cue ball is to hit first), `ball` (the
-/// ball called) and `pocket` (the position's and the table's ids), `cut` (degrees),
+/// ball called) and `pocket` (the position's and the table's ids), `rail` (a bank's or a
+/// kick's cushion, its id in the table), `cut` (degrees),
 /// `strike`, `samples`, `p_keep`, `p_foul`, `p_scratch` (each `[p, low, high]`, the 95 %
 /// Wilson interval), `p_won`, `p_lost`, `position` (the mean ease of the next shot over
 /// the samples that kept the table), `opponent` (the mean ease of the opponent's shot over
@@ -419,8 +481,14 @@ pub fn json(config: &StudyConfig, planned: &Plan) -> serde_json::Value {
                 "kind": r.candidate.kind.name(),
                 "first": config.balls[r.candidate.kind.first()].id,
                 "ball": config.balls[ball].id,
-                "pocket": config.table.pocket_ids[pocket],
+                "pocket": r.candidate.kind.calls().then(|| &config.table.pocket_ids[pocket]),
                 "cut": r.candidate.aim.cut,
+                "rail": match r.candidate.kind {
+                    Kind::Bank { rail, .. } | Kind::Kick { rail, .. } => {
+                        Some(&config.table.linear_ids[rail])
+                    }
+                    _ => None,
+                },
                 "strike": strike(r.candidate.strike),
                 "samples": e.samples,
                 "p_keep": p(e.p_keep()),

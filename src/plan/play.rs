@@ -4,7 +4,8 @@
 //!
 //! A game: the rack on the 9-ft table (9-ball a diamond, the 1 at the foot spot and the 9
 //! in the middle; 8-ball a triangle, the 8 in the middle), the breaker (alternating from
-//! game to game) breaks from the head string's centre at 8 m/s, under the noise; then each
+//! game to game) breaks from the head string's centre at 8 m/s (the planner chooses its own
+//! spot and strike: [`super::breaks`]), under the noise; then each
 //! shot is the shooter's agent's choice plus the noise, simulated to rest and judged, and
 //! the game goes on as [`crate::game::progress`] says (the turn, ball in hand, 8-ball's
 //! groups, the 9 spotted again, balls off the table). After a foul the next player has the
@@ -20,6 +21,7 @@
 use std::time::Instant;
 
 use super::agents::{Agent, Choice, best_ease, choice_of, choose};
+use super::breaks::plan_break;
 use super::in_hand::{InHand, plan_in_hand};
 use super::{Budget, PlanOptions, position};
 use crate::engine::ShotEngine;
@@ -158,7 +160,22 @@ fn play_game(
             config.map(|c| (n, c))
         };
         let (mut n, mut config) = position_of(&game, &mut ids, &mut states)?;
-        let choice = if game.break_shot {
+        let choice = if game.break_shot && options.agents[s] == Agent::Planner {
+            // the planner's own break: the spot and the strike
+            let plan_options = PlanOptions {
+                noise: options.noise,
+                seed: mix(game_seed, 0),
+                budget: options.budget,
+                finalists: 3,
+                ..PlanOptions::default()
+            };
+            let planned = plan_break(engine, &config, &plan_options)?;
+            if let Some((x, y)) = planned.placement {
+                game.place_cue(x, y);
+                (n, config) = position_of(&game, &mut ids, &mut states)?;
+            }
+            choice_of(&planned.ranked[0].candidate)
+        } else if game.break_shot {
             break_choice(&config)
         } else {
             let started = Instant::now();

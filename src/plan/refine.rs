@@ -45,7 +45,7 @@ pub const SIGMA: [f64; 4] = [0.4, 0.2, 0.15, 0.15];
 pub const SIGMA_PHI_REBOUND: f64 = 0.6;
 /// σ's factor from one generation to the next.
 pub const SHRINK: f64 = 0.6;
-/// The speeds a refined strike keeps to, m/s.
+/// The speeds a refined strike keeps to, m/s (up to its parent's where that is faster).
 pub const V0_RANGE: (f64, f64) = (0.5, 6.0);
 /// The farthest a refined strike's tip goes from the centre (a fraction of R).
 pub const MAX_TIP: f64 = 0.5;
@@ -91,13 +91,16 @@ pub fn refine(
                 for v in &mut z {
                     *v = StandardNormal.sample(&mut rng);
                 }
-                let strike = playable(CueStrike {
-                    v0: mean[0] + sigma[0] * z[0],
-                    phi: mean[1] + sigma[1] * z[1],
-                    theta: parent.strike.theta,
-                    a: mean[2] + sigma[2] * z[2],
-                    b: mean[3] + sigma[3] * z[3],
-                });
+                let strike = playable(
+                    CueStrike {
+                        v0: mean[0] + sigma[0] * z[0],
+                        phi: mean[1] + sigma[1] * z[1],
+                        theta: parent.strike.theta,
+                        a: mean[2] + sigma[2] * z[2],
+                        b: mean[3] + sigma[3] * z[3],
+                    },
+                    V0_RANGE.1.max(parent.strike.v0),
+                );
                 candidates.push(Candidate { strike, ..parent });
                 estimates.push(Estimate::default());
                 seen.push(candidates.len() - 1);
@@ -144,10 +147,11 @@ pub fn refine(
         .collect())
 }
 
-/// `s` kept in the refinement's range (module docs).
-fn playable(s: CueStrike) -> CueStrike {
+/// `s` kept in the refinement's range (module docs), its speed at most `v_max` (the
+/// range's, or a faster parent's: a break's).
+fn playable(s: CueStrike, v_max: f64) -> CueStrike {
     let mut s = s;
-    s.v0 = s.v0.clamp(V0_RANGE.0, V0_RANGE.1);
+    s.v0 = s.v0.clamp(V0_RANGE.0, v_max);
     s.phi = s.phi.rem_euclid(360.0);
     let rho = s.a.hypot(s.b);
     if rho > MAX_TIP {
@@ -163,17 +167,21 @@ mod tests {
 
     #[test]
     fn a_refined_strike_stays_playable() {
-        let s = playable(CueStrike {
-            v0: 40.0,
-            phi: -10.0,
-            theta: 5.0,
-            a: 0.9,
-            b: -0.9,
-        });
+        let s = playable(
+            CueStrike {
+                v0: 40.0,
+                phi: -10.0,
+                theta: 5.0,
+                a: 0.9,
+                b: -0.9,
+            },
+            V0_RANGE.1,
+        );
         assert_eq!(s.v0, V0_RANGE.1);
         assert!((s.phi - 350.0).abs() < 1e-12);
         assert!(s.a.hypot(s.b) <= MAX_TIP + 1e-12);
         assert!(s.a > 0.0 && s.b < 0.0);
-        assert_eq!(playable(CueStrike { v0: 0.0, ..s }).v0, V0_RANGE.0);
+        assert_eq!(playable(CueStrike { v0: 0.0, ..s }, 9.0).v0, V0_RANGE.0);
+        assert_eq!(playable(CueStrike { v0: 12.0, ..s }, 9.0).v0, 9.0);
     }
 }
