@@ -360,3 +360,45 @@ fn a_legal_miss_is_worth_less_the_easier_the_shot_it_leaves_the_opponent() {
     assert_eq!(foul.value(), -FOUL_COST);
     assert!(foul.value() < hanger.value());
 }
+
+#[test]
+fn cli_plan_plot_draws_the_chosen_shot_and_refuses_another_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("plan.png");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
+        .args([
+            "plan",
+            "examples/nine_ball_position.csv",
+            "--rules",
+            "9-ball",
+        ])
+        .args(["--budget", "5000", "--plot"])
+        .arg(&png)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let bytes = std::fs::read(&png).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 10_000);
+    // a name that is not .png: refused before planning, nothing written
+    let jpg = dir.path().join("plan.jpg");
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
+        .args([
+            "plan",
+            "examples/nine_ball_position.csv",
+            "--rules",
+            "9-ball",
+        ])
+        .args(["--budget", "5000", "--plot"])
+        .arg(&jpg)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2), "bad usage");
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--plot"));
+    assert!(!jpg.exists());
+}

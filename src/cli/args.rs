@@ -309,6 +309,10 @@ pub struct PlanArgs {
     /// strike (INPUT's cue ball, if any, is ignored).
     #[arg(long = "break", conflicts_with = "ball_in_hand")]
     pub break_shot: bool,
+    /// Draw the chosen shot (PNG): its paths without noise, and where the cue ball stops
+    /// in 2,000 plays of it under the noise.
+    #[arg(long, value_name = "PNG")]
+    pub plot: Option<PathBuf>,
     /// The table of INPUT to plan for (its id); needed when INPUT has several.
     #[arg(long, value_name = "K")]
     pub table_id: Option<i64>,

@@ -133,6 +133,9 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
     if let Some(path) = &args.output {
         check_output(path, "-o", &["csv"])?;
     }
+    if let Some(path) = &args.plot {
+        check_output(path, "--plot", &["png"])?;
+    }
     if args.top == 0 {
         return Err(InputError::new("--top 0: at least one finalist").into());
     }
@@ -179,6 +182,13 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
         }
         print!("{}", plan_table(&config, &planned));
     }
+    if let Some(path) = &args.plot {
+        let png = plot_plan(&mut engine, &config, &planned, &options)?;
+        write_output(Some(path), |w| {
+            w.write_all(&png)
+                .map_err(kisstime::io::atomic::output_error)
+        })?;
+    }
     if let Some(path) = &args.output {
         let best = &planned.ranked[0];
         let s = best.candidate.strike;
@@ -197,6 +207,77 @@ pub fn run(args: &PlanArgs) -> Result<(), Error> {
         })?;
     }
     Ok(())
+}
+
+/// The plays of the chosen strike under the noise that `--plot` draws the cue ball's ends
+/// of.
+pub const PLOT_SAMPLES: usize = 2_000;
+
+/// The picture of the chosen shot (`--plot`): its strike played without noise, every
+/// ball's path, and where the cue ball stopped in [`PLOT_SAMPLES`] plays of it under the
+/// noise (draws of their own: other sample numbers than the plan's).
+fn plot_plan(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    planned: &Plan,
+    options: &PlanOptions,
+) -> Result<Vec<u8>, Error> {
+    use kisstime::plan::context_of;
+    use kisstime::plan::in_hand::at;
+    use kisstime::study::{RunOptions, Samples, noisy_strike_of, run};
+    let best = &planned.ranked[0];
+    let placed = planned
+        .placement
+        .map_or_else(|| config.clone(), |p| at(config, p));
+    let r = placed.params.ball.r;
+    let first = 3 << 40;
+    let strikes: Vec<_> = (first..first + PLOT_SAMPLES as u64)
+        .map(|i| noisy_strike_of(best.candidate.strike, r, &options.noise, options.seed, i))
+        .collect();
+    let contexts = vec![context_of(&placed, &best.candidate); PLOT_SAMPLES];
+    let samples = Samples::Judged {
+        strikes: &strikes,
+        contexts: &contexts,
+    };
+    let done = run(
+        engine,
+        &placed,
+        samples,
+        &RunOptions::default(),
+        &mut |_, _| {},
+    )?;
+    let cloud: Vec<(f64, f64)> = done
+        .iter()
+        .filter(|s| s.pocket_of(placed.cue).is_none())
+        .map(|s| s.cue_final)
+        .collect();
+    let balls: Vec<BallState> = placed
+        .balls
+        .iter()
+        .map(|b| BallState::at_rest(b.x, b.y, r))
+        .collect();
+    let ids: Vec<i64> = placed
+        .game
+        .as_ref()
+        .map_or_else(Vec::new, |g| g.ids.clone());
+    let e = &best.estimate;
+    let label = format!(
+        "{}: P(keep) {:.3}, P(foul) {:.3}, value {:.3}",
+        shot_name(config, best),
+        e.p_keep().0,
+        e.p_foul().0,
+        e.value()
+    );
+    super::shot_plot::render_shot_png(
+        &placed.table,
+        placed.params,
+        kisstime::simulate::Limits::default(),
+        &balls,
+        &ids,
+        Some((placed.cue, best.candidate.strike)),
+        &label,
+        &cloud,
+    )
 }
 
 /// The shot a candidate tries, in words: `3 -> rt (cut 12.3°)`, `bank 3 -> rc off 3`,

@@ -27,6 +27,7 @@ const SIZE: (u32, u32) = (1600, 960);
 const KISS: RGBColor = RGBColor(255, 255, 255);
 const RAIL_HIT: RGBColor = RGBColor(255, 150, 40);
 const POT: RGBColor = RGBColor(255, 60, 60);
+const CLOUD: RGBColor = RGBColor(120, 220, 255);
 
 /// One ball's drawn path: points in table coordinates.
 pub(super) struct Trace {
@@ -128,7 +129,9 @@ pub(super) fn record(
 }
 
 /// Draws the shot of table `label` and returns it as PNG bytes. `ids` are the balls' ids
-/// (for colours and labels), in the order of `balls`.
+/// (for colours and labels), in the order of `balls`; `cloud`, where the cue ball ended
+/// over a study of the strike under noise (drawn as small dots; empty: none).
+#[allow(clippy::too_many_arguments)]
 pub fn render_shot_png(
     table: &Table,
     params: SimParams,
@@ -137,6 +140,7 @@ pub fn render_shot_png(
     ids: &[i64],
     strike: Option<(usize, CueStrike)>,
     label: &str,
+    cloud: &[(f64, f64)],
 ) -> Result<Vec<u8>, Error> {
     let shot = record(table, params, limits, balls, strike)?;
     fonts();
@@ -145,7 +149,7 @@ pub fn render_shot_png(
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
-        draw(&root, table, params.ball.r, &shot, ids, label).map_err(plot_error)?;
+        draw(&root, table, params.ball.r, &shot, ids, label, cloud).map_err(plot_error)?;
         root.present().map_err(plot_error)?;
     }
     encode_png(&rgb, SIZE)
@@ -160,6 +164,7 @@ fn draw(
     shot: &Shot,
     ids: &[i64],
     label: &str,
+    cloud: &[(f64, f64)],
 ) -> DrawResult {
     let pots: Vec<String> = shot
         .end
@@ -197,6 +202,12 @@ fn draw(
         ring.push(ring[0]);
         chart.draw_series([PathElement::new(ring, WHITE.mix(0.45).stroke_width(1))])?;
     }
+    // where the cue ball ended under noise
+    chart.draw_series(
+        cloud
+            .iter()
+            .map(|&p| Circle::new(view(p), 2, CLOUD.mix(0.55).filled())),
+    )?;
     // the paths
     for (trace, &id) in shot.traces.iter().zip(ids) {
         if trace.points.len() < 2 {
@@ -263,9 +274,19 @@ fn draw(
     root.draw(&Text::new("cushion or jaw", (x + 142, y), font.clone()))?;
     root.draw(&Circle::new((x + 298, y + 10), 7, POT.filled()))?;
     root.draw(&Text::new("pot", (x + 312, y), font.clone()))?;
-    root.draw(&Text::new(
+    let note = if cloud.is_empty() {
         "Lines: each ball's path from the strike to rest (exact closed forms). Faint rings: \
-         where the balls started; filled: where they stopped.",
+         where the balls started; filled: where they stopped."
+            .to_owned()
+    } else {
+        format!(
+            "Lines: the intended strike, without noise. Blue dots: where the cue ball \
+             stopped in {} plays of it under the noise (pots left out).",
+            cloud.len()
+        )
+    };
+    root.draw(&Text::new(
+        note,
         (x + 370, y),
         font.color(&RGBColor(70, 70, 70)),
     ))?;

@@ -329,6 +329,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             batch.ball_ids(k),
             strike,
             &label,
+            &[],
         )?;
         write_output(Some(path), |w| w.write_all(&png).map_err(output_error))?;
     }
