@@ -325,6 +325,7 @@ mod tests {
             &ids,
             Some((0, hard)),
             "t",
+            &[(0.5, 0.5), (0.6, 0.7)],
         )
         .unwrap();
         assert_eq!(&png[1..4], b"PNG");
