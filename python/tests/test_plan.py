@@ -145,3 +145,26 @@ def test_ball_in_hand_chooses_the_placement_and_a_shot_from_it():
     assert kitchen.best["p_foul"][0] < 0.5
     with pytest.raises(ValueError, match="ball in hand 'nowhere'|ball in hand \"nowhere\""):
         kisstime.plan(balls, rules="9-ball", ball_in_hand="nowhere")
+
+
+def test_the_break_and_the_kinds_of_shot():
+    # the 9-ball rack of examples/nine_ball_rack.csv (its cue ball is placed by the plan)
+    rows = np.loadtxt(ROOT / "examples" / "nine_ball_rack.csv", delimiter=",", skiprows=1,
+                      usecols=(1, 3, 4))
+    rack = {int(i): (x, y) for i, x, y in rows if i != 0}
+    out = kisstime.plan(rack, rules="9-ball", budget_s=None, budget_samples=4_000, top=2,
+                        break_shot=True)
+    x, y = out.placement
+    assert 0.0 < x < 1.27 and y < 0.635, "behind the head string"
+    assert out.best["kind"] == "break" and out.best["pocket"] is None
+    assert out.best["first"] == "1"
+    assert out.best["p_keep"][0] > 0.5
+    with pytest.raises(ValueError, match="break"):
+        kisstime.plan(rack, rules="9-ball", break_shot=True, ball_in_hand="anywhere")
+    # the 1 behind a wall: only kicks, named with their cushion
+    walled = {0: (0.635, 0.5), 1: (0.635, 1.5), 2: (0.635, 1.0), 3: (0.57, 1.0),
+              4: (0.70, 1.0)}
+    kick = kisstime.plan(walled, rules="9-ball", **BUDGET)
+    assert {r["kind"] for r in kick.ranked} == {"kick"}
+    assert all(r["rail"] is not None and r["first"] == "1" for r in kick.ranked)
+    assert kick.refined > 0

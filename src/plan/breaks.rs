@@ -11,13 +11,11 @@
 //! spot whose best break has the highest value on its fresh draws wins. The verdicts are
 //! the game's on a break (pooltool's rules: [`crate::game`]).
 
-use super::in_hand::plan_at;
+use super::in_hand::{cue_fits, plan_at};
 use super::{Plan, PlanOptions};
 use crate::engine::ShotEngine;
 use crate::error::{Error, InputError};
 use crate::game::progress::HEAD_STRING_Y;
-use crate::model::vec3::Vec3;
-use crate::simulate::check::check_on_table;
 use crate::study::StudyConfig;
 
 /// The cue ball's spots tried: x across the 9-ft table's width (its middle, 0.635 m, and
@@ -42,18 +40,10 @@ pub fn plan_break(
     if !config.game.as_ref().is_some_and(|g| g.context.break_shot) {
         return Err(InputError::new("not a break: the game's context is not on its break").into());
     }
-    let r = config.params.ball.r;
     let spots: Vec<(f64, f64)> = BREAK_SPOTS
         .iter()
         .map(|&x| (x, BREAK_Y))
-        .filter(|&(x, y)| {
-            check_on_table(&config.table, r, Vec3::new(x, y, r)).is_ok()
-                && config
-                    .balls
-                    .iter()
-                    .enumerate()
-                    .all(|(k, b)| k == config.cue || (b.x - x).hypot(b.y - y) > 2.0 * r + 1e-3)
-        })
+        .filter(|&(x, y)| cue_fits(config, x, y))
         .collect();
     if spots.is_empty() {
         return Err(InputError::new("no free spot behind the head string for the break").into());

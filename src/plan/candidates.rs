@@ -170,6 +170,22 @@ pub struct Candidate {
     pub aim: Aim,
 }
 
+/// A candidate of `kind` on `aim`: the stroke along the aim's φ at speed `v0`, the tip at
+/// `(a, b)`, the cue at [`THETA`].
+pub fn candidate(kind: Kind, aim: Aim, v0: f64, (a, b): (f64, f64)) -> Candidate {
+    Candidate {
+        kind,
+        strike: CueStrike {
+            v0,
+            phi: aim.phi,
+            theta: THETA,
+            a,
+            b,
+        },
+        aim,
+    }
+}
+
 /// The balls the player may hit first in `config`'s game (indices in its balls): 9-ball
 /// the lowest-numbered ball on the table; 8-ball the context's hittable balls on it; on a
 /// break, the head ball ([`head_ball`]). Errors where the game is not one the planner
@@ -245,17 +261,10 @@ pub fn break_shots(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
         };
         for v0 in BREAK_SPEEDS {
             for (a, b) in BREAK_SPINS {
-                out.push(Candidate {
-                    kind: Kind::Break { ball },
-                    strike: CueStrike {
-                        v0,
-                        phi: aim.phi,
-                        theta: 0.0,
-                        a,
-                        b,
-                    },
-                    aim,
-                });
+                // a level cue
+                let mut c = candidate(Kind::Break { ball }, aim, v0, (a, b));
+                c.strike.theta = 0.0;
+                out.push(c);
             }
         }
     }
@@ -362,17 +371,7 @@ pub fn direct_pots(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
             }
             for v0 in SPEEDS {
                 for (a, b) in SPINS {
-                    out.push(Candidate {
-                        kind: Kind::Pot { ball, pocket },
-                        strike: CueStrike {
-                            v0,
-                            phi: aim.phi,
-                            theta: THETA,
-                            a,
-                            b,
-                        },
-                        aim,
-                    });
+                    out.push(candidate(Kind::Pot { ball, pocket }, aim, v0, (a, b)));
                 }
             }
         }
@@ -425,19 +424,8 @@ fn safeties_with(config: &StudyConfig, fan: bool) -> Result<Vec<Candidate>, Stri
             continue;
         }
         let nearest = nearest_pocket(config, o);
-        let mut push = |aim: Aim, v0: f64| {
-            out.push(Candidate {
-                kind: Kind::Safety { ball, nearest },
-                strike: CueStrike {
-                    v0,
-                    phi: aim.phi,
-                    theta: THETA,
-                    a: 0.0,
-                    b: 0.0,
-                },
-                aim,
-            })
-        };
+        let kind = Kind::Safety { ball, nearest };
+        let mut push = |aim: Aim, v0: f64| out.push(candidate(kind, aim, v0, (0.0, 0.0)));
         let full = Aim {
             phi: dy.atan2(dx).to_degrees().rem_euclid(360.0),
             cut: 0.0,
@@ -574,17 +562,7 @@ pub fn banks(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
             };
             aim.object_travel = (mirrored.0 - o.0).hypot(mirrored.1 - o.1);
             for v0 in BANK_SPEEDS {
-                out.push(Candidate {
-                    kind,
-                    strike: CueStrike {
-                        v0,
-                        phi: aim.phi,
-                        theta: THETA,
-                        a: 0.0,
-                        b: 0.0,
-                    },
-                    aim,
-                });
+                out.push(candidate(kind, aim, v0, (0.0, 0.0)));
             }
         }
     }
@@ -736,17 +714,7 @@ pub fn kicks(config: &StudyConfig) -> Result<Vec<Candidate>, String> {
                 object_travel: 0.0,
             };
             for v0 in KICK_SPEEDS {
-                out.push(Candidate {
-                    kind,
-                    strike: CueStrike {
-                        v0,
-                        phi: aim.phi,
-                        theta: THETA,
-                        a: 0.0,
-                        b: 0.0,
-                    },
-                    aim,
-                });
+                out.push(candidate(kind, aim, v0, (0.0, 0.0)));
             }
         }
     }

@@ -184,17 +184,21 @@ pub fn at(config: &StudyConfig, spot: (f64, f64)) -> StudyConfig {
     placed
 }
 
+/// Whether `config`'s cue ball fits at `(x, y)`: on the playing surface, 1 mm clear of
+/// every other ball.
+pub fn cue_fits(config: &StudyConfig, x: f64, y: f64) -> bool {
+    let r = config.params.ball.r;
+    check_on_table(&config.table, r, Vec3::new(x, y, r)).is_ok()
+        && config
+            .balls
+            .iter()
+            .enumerate()
+            .all(|(k, b)| k == config.cue || (b.x - x).hypot(b.y - y) > 2.0 * r + 1e-3)
+}
+
 /// The spots planned in full: the grid's best by the easiest pot, spaced (module docs).
 fn shortlist(config: &StudyConfig, region: InHand) -> Vec<(f64, f64)> {
-    let r = config.params.ball.r;
-    let free = |x: f64, y: f64| {
-        check_on_table(&config.table, r, Vec3::new(x, y, r)).is_ok()
-            && config
-                .balls
-                .iter()
-                .enumerate()
-                .all(|(k, b)| k == config.cue || (b.x - x).hypot(b.y - y) > 2.0 * r + 1e-3)
-    };
+    let free = |x: f64, y: f64| cue_fits(config, x, y);
     let (mut lo, mut hi) = ((f64::MAX, f64::MAX), (f64::MIN, f64::MIN));
     for s in &config.table.linear {
         for p in [s.p1, s.p2] {
