@@ -90,20 +90,25 @@ pub enum Command {
     /// with --table-id): ball ids are the game's, 0 the cue ball; every ball at rest
     /// (pocketed balls are left out). The planner tries each ball the player may hit first
     /// (9-ball: the lowest; 8-ball: --hittable) into each pocket where the ghost-ball aim is
-    /// playable (cut under 80°, both paths clear), over speeds and spins; plays every
-    /// candidate under the same noise draws (common random numbers) judged by the rules
-    /// (8-ball: called on that ball and pocket), halving the field each round; then plays
-    /// the finalists again on fresh draws and prints them ranked by value: P(keep the
-    /// table) with its 95 % interval, P(foul), P(scratch), the position left (the best next
-    /// shot's ease, 0 to 1) and the value (won 1.5, kept 1 + 0.5 × position, foul −0.25,
-    /// lost −1). -o writes the chosen strike as `simulate --strikes` reads it. Not yet:
-    /// banks, kicks, combinations, safeties, ball in hand, breaks.
+    /// playable (cut under 80°, both paths clear), over speeds and spins; one-rail banks
+    /// and two-ball combinations (those that pot without noise); safeties; and, with no
+    /// ball on in straight reach, one-rail kicks. It plays every candidate under the same
+    /// noise draws (common random numbers) judged by the rules (8-ball: called on that
+    /// ball and pocket), halving the field each round; refines the best three in the
+    /// continuous strike (the cross-entropy method); then plays the finalists again on
+    /// fresh draws and prints them ranked by value: P(keep the table) with its 95 %
+    /// interval, P(foul), P(scratch), the position left (the best next shot's ease, 0 to 1)
+    /// and the value (won 2, kept 1 + 0.5 × position, a legal miss −0.6 × the opponent's
+    /// position, foul −0.7, lost −2). -o writes the chosen strike as `simulate --strikes`
+    /// reads it, --plot draws it. --ball-in-hand and --break choose the cue ball's spot
+    /// too. docs/plan.md.
     Plan(PlanArgs),
     /// Self-play: whole games of 8-ball or 9-ball between two agents on kisstime's own
     /// simulator (breaks, fouls, ball in hand, game over), every shot under the cue noise
     /// and judged by the rules; reports each agent's win rate with its 95 % interval, balls
     /// potted per visit, fouls per game, break-and-run rate and decision time (mean, p95).
-    /// Agents: `planner` (`kisstime plan` with --budget), `greedy` (the easiest-looking
+    /// Agents: `planner` (`kisstime plan` with --budget: its own placement in hand and
+    /// its own break), `greedy` (the easiest-looking
     /// direct pot, fixed speed, centre ball, no simulation) and `sampler` (every direct pot
     /// × 4 speeds × 5 spins, each played 200 times under the noise in one batch, the best
     /// immediate P(keep the table)). Breaks alternate. Simplified rules: docs/plan.md.
