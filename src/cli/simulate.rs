@@ -433,6 +433,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         ..BatchOptions::default()
     };
     let mut engine = ShotEngine::new(args.backend.backend(), args.precision.precision())?;
+    #[cfg(feature = "testing")]
+    inject_test_fault(&mut engine);
     let say = |engine: &mut ShotEngine| {
         for note in engine.take_notes() {
             eprintln!("kisstime: {note}");
@@ -581,13 +583,14 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
             })
         });
         match attempt {
-            Err(e) if restart.get() => {
+            Err(_) if restart.get() => {
                 let where_to = [events_path, final_path, outcomes_path];
                 if !outputs_restartable(&where_to, final_to_stdout) {
                     return Err(Error::Gpu(format!(
-                        "{e}: {} tables had been written to an output that cannot be taken \
-                         back (standard output, a device or a FIFO), and the rest would be the \
-                         CPU's; run again (the CPU is used by --backend cpu)",
+                        "the GPU failed after {} of {n} tables had been written to an output \
+                         that cannot be taken back (standard output, a device or a FIFO), and \
+                         the rest would have been the CPU's; nothing more was written: run \
+                         again, or with --backend cpu",
                         written.get()
                     )));
                 }
@@ -648,4 +651,32 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         );
     }
     Ok(())
+}
+
+/// The test hook of the `testing` feature (never in an ordinary build): with
+/// `KISSTIME_TEST_GPU_FAULT=lost-after:N` or `dispatch-after:N` the GPU event loop (4 events
+/// a dispatch, chunks of `KISSTIME_TEST_GPU_CHUNK` tables, default 8) loses its device, or
+/// has a dispatch fail, after N dispatches: how `tests/gpu_event_loop_faults.rs` makes a GPU
+/// fail in the middle of a `kisstime simulate` run.
+#[cfg(feature = "testing")]
+fn inject_test_fault(engine: &mut ShotEngine) {
+    use kisstime::gpu::Fault;
+    let Ok(spec) = std::env::var("KISSTIME_TEST_GPU_FAULT") else {
+        return;
+    };
+    let (kind, n) = spec.split_once(':').unwrap_or((spec.as_str(), "0"));
+    let n: u32 = n.parse().unwrap_or(0);
+    let fault = match kind {
+        "lost-after" => Fault::DeviceLostAfter(n),
+        _ => Fault::FailedDispatchAfter(n),
+    };
+    let chunk = std::env::var("KISSTIME_TEST_GPU_CHUNK")
+        .ok()
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(8);
+    engine.set_gpu_chunk_tables(Some(chunk));
+    if let Some(g) = engine.gpu() {
+        g.events_per_dispatch = 4;
+        g.inject_fault(fault);
+    }
 }

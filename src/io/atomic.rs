@@ -87,9 +87,12 @@ pub fn write_output(
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
     let tmp = builder.tempfile_in(dir).map_err(io)?;
     let pending = Pending::register(tmp.path());
-    let mut w = std::io::BufWriter::new(tmp);
+    // through the file itself: an error names the output, not the temporary file (which
+    // is removed)
+    let mut w = std::io::BufWriter::new(tmp.as_file());
     body(&mut w).map_err(named)?;
-    let tmp = w.into_inner().map_err(|e| io(e.into_error()))?;
+    w.flush().map_err(io)?;
+    drop(w);
     tmp.as_file().sync_all().map_err(io)?;
     pending.persist(tmp, &target).map_err(io)
 }
