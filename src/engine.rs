@@ -613,12 +613,19 @@ impl ShotEngine {
                         Err(e @ (Error::Gpu(_) | Error::GpuUnavailable(_))) => {
                             self.chosen.gpu = None;
                             if let Some(restart) = restart {
+                                if let Err(stop) = restart() {
+                                    // the caller stops (and may start over itself)
+                                    self.chosen.notes.push(format!(
+                                        "{e}; after {start} of {n_tables} tables, and the \
+                                         CPU is used from now on"
+                                    ));
+                                    return Err(BatchError::Sink(stop));
+                                }
                                 self.chosen.notes.push(format!(
                                     "{e}; after {start} of {n_tables} tables {what} was \
                                      redone on the CPU in f64 from its first table, and the \
                                      CPU is used from now on"
                                 ));
-                                restart().map_err(BatchError::Sink)?;
                                 return simulate_batch(
                                     table, physics, options, n_tables, &input, &mut sink,
                                 );

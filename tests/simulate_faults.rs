@@ -285,3 +285,38 @@ fn the_input_read_in_chunks_gives_the_whole_reads_output_and_errors() {
         "a temporary file was left"
     );
 }
+
+/// A write that fails midway into a regular file (here a file-size limit, `ulimit -f`, which
+/// any user may set, standing in for a disk that fills up; `tools/soak/faults.py` fills a
+/// real tmpfs): a clear error naming the output (finding 23: it named the removed
+/// temporary file), a non-zero exit, the previous file as it was, no temporary file left.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_write_failing_midway_is_an_error_naming_the_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = generated(dir.path(), "in.npy", 2_000);
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let finals = out_dir.join("final.csv");
+    std::fs::write(&finals, b"previous").unwrap();
+    // 64 blocks of 512 bytes; SIGXFSZ ignored so that the write fails with EFBIG
+    let script = format!(
+        "trap '' XFSZ; ulimit -f 64; exec '{}' simulate '{}' --final '{}'",
+        env!("CARGO_BIN_EXE_kisstime"),
+        s(&input),
+        s(&finals)
+    );
+    let out = Command::new("sh").args(["-c", &script]).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&format!("error: {}: File too large", s(&finals))),
+        "{err}"
+    );
+    assert!(
+        !err.contains(".kisstime-"),
+        "names the temporary file: {err}"
+    );
+    assert_eq!(std::fs::read(&finals).unwrap(), b"previous");
+    assert_eq!(files(&out_dir), vec!["final.csv".to_owned()]);
+}
