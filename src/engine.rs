@@ -507,6 +507,12 @@ impl ShotEngine {
     /// CPU, with a note. The results are the same on every backend (in f64 the same events,
     /// their times within ~1e-12 s on the reference sets; see docs/gpu.md).
     ///
+    /// A GPU failure under `auto` after chunks have reached the sink cannot be undone here:
+    /// the chunks before it are the GPU's and the rest would be the CPU's, the same events
+    /// but not bit for bit. `simulate_with` then finishes on the CPU and its note says
+    /// which tables ran where; [`ShotEngine::simulate_restartable`] instead starts the
+    /// whole call over on the CPU, so that every result is the CPU's.
+    ///
     /// [`BatchStats::sim_seconds`] counts the simulation only, not the sink's time.
     #[allow(clippy::too_many_arguments)]
     pub fn simulate_with<'p, E: From<Error>>(
@@ -517,6 +523,51 @@ impl ShotEngine {
         n_tables: usize,
         input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError>
         + Sync,
+        sink: impl FnMut(&Chunk) -> Result<(), E>,
+    ) -> Result<BatchStats, BatchError<E>> {
+        self.simulate_inner(table, physics, options, n_tables, input, None, sink)
+    }
+
+    /// [`ShotEngine::simulate_with`] for a caller that can start over: where the GPU fails
+    /// under `auto` after chunks have reached `sink`, `restart()` is called (it forgets what
+    /// the sink was given, or returns the error to stop with) and the whole call is then
+    /// redone on the CPU from its first table, with a note, so that every result the sink
+    /// keeps is the CPU's, bit for bit. A failure before any chunk reached the sink needs
+    /// no restart (that chunk and the rest run on the CPU).
+    #[allow(clippy::too_many_arguments)]
+    pub fn simulate_restartable<'p, E: From<Error>>(
+        &mut self,
+        table: &Table,
+        physics: impl Into<Physics<'p>>,
+        options: &BatchOptions,
+        n_tables: usize,
+        input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError>
+        + Sync,
+        mut restart: impl FnMut() -> Result<(), E>,
+        sink: impl FnMut(&Chunk) -> Result<(), E>,
+    ) -> Result<BatchStats, BatchError<E>> {
+        self.simulate_inner(
+            table,
+            physics,
+            options,
+            n_tables,
+            input,
+            Some(&mut restart),
+            sink,
+        )
+    }
+
+    /// [`ShotEngine::simulate_with`] and [`ShotEngine::simulate_restartable`].
+    #[allow(clippy::too_many_arguments)]
+    fn simulate_inner<'p, E: From<Error>>(
+        &mut self,
+        table: &Table,
+        physics: impl Into<Physics<'p>>,
+        options: &BatchOptions,
+        n_tables: usize,
+        input: impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError>
+        + Sync,
+        restart: Option<&mut dyn FnMut() -> Result<(), E>>,
         mut sink: impl FnMut(&Chunk) -> Result<(), E>,
     ) -> Result<BatchStats, BatchError<E>> {
         let physics = physics.into();
@@ -552,15 +603,55 @@ impl ShotEngine {
                 one_position: options.one_position,
             };
             let part = physics.part(start..end);
-            let chunk = self
-                .run(
-                    if study { "the study" } else { "the batch" },
-                    n_tables,
-                    study,
-                    |g| gpu_chunk(g, table, part, options, tables, start),
-                    || cpu_chunk(table, part, options, tables, start),
-                )
-                .map_err(|e| BatchError::Sink(E::from(e)))?;
+            let what = if study { "the study" } else { "the batch" };
+            let chunk = match self.chosen.gpu.as_mut() {
+                // after chunks reached the sink: a GPU failure under `auto` is not redone
+                // for this chunk alone
+                Some(g) if start > 0 && self.chosen.backend == Backend::Auto => {
+                    match gpu_chunk(g, table, part, options, tables, start) {
+                        Ok(chunk) => chunk,
+                        Err(e @ (Error::Gpu(_) | Error::GpuUnavailable(_))) => {
+                            self.chosen.gpu = None;
+                            if let Some(restart) = restart {
+                                if let Err(stop) = restart() {
+                                    // the caller stops (and may start over itself)
+                                    self.chosen.notes.push(format!(
+                                        "{e}; after {start} of {n_tables} tables, and the \
+                                         CPU is used from now on"
+                                    ));
+                                    return Err(BatchError::Sink(stop));
+                                }
+                                self.chosen.notes.push(format!(
+                                    "{e}; after {start} of {n_tables} tables {what} was \
+                                     redone on the CPU in f64 from its first table, and the \
+                                     CPU is used from now on"
+                                ));
+                                return simulate_batch(
+                                    table, physics, options, n_tables, &input, &mut sink,
+                                );
+                            }
+                            self.chosen.notes.push(format!(
+                                "{e}; tables {start} to {} of {what} were simulated on the \
+                                 CPU in f64 (the first {start} on the GPU), and the CPU is \
+                                 used from now on",
+                                n_tables - 1
+                            ));
+                            cpu_chunk(table, part, options, tables, start)
+                                .map_err(|e| BatchError::Sink(E::from(e)))?
+                        }
+                        Err(e) => return Err(BatchError::Sink(E::from(e))),
+                    }
+                }
+                _ => self
+                    .run(
+                        what,
+                        n_tables,
+                        study,
+                        |g| gpu_chunk(g, table, part, options, tables, start),
+                        || cpu_chunk(table, part, options, tables, start),
+                    )
+                    .map_err(|e| BatchError::Sink(E::from(e)))?,
+            };
             stats.sim_seconds += started.elapsed().as_secs_f64();
             stats.tables += chunk.len();
             stats.events += chunk.n_events();
@@ -585,21 +676,33 @@ impl ShotEngine {
             record_events,
             ..BatchOptions::default()
         };
-        let mut runs = Vec::with_capacity(shots.len());
+        let runs = Vec::with_capacity(shots.len());
         let input = |k: usize, balls: &mut Vec<BallState>| {
             balls.clear();
             balls.extend_from_slice(&shots[k].balls);
             Ok(shots[k].strike)
         };
-        self.simulate_with(table, physics, &options, shots.len(), input, |chunk| {
-            runs.extend(chunk.iter().map(|run| GpuRun {
-                events: run.events.to_vec(),
-                balls: run.balls.to_vec(),
-                outcome: run.outcome,
-            }));
-            Ok::<(), Error>(())
-        })?;
-        Ok(runs)
+        let runs = std::cell::RefCell::new(runs);
+        self.simulate_restartable(
+            table,
+            physics,
+            &options,
+            shots.len(),
+            input,
+            || {
+                runs.borrow_mut().clear();
+                Ok::<(), Error>(())
+            },
+            |chunk| {
+                runs.borrow_mut().extend(chunk.iter().map(|run| GpuRun {
+                    events: run.events.to_vec(),
+                    balls: run.balls.to_vec(),
+                    outcome: run.outcome,
+                }));
+                Ok::<(), Error>(())
+            },
+        )?;
+        Ok(runs.into_inner())
     }
 }
 

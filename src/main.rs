@@ -17,10 +17,14 @@ fn main() -> ExitCode {
     // Mesa's Vulkan drivers complain on stderr when XDG_RUNTIME_DIR is unset (twice a GPU
     // run); compute needs no runtime directory, so give them a private empty one
     let _runtime_dir = quiet_mesa();
-    // Ctrl-C (or SIGTERM): leave no output file, finished or half-written, behind
+    // Ctrl-C (or SIGTERM): leave no output file, finished or half-written, behind, and say
+    // how far the run had got
     let _ = ctrlc::set_handler(|| {
         kisstime::io::remove_unfinished_outputs();
-        eprintln!("kisstime: interrupted; nothing was written");
+        eprintln!(
+            "kisstime: {}; no output file was written",
+            cli::progress::interrupted_message()
+        );
         std::process::exit(130);
     });
     let threads = match &cli.command {

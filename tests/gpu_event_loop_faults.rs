@@ -296,3 +296,208 @@ fn the_stream_is_the_same_on_both_backends() {
         );
     }
 }
+
+/// A fault after chunks have reached the sink (chunks of 8 tables, several dispatches
+/// each): `auto` starts the whole call over on the CPU where the caller can start over
+/// (`ShotEngine::simulate`, `simulate_restartable`, a study), so that every result is the
+/// CPU's bit for bit; `simulate_with` finishes on the CPU and says which tables ran where;
+/// `gpu` is an error.
+#[test]
+fn a_fault_after_chunks_were_delivered_starts_the_call_over_on_the_cpu_in_auto() {
+    let (table, inputs) = shots();
+    let params = SimParams::default();
+    let limits = Limits::default();
+    let mut cpu = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let want = cpu.simulate(&table, params, limits, &inputs, true).unwrap();
+    let mut restarted = 0;
+    for fault in [Fault::FailedDispatchAfter(12), Fault::DeviceLostAfter(30)] {
+        let open = |backend| {
+            let mut e = engine(backend, "fault_after_chunks")?;
+            e.set_gpu_chunk_tables(Some(8));
+            let g = e.gpu().expect("a GPU is there");
+            g.events_per_dispatch = 4;
+            g.inject_fault(fault);
+            Some(e)
+        };
+        if matches!(fault, Fault::DeviceLostAfter(_)) {
+            let Some(mut gpu) = open(Backend::Gpu) else {
+                return;
+            };
+            match gpu.simulate(&table, params, limits, &inputs, true) {
+                Err(BatchError::Sink(Error::Gpu(_))) => {}
+                other => panic!("{fault:?}: {:?}", other.map(|r| r.len())),
+            }
+        }
+        // collected: restarted, the CPU's runs bit for bit
+        let Some(mut auto) = open(Backend::Auto) else {
+            return;
+        };
+        let got = auto
+            .simulate(&table, params, limits, &inputs, true)
+            .unwrap();
+        assert_eq!(got, want, "{fault:?}: the CPU's runs");
+        let notes = auto.take_notes();
+        assert_eq!(notes.len(), 1, "{fault:?}: {notes:?}");
+        if notes[0].contains("from its first table") {
+            restarted += 1;
+            assert!(notes[0].contains(" of 30 tables"), "{}", notes[0]);
+        } else {
+            // the fault came in the first chunk: nothing had been delivered
+            assert!(notes[0].contains("redone on the CPU"), "{}", notes[0]);
+        }
+        assert!(auto.gpu().is_none() && auto.describe().starts_with("cpu"));
+
+        // streamed without a restart: the first chunks are the GPU's, the rest the CPU's
+        let mut auto = open(Backend::Auto).unwrap();
+        let mut tables = 0;
+        let options = kisstime::simulate::BatchOptions::default();
+        let input = |k: usize, balls: &mut Vec<kisstime::simulate::BallState>| {
+            balls.clear();
+            balls.extend_from_slice(&inputs[k].balls);
+            Ok(inputs[k].strike)
+        };
+        auto.simulate_with(&table, params, &options, inputs.len(), input, |c| {
+            assert_eq!(c.tables().start, tables, "in order, each table once");
+            tables = c.tables().end;
+            Ok::<(), Error>(())
+        })
+        .unwrap();
+        assert_eq!(tables, 30);
+        let notes = auto.take_notes();
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.contains("on the GPU") || n.contains("redone on the CPU")),
+            "{fault:?}: {notes:?}"
+        );
+    }
+    assert!(restarted > 0, "no fault came after a chunk was delivered");
+
+    // a study whose samples come back in chunks: started over, the CPU's samples
+    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/studies"));
+    let config = StudyConfig::read_reference(&dir.join("dev_scenario.json")).unwrap();
+    let strikes: Vec<_> = read_sample_strikes(&dir.join("dev_strikes.csv")).unwrap()[..40]
+        .iter()
+        .map(|s| s.strike)
+        .collect();
+    let options = RunOptions::default();
+    let want = run_strikes(&config, &strikes, &options, &mut |_, _| {}).unwrap();
+    let mut auto = engine(Backend::Auto, "study_fault_after_chunks").unwrap();
+    auto.set_gpu_chunk_tables(Some(8));
+    auto.gpu().unwrap().events_per_dispatch = 2;
+    auto.gpu().unwrap().inject_fault(Fault::DeviceLostAfter(15));
+    let mut seen = Vec::new();
+    let got = study::run(
+        &mut auto,
+        &config,
+        Samples::Given(&strikes),
+        &options,
+        &mut |done, _| seen.push(done),
+    )
+    .unwrap();
+    assert_eq!(got, want, "the CPU's samples");
+    let notes = auto.take_notes();
+    assert!(
+        notes.iter().any(|n| n.contains("the study was redone")),
+        "{notes:?}"
+    );
+}
+
+/// `kisstime simulate` with the GPU failing mid-run (the `testing` feature's
+/// `KISSTIME_TEST_GPU_FAULT` hook): `--backend auto` writes the CPU's outputs, bit for bit,
+/// with a warning; `--backend gpu` fails with a clear error and writes nothing (a previous
+/// file stays as it was); `auto` writing to standard output cannot take back what it
+/// wrote and fails clearly instead.
+#[test]
+fn simulate_with_the_gpu_lost_mid_run() {
+    if common::gpu_or_skip(Precision::F64, "simulate_gpu_lost").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let input = dir.path().join("in.npy");
+    let generated = common::run_kisstime(
+        &[
+            "gen",
+            "--scenario",
+            "midshot",
+            "--tables",
+            "48",
+            "--balls",
+            "6",
+            "-o",
+            &s(&input),
+        ],
+        &[],
+    );
+    assert!(generated.status.success());
+    let run = |backend: &str, fault: Option<&str>, out: &std::path::Path| {
+        let mut env = vec![("KISSTIME_AUTO_GPU", "always")];
+        if let Some(f) = fault {
+            env.push(("KISSTIME_TEST_GPU_FAULT", f));
+        }
+        let args = [
+            "simulate".to_owned(),
+            s(&input),
+            "--backend".into(),
+            backend.into(),
+            "-o".into(),
+            s(&out.join("events.npy")),
+            "--final".into(),
+            s(&out.join("final.csv")),
+        ];
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        common::run_kisstime(&args, &env)
+    };
+    let read = |out: &std::path::Path| {
+        ["events.npy", "final.csv"].map(|n| std::fs::read(out.join(n)).unwrap())
+    };
+    let cpu_dir = dir.path().join("cpu");
+    std::fs::create_dir(&cpu_dir).unwrap();
+    assert!(run("cpu", None, &cpu_dir).status.success());
+    let want = read(&cpu_dir);
+    let mut restarted = 0;
+    for fault in ["dispatch-after:2", "lost-after:40"] {
+        let out = dir.path().join(fault.replace(':', "-"));
+        std::fs::create_dir(&out).unwrap();
+        let auto = run("auto", Some(fault), &out);
+        let err = String::from_utf8_lossy(&auto.stderr);
+        assert!(auto.status.success(), "{fault}: {err}");
+        assert!(err.contains("the CPU"), "{fault}: no warning: {err}");
+        if err.contains("written again from the first table") {
+            restarted += 1;
+        }
+        assert!(read(&out) == want, "{fault}: not the CPU's outputs");
+        assert!(err.contains("on cpu f64"), "{err}");
+
+        let gpu_dir = dir.path().join(format!("gpu-{}", fault.replace(':', "-")));
+        std::fs::create_dir(&gpu_dir).unwrap();
+        std::fs::write(gpu_dir.join("events.npy"), b"previous").unwrap();
+        let gpu = run("gpu", Some(fault), &gpu_dir);
+        let err = String::from_utf8_lossy(&gpu.stderr);
+        assert_eq!(gpu.status.code(), Some(1), "{fault}: {err}");
+        assert!(err.contains("kisstime: error: GPU"), "{fault}: {err}");
+        assert_eq!(
+            std::fs::read(gpu_dir.join("events.npy")).unwrap(),
+            b"previous"
+        );
+        let mut left: Vec<_> = std::fs::read_dir(&gpu_dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        left.sort();
+        assert_eq!(left, vec!["events.npy"], "{fault}: written or left behind");
+    }
+    assert!(restarted > 0, "no fault came after tables were written");
+    // standard output: what was written cannot be taken back
+    let out = common::run_kisstime(
+        &["simulate", &s(&input), "--backend", "auto"],
+        &[
+            ("KISSTIME_AUTO_GPU", "always"),
+            ("KISSTIME_TEST_GPU_FAULT", "lost-after:40"),
+        ],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("cannot be taken back"), "{err}");
+}

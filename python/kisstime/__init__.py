@@ -31,6 +31,7 @@ import atexit
 import dataclasses
 import io
 import json
+import operator
 import os
 import shutil
 import tempfile
@@ -156,15 +157,75 @@ def _quiet_mesa(backend: str) -> None:
     atexit.register(shutil.rmtree, folder, True)
 
 
+#: Bytes a row of input takes once converted (the crate's ``limits::BYTES_PER_BALL``).
+_BYTES_PER_ROW = 88
+
+
+def _available_memory() -> Optional[int]:
+    """The memory available now in bytes (``MemAvailable``), or None where unknown: what
+    the crate's ``limits::check_memory`` compares with."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def _check_rows(rows: int, what: str) -> None:
+    """Refuses an input of `rows` rows that would not fit the available memory once
+    converted, before any copy: an array may claim far more rows than it holds (a
+    broadcast view of one row), and copying its columns would exhaust memory."""
+    need = rows * _BYTES_PER_ROW
+    avail = _available_memory()
+    if avail is not None and need > avail:
+        raise ValueError(
+            f"{what}: {rows} rows are too large: they need about {need / 1e9:.1f} GB of "
+            f"memory, more than the {avail / 1e9:.1f} GB available"
+        )
+
+
+def _count(value: Any, name: str) -> int:
+    """A count (``max_events``, ``samples``, ``chunk``) as an int: a ``TypeError`` for what
+    is not an integer (1.5 is not truncated), a ``ValueError`` beyond 64 bits or below 0."""
+    try:
+        n = operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} must be an integer, not {type(value).__name__}") from None
+    if not 0 <= n < 2**64:
+        raise ValueError(f"{name} {n}: out of range (0 to 2**64 - 1)")
+    return n
+
+
+#: Bytes a study's sample takes on the client until the study is merged (a chunk's result,
+#: then its row of ``Study.samples``): what ``shot_study`` checks the samples against.
+_BYTES_PER_SAMPLE = 400
+
+
+def _check_samples(samples: int) -> None:
+    """Refuses a study whose results would not fit the available memory, before it starts
+    (a study of 10**15 samples would otherwise run chunk after chunk until memory ran out)."""
+    need = samples * _BYTES_PER_SAMPLE
+    avail = _available_memory()
+    if avail is not None and need > avail:
+        raise ValueError(
+            f"samples {samples}: too large: the study's results need about "
+            f"{need / 1e9:.1f} GB of memory, more than the {avail / 1e9:.1f} GB available"
+        )
+
+
 def _column(data: ArrayLike, name: str, dtype: str, what: str) -> np.ndarray:
     """One 1-D C-contiguous column of a structured array or dict."""
     try:
         col = data[name]
-    except (KeyError, ValueError, IndexError):
+    except (KeyError, ValueError, IndexError, TypeError):
         raise ValueError(f"{what}: no column {name!r}") from None
     arr = np.asarray(col)
     if arr.ndim != 1:
         raise ValueError(f"{what}: column {name!r} must be 1-D, it has shape {arr.shape}")
+    _check_rows(arr.shape[0], what)
     if dtype == "<i8" and arr.dtype.kind not in "iu":
         # whole numbers in a float column are fine (as in the CLI's plain float64 .npy)
         whole = arr.dtype.kind == "f" and bool(
@@ -174,6 +235,16 @@ def _column(data: ArrayLike, name: str, dtype: str, what: str) -> np.ndarray:
             raise ValueError(
                 f"{what}: column {name!r} must hold integers, it is {arr.dtype}"
             )
+    if dtype == "<i8" and arr.size:
+        # ids beyond int64 would wrap (uint64) or be undefined (floats) when converted
+        if (arr.dtype.kind == "u" and int(arr.max()) > 2**63 - 1) or (
+            arr.dtype.kind == "f" and float(np.max(np.abs(arr))) >= 2.0**63
+        ):
+            raise ValueError(f"{what}: column {name!r} holds integers beyond int64")
+    if dtype == "<f8" and arr.dtype.kind not in "fiu":
+        # complex numbers would lose their imaginary part, booleans become 0 and 1, and
+        # strings be parsed: refused rather than converted quietly
+        raise ValueError(f"{what}: column {name!r} must hold real numbers, it is {arr.dtype}")
     # C-contiguous and aligned (arrays unpickled by Dask can sit at odd addresses)
     return np.require(arr, dtype=dtype, requirements=["C", "A"])
 
@@ -470,7 +541,7 @@ def simulate(
         batch._batch,
         strike_cols,
         name,
-        int(max_events),
+        _count(max_events, "max_events"),
         float(max_time),
         bool(events),
         backend,
@@ -736,7 +807,7 @@ def _study_chunk(
         strike_cols,
         until,
         None if noise is None else float(noise),
-        int(max_events),
+        _count(max_events, "max_events"),
         float(max_time),
         backend,
         precision,
@@ -788,7 +859,7 @@ def _study_options(
         seed=seed,
         until=until,
         noise=noise,
-        max_events=max_events,
+        max_events=_count(max_events, "max_events"),
         max_time=max_time,
         backend=backend,
         precision=precision,
@@ -833,14 +904,17 @@ def shot_study(
     as it would be without it; ``noise`` scales it too.
     """
     sc = _with_physics(_scenario(scenario), physics, physics_noise)
-    per = 16_384 if chunk is None else int(chunk)
-    if per < 1:
+    if isinstance(chunk, (int, np.integer)) and chunk < 1:
         raise ValueError(f"chunk {chunk}: at least 1")
+    per = 16_384 if chunk is None else _count(chunk, "chunk")
     options = _study_options(seed, until, noise, max_events, max_time, backend, precision)
     if strikes is None:
-        total = int(samples)
+        if isinstance(samples, (int, np.integer)) and samples < 1:
+            raise ValueError(f"samples {samples}: at least 1")
+        total = _count(samples, "samples")
         if total < 1:
             raise ValueError(f"samples {samples}: at least 1")
+        _check_samples(total)
         blobs = [
             _study_chunk(sc, first, min(per, total - first), **options)
             for first in range(0, total, per)

@@ -228,6 +228,8 @@ def shot_study(
     retries = _count("retries", retries, 0)
     columns = None if strikes is None else _strike_columns(strikes)
     total = _count("samples", samples, 1) if columns is None else len(columns["sample"])
+    # the client gathers every chunk's result: refuse what would not fit, before starting
+    kisstime._check_samples(total)
     sc = kisstime._with_physics(kisstime.scenario(scenario), physics, physics_noise)
     options = kisstime._study_options(
         seed, until, noise, max_events, max_time, backend, precision

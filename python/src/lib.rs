@@ -99,44 +99,56 @@ fn simulate_npy<'b>(
     out: Outputs,
     judge: &(dyn Fn(&TableRun) -> PyResult<Option<Verdict>> + Sync),
 ) -> PyResult<(Vec<u8>, Vec<u8>, Vec<u8>)> {
-    let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
-    let mut ev_w = if out.events {
-        Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
-    } else {
-        None
-    };
-    let mut fin_w = FinalWriter::new(&mut fin_out, Format::Npy, n_balls as u64).map_err(mem_err)?;
-    let mut oc_w = if out.judged {
-        OutcomesWriter::with_verdicts(&mut oc_out, Format::Npy, n as u64)
-    } else {
-        OutcomesWriter::new(&mut oc_out, Format::Npy, n as u64)
-    }
-    .map_err(mem_err)?;
-    let done = engine.simulate_with(tbl, physics, options, n, input, |chunk| {
-        for run in chunk.iter() {
-            let ids = ids(run.table);
-            if let Some(w) = ev_w.as_mut() {
-                w.write_table(ids, tbl, &run).map_err(mem_err)?;
-            }
-            fin_w.write_table(ids, tbl, &run).map_err(mem_err)?;
-            match judge(&run)? {
-                Some(v) => oc_w.write_judged(ids, &run, &v).map_err(mem_err)?,
-                None => oc_w.write_table(ids, &run).map_err(mem_err)?,
-            }
+    // the writers start over (empty) when the engine starts the call over on the CPU (a
+    // GPU failure under `auto` after chunks came back)
+    let restarted = std::cell::Cell::new(false);
+    loop {
+        let (mut ev_out, mut fin_out, mut oc_out) = (Vec::new(), Vec::new(), Vec::new());
+        let mut ev_w = if out.events {
+            Some(EventsWriter::new(&mut ev_out, Format::Npy).map_err(mem_err)?)
+        } else {
+            None
+        };
+        let mut fin_w =
+            FinalWriter::new(&mut fin_out, Format::Npy, n_balls as u64).map_err(mem_err)?;
+        let mut oc_w = if out.judged {
+            OutcomesWriter::with_verdicts(&mut oc_out, Format::Npy, n as u64)
+        } else {
+            OutcomesWriter::new(&mut oc_out, Format::Npy, n as u64)
         }
-        Python::attach(|py| py.check_signals()).map_err(Stop)
-    });
-    match done {
-        Ok(_) => {}
-        Err(BatchError::Table { table, error }) => return Err(bad(table, error)),
-        Err(BatchError::Sink(Stop(e))) => return Err(e),
+        .map_err(mem_err)?;
+        let restart = || {
+            restarted.set(true);
+            Err(Stop(PyRuntimeError::new_err("restarting on the CPU")))
+        };
+        let done =
+            engine.simulate_restartable(tbl, physics, options, n, &input, restart, |chunk| {
+                for run in chunk.iter() {
+                    let ids = ids(run.table);
+                    if let Some(w) = ev_w.as_mut() {
+                        w.write_table(ids, tbl, &run).map_err(mem_err)?;
+                    }
+                    fin_w.write_table(ids, tbl, &run).map_err(mem_err)?;
+                    match judge(&run)? {
+                        Some(v) => oc_w.write_judged(ids, &run, &v).map_err(mem_err)?,
+                        None => oc_w.write_table(ids, &run).map_err(mem_err)?,
+                    }
+                }
+                Python::attach(|py| py.check_signals()).map_err(Stop)
+            });
+        match done {
+            Ok(_) => {}
+            Err(BatchError::Table { table, error }) => return Err(bad(table, error)),
+            Err(BatchError::Sink(_)) if restarted.replace(false) => continue,
+            Err(BatchError::Sink(Stop(e))) => return Err(e),
+        }
+        if let Some(w) = ev_w {
+            w.finish().map_err(mem_err)?;
+        }
+        fin_w.finish().map_err(mem_err)?;
+        oc_w.finish().map_err(mem_err)?;
+        return Ok((ev_out, fin_out, oc_out));
     }
-    if let Some(w) = ev_w {
-        w.finish().map_err(mem_err)?;
-    }
-    fin_w.finish().map_err(mem_err)?;
-    oc_w.finish().map_err(mem_err)?;
-    Ok((ev_out, fin_out, oc_out))
 }
 
 /// A contiguous column's values.

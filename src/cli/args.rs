@@ -198,6 +198,10 @@ pub struct SimulateArgs {
     /// Print the table, the batch size, the backend and the cut tables on stderr.
     #[arg(short, long)]
     pub verbose: bool,
+    /// Tables read a chunk at a time from an input in table order (the default: 262,144;
+    /// the results do not depend on it). For tests.
+    #[arg(long, hide = true)]
+    pub input_chunk_tables: Option<usize>,
 }
 
 #[derive(Args)]

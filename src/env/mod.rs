@@ -775,17 +775,24 @@ impl VecEnv {
             // the cue ball (id 0) is on the table and first
             Ok(Some((0, planned[i].strike)))
         };
-        let mut after: Vec<(GameState, ShotResult)> = Vec::with_capacity(planned.len());
-        let mut done = 0;
+        // the shots applied so far; a GPU failure under `auto` after some came back starts
+        // the call over on the CPU, and them with it
+        let after: std::cell::RefCell<Vec<(GameState, ShotResult)>> =
+            std::cell::RefCell::new(Vec::with_capacity(planned.len()));
         engine
-            .simulate_with(
+            .simulate_restartable(
                 table,
                 self.params,
                 &options,
                 planned.len(),
                 input,
+                || {
+                    after.borrow_mut().clear();
+                    Ok::<(), Error>(())
+                },
                 |chunk| {
-                    let first = done;
+                    let mut after = after.borrow_mut();
+                    let first = after.len();
                     let applied: Vec<Result<(GameState, ShotResult), Error>> = chunk
                         .iter()
                         .collect::<Vec<_>>()
@@ -798,7 +805,6 @@ impl VecEnv {
                             Ok((g, res))
                         })
                         .collect();
-                    done += applied.len();
                     for a in applied {
                         after.push(a?);
                     }
@@ -813,7 +819,7 @@ impl VecEnv {
                 BatchError::Sink(e) => e,
             })?;
         let mut results = Vec::with_capacity(planned.len());
-        for (p, (g, res)) in planned.iter().zip(after) {
+        for (p, (g, res)) in planned.iter().zip(after.into_inner()) {
             let mut g = g;
             if !self.options.task.two_players() {
                 g.shooter = 0;

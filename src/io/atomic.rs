@@ -87,13 +87,14 @@ pub fn write_output(
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
     let tmp = builder.tempfile_in(dir).map_err(io)?;
     let pending = Pending::register(tmp.path());
-    let mut w = std::io::BufWriter::new(tmp);
+    // through the file itself: an error names the output, not the temporary file (which
+    // is removed)
+    let mut w = std::io::BufWriter::new(tmp.as_file());
     body(&mut w).map_err(named)?;
-    let tmp = w.into_inner().map_err(|e| io(e.into_error()))?;
+    w.flush().map_err(io)?;
+    drop(w);
     tmp.as_file().sync_all().map_err(io)?;
-    tmp.persist(&target).map_err(|e| io(e.error))?;
-    drop(pending);
-    Ok(())
+    pending.persist(tmp, &target).map_err(io)
 }
 
 /// The most symbolic links followed for one output path (as the kernel's `ELOOP` limit).
@@ -134,6 +135,21 @@ impl Pending {
             list.push(path.to_owned());
         }
         Pending(path.to_owned())
+    }
+}
+
+impl Pending {
+    /// Renames `tmp` over `target` and takes it off the list, holding the list's lock
+    /// throughout: a signal handler ([`remove_unfinished_outputs`]) sees the file either
+    /// before the rename (and removes it; the process then ends before the rename) or not
+    /// at all.
+    fn persist(self, tmp: tempfile::NamedTempFile, target: &Path) -> std::io::Result<()> {
+        let mut list = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+        let done = tmp.persist(target).map(|_| ()).map_err(|e| e.error);
+        list.retain(|p| p != &self.0);
+        drop(list);
+        // (Drop then finds the entry gone)
+        done
     }
 }
 

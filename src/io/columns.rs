@@ -27,7 +27,30 @@ pub(crate) struct BallRows {
     at: Vec<u64>,
 }
 
+/// Where a reader hands the balls it reads, in file order: [`BallRows`] (a whole batch) or
+/// [`crate::io::stream`]'s chunks.
+pub(crate) trait BallSink {
+    /// Room for `more` balls (the count a `.npy` header gives).
+    fn reserve(&mut self, more: usize) -> Result<(), Error>;
+    /// One ball read at `at` (a line or a row).
+    fn push(&mut self, table: i64, id: i64, ball: Ball, at: u64) -> Result<(), Error>;
+}
+
+impl BallSink for BallRows {
+    fn reserve(&mut self, more: usize) -> Result<(), Error> {
+        BallRows::reserve(self, more)
+    }
+    fn push(&mut self, table: i64, id: i64, ball: Ball, at: u64) -> Result<(), Error> {
+        BallRows::push(self, table, id, ball, at)
+    }
+}
+
 impl BallRows {
+    /// The number of balls held.
+    pub(crate) fn len(&self) -> usize {
+        self.balls.len()
+    }
+
     /// Makes room for `more` balls, refusing ([`Error::TooLarge`]) when that needs more
     /// memory than is available.
     pub(crate) fn reserve(&mut self, more: usize) -> Result<(), Error> {

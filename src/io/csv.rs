@@ -3,7 +3,9 @@
 use std::io::{Read, Write};
 use std::path::Path;
 
-use super::columns::{BALL_COLUMNS, BALL_NUMBER_COLUMNS, BallRows, NEXT_COLUMNS, PAIR_COLUMNS};
+use super::columns::{
+    BALL_COLUMNS, BALL_NUMBER_COLUMNS, BallRows, BallSink, NEXT_COLUMNS, PAIR_COLUMNS,
+};
 use crate::batch::{Batch, NextCollision};
 use crate::error::{Error, InputError};
 use crate::model::{Ball, MotionState, UnknownState};
@@ -22,6 +24,17 @@ pub fn read_batch_csv_path(path: &Path) -> Result<Batch, Error> {
 
 /// Reads a batch from CSV text; `file` is the name used in error messages.
 pub fn read_batch_csv<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
+    let mut rows = BallRows::default();
+    read_rows_csv(reader, file, &mut rows)?;
+    rows.into_batch("line", |e, line| e.in_file(file).at_line(line))
+}
+
+/// The balls of a CSV batch, each checked, handed to `rows` in file order with their line.
+pub(crate) fn read_rows_csv<R: Read>(
+    reader: R,
+    file: &str,
+    rows: &mut impl BallSink,
+) -> Result<(), Error> {
     let err = |line: u64, msg: String| InputError::new(msg).in_file(file).at_line(line);
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(false)
@@ -34,7 +47,6 @@ pub fn read_batch_csv<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
     }
     check_header(&rec).map_err(|m| err(1, m))?;
 
-    let mut rows = BallRows::default();
     while rdr.read_record(&mut rec).map_err(|e| csv_error(e, file))? {
         let line = rec.position().map_or(0, |p| p.line());
         if rec.len() != BALL_COLUMNS.len() {
@@ -72,7 +84,7 @@ pub fn read_batch_csv<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
         }
         rows.push(table, ball, Ball::from_numbers(state, v), line)?;
     }
-    rows.into_batch("line", |e, line| e.in_file(file).at_line(line))
+    Ok(())
 }
 
 /// Checks the header row against [`BALL_COLUMNS`], naming a missing or extra column.

@@ -34,6 +34,7 @@ pub mod npy;
 pub mod physics;
 pub mod shot_set;
 pub mod sim_output;
+pub mod stream;
 pub mod strikes;
 pub mod table_json;
 

@@ -33,7 +33,7 @@ use std::io::{Read, Write};
 
 use npyz::WriterBuilder;
 
-use super::columns::{BALL_COLUMNS, BallRows};
+use super::columns::{BALL_COLUMNS, BallRows, BallSink};
 use crate::batch::{Batch, NextCollision};
 use crate::error::{Error, InputError};
 use crate::model::{Ball, MotionState};
@@ -89,6 +89,18 @@ struct NextRecord {
 /// Reads a batch from a `.npy` file's bytes (see the module docs); `file` is the name used
 /// in error messages.
 pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
+    let mut rows = BallRows::default();
+    read_rows_npy(reader, file, &mut rows)?;
+    rows.into_batch("row", |e, row| e.in_file(file).at_row(row))
+}
+
+/// The balls of a `.npy` batch, each checked, handed to `rows` in file order with their
+/// row (after `rows.reserve` of the count the header gives).
+pub(crate) fn read_rows_npy<R: Read>(
+    reader: R,
+    file: &str,
+    rows: &mut impl BallSink,
+) -> Result<(), Error> {
     let bad = |msg: String| Error::from(InputError::new(msg).in_file(file));
     let npy = open_npy(reader).map_err(bad)?;
     if npy.uses_pickled_array() {
@@ -119,7 +131,6 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
         )
     };
     // the header says how many balls: refuse a file too large for memory before reading
-    let mut rows = BallRows::default();
     let n_balls = shape.first().copied().unwrap_or(0);
     rows.reserve(usize::try_from(n_balls).unwrap_or(usize::MAX))
         .map_err(|e| match e {
@@ -191,7 +202,7 @@ pub fn read_batch_npy<R: Read>(reader: R, file: &str) -> Result<Batch, Error> {
             return Err(bad(format!("{}; found {}", expected(), dtype.descr())));
         }
     }
-    rows.into_batch("row", |e, row| e.in_file(file).at_row(row))
+    Ok(())
 }
 
 /// A batch from the structured input's columns held in memory (what the Python package

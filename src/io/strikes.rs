@@ -110,6 +110,25 @@ pub fn parse_strikes(
     }
 }
 
+/// [`read_strikes`] a row at a time: each row, in file order, handed to `each` (whose
+/// error stops the read and is returned), so that a file of millions of strikes need not be
+/// held (`kisstime simulate` streams its inputs this way; see [`crate::io::stream`]).
+pub fn read_strikes_each(
+    path: &Path,
+    each: &mut dyn FnMut(StrikeRow) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let name = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|source| Error::Io {
+        path: name.clone(),
+        source,
+    })?;
+    let reader = std::io::BufReader::new(file);
+    match Format::of(Some(path)) {
+        Format::Csv => each_csv(reader, &name, &STRIKE_COLUMNS, each),
+        Format::Npy => each_npy(reader, &name, &STRIKE_COLUMNS, each),
+    }
+}
+
 /// Reads a shot study's strike file ([`SAMPLE_STRIKE_COLUMNS`]; CSV, or `.npy` when its
 /// name says so: a 1-D structured array with those fields, `sample` an integer, or a 2-D
 /// float64 array of shape (N, 6)). Every strike is checked ([`CueStrike::validate`]: finite,
@@ -231,6 +250,21 @@ fn read_csv(
     file: &str,
     columns: &[&str],
 ) -> Result<Vec<StrikeRow>, Error> {
+    let mut rows = Vec::new();
+    each_csv(reader, file, columns, &mut |r| {
+        rows.push(r);
+        Ok(())
+    })?;
+    Ok(rows)
+}
+
+/// [`read_csv`]'s rows handed to `push` one at a time, in file order.
+fn each_csv(
+    reader: impl std::io::Read,
+    file: &str,
+    columns: &[&str],
+    push: &mut dyn FnMut(StrikeRow) -> Result<(), Error>,
+) -> Result<(), Error> {
     let ids = columns.len() - 5;
     let err =
         |line: u64, msg: String| Error::from(locate(InputError::new(msg), file, Format::Csv, line));
@@ -258,7 +292,6 @@ fn read_csv(
             ),
         ));
     }
-    let mut rows = Vec::new();
     while rdr.read_record(&mut rec).map_err(bad_csv)? {
         let line = rec.position().map_or(0, |p| p.line());
         if rec.len() != columns.len() {
@@ -309,9 +342,9 @@ fn read_csv(
                 })
             })?;
         }
-        rows.push(row(table, ball, v, line));
+        push(row(table, ball, v, line))?;
     }
-    Ok(rows)
+    Ok(())
 }
 
 fn row(table: i64, ball: i64, v: [f64; 5], at: u64) -> StrikeRow {
@@ -336,6 +369,21 @@ fn read_npy(
     file: &str,
     columns: &[&str],
 ) -> Result<Vec<StrikeRow>, Error> {
+    let mut rows = Vec::new();
+    each_npy(reader, file, columns, &mut |r| {
+        rows.push(r);
+        Ok(())
+    })?;
+    Ok(rows)
+}
+
+/// [`read_npy`]'s rows handed to `push` one at a time, in file order.
+fn each_npy(
+    reader: impl std::io::Read,
+    file: &str,
+    columns: &[&str],
+    push: &mut dyn FnMut(StrikeRow) -> Result<(), Error>,
+) -> Result<(), Error> {
     let ids = columns.len() - 5;
     let bad = |msg: String| Error::from(InputError::new(msg).in_file(file));
     // the header checked as a batch's is (a fuzzed header hung or overflowed npyz)
@@ -356,7 +404,6 @@ fn read_npy(
                 .at_row(row),
         )
     };
-    let mut rows = Vec::new();
     match npy.dtype() {
         npyz::DType::Record(_) if shape.len() == 1 && ids == 2 => {
             let data = npy
@@ -364,7 +411,7 @@ fn read_npy(
                 .map_err(|e| bad(format!("{expected}: {e}")))?;
             for (r, rec) in (0u64..).zip(data) {
                 let s = rec.map_err(|e| read_err(r, e))?;
-                rows.push(row(s.table, s.ball, [s.V0, s.phi, s.theta, s.a, s.b], r));
+                push(row(s.table, s.ball, [s.V0, s.phi, s.theta, s.a, s.b], r))?;
             }
         }
         npyz::DType::Record(_) if shape.len() == 1 => {
@@ -373,7 +420,7 @@ fn read_npy(
                 .map_err(|e| bad(format!("{expected}: {e}")))?;
             for (r, rec) in (0u64..).zip(data) {
                 let s = rec.map_err(|e| read_err(r, e))?;
-                rows.push(row(s.sample, 0, [s.V0, s.phi, s.theta, s.a, s.b], r));
+                push(row(s.sample, 0, [s.V0, s.phi, s.theta, s.a, s.b], r))?;
             }
         }
         npyz::DType::Plain(_) if shape.len() == 2 && shape[1] == columns.len() as u64 => {
@@ -395,7 +442,7 @@ fn read_npy(
                 let table = id(v[0], columns[0])?;
                 let ball = if ids == 2 { id(v[1], "ball")? } else { 0 };
                 let f = &v[ids..];
-                rows.push(row(table, ball, [f[0], f[1], f[2], f[3], f[4]], r));
+                push(row(table, ball, [f[0], f[1], f[2], f[3], f[4]], r))?;
             }
         }
         other => {
@@ -405,7 +452,7 @@ fn read_npy(
             )));
         }
     }
-    Ok(rows)
+    Ok(())
 }
 
 /// Puts `rows` (read from `file`, in `format`) on the tables of `batch`: for each table

@@ -290,8 +290,9 @@ pub fn run(
         balls.extend_from_slice(&initial);
         Ok(Some((cue, strikes[j])))
     };
-    let mut out = Vec::with_capacity(n);
+    let out = std::cell::RefCell::new(Vec::with_capacity(n));
     let sink = |chunk: &crate::simulate::Chunk| {
+        let mut out = out.borrow_mut();
         // each sample judged from its watch, Rayon over the chunk, straight into `out`
         out.par_extend((0..chunk.len()).into_par_iter().with_min_len(64).map(|i| {
             let run = chunk.get(i).expect("a table of the chunk");
@@ -314,13 +315,18 @@ pub fn run(
         progress(out.len(), n);
         Ok::<(), Error>(())
     };
+    // a GPU failure under `auto` after samples came back: the study starts over on the CPU
+    let restart = || {
+        out.borrow_mut().clear();
+        Ok::<(), Error>(())
+    };
     engine
-        .simulate_with(&config.table, physics, &batch, n, input, sink)
+        .simulate_restartable(&config.table, physics, &batch, n, input, restart, sink)
         .map_err(|e| match e {
             BatchError::Table { table, error } => sample_error(table, error),
             BatchError::Sink(e) => e,
         })?;
-    Ok(out)
+    Ok(out.into_inner())
 }
 
 /// Runs the study on the CPU: `samples` noisy strikes drawn from `seed` ([`noisy_strike`]).
