@@ -23,6 +23,21 @@ use kisstime::plan::{
 use kisstime::simulate::{CueStrike, SimParams};
 use kisstime::study::{Noise, RunOptions, Samples, StudyConfig, noisy_strike_of, run, wilson};
 
+/// `kisstime plan INPUT --rules 9-ball ARGS… [PATH]` from the repository's root.
+fn cli_plan(input: &str, args: &[&str], path: Option<&std::path::Path>) -> std::process::Output {
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"));
+    command
+        .args(["plan", input, "--rules", "9-ball"])
+        .args(args);
+    if let Some(p) = path {
+        command.arg(p);
+    }
+    command
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap()
+}
+
 fn cpu() -> ShotEngine {
     ShotEngine::new(Backend::Cpu, Precision::F64).unwrap()
 }
@@ -271,13 +286,11 @@ fn the_break_is_planned_from_behind_the_head_string_and_its_figures_hold() {
     // and the command line's --break
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("break.csv");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
-        .args(["plan", "examples/nine_ball_rack.csv", "--rules", "9-ball"])
-        .args(["--break", "--budget", "3000", "-o"])
-        .arg(&out)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+    let run = cli_plan(
+        "examples/nine_ball_rack.csv",
+        &["--break", "--budget", "3000", "-o"],
+        Some(&out),
+    );
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(
         run.status.success(),
@@ -292,12 +305,11 @@ fn the_break_is_planned_from_behind_the_head_string_and_its_figures_hold() {
             .starts_with("table,ball,V0,phi,theta,a,b\n")
     );
     // --break and --ball-in-hand together: refused
-    let both = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
-        .args(["plan", "examples/nine_ball_rack.csv", "--rules", "9-ball"])
-        .args(["--break", "--ball-in-hand", "anywhere"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+    let both = cli_plan(
+        "examples/nine_ball_rack.csv",
+        &["--break", "--ball-in-hand", "anywhere"],
+        None,
+    );
     assert!(!both.status.success());
 }
 
@@ -365,18 +377,8 @@ fn a_legal_miss_is_worth_less_the_easier_the_shot_it_leaves_the_opponent() {
 fn cli_plan_plot_draws_the_chosen_shot_and_refuses_another_format() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("plan.png");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
-        .args([
-            "plan",
-            "examples/nine_ball_position.csv",
-            "--rules",
-            "9-ball",
-        ])
-        .args(["--budget", "5000", "--plot"])
-        .arg(&png)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+    let position = "examples/nine_ball_position.csv";
+    let run = cli_plan(position, &["--budget", "5000", "--plot"], Some(&png));
     assert!(
         run.status.success(),
         "{}",
@@ -386,18 +388,7 @@ fn cli_plan_plot_draws_the_chosen_shot_and_refuses_another_format() {
     assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 10_000);
     // a name that is not .png: refused before planning, nothing written
     let jpg = dir.path().join("plan.jpg");
-    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_kisstime"))
-        .args([
-            "plan",
-            "examples/nine_ball_position.csv",
-            "--rules",
-            "9-ball",
-        ])
-        .args(["--budget", "5000", "--plot"])
-        .arg(&jpg)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+    let bad = cli_plan(position, &["--budget", "5000", "--plot"], Some(&jpg));
     assert_eq!(bad.status.code(), Some(2), "bad usage");
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--plot"));
     assert!(!jpg.exists());
