@@ -15,12 +15,13 @@
 //!   reported are not the ones that chose them (a candidate chosen for a lucky run would
 //!   otherwise report its luck).
 //!
+//! - [`in_hand`]: the cue ball's placement when it is in hand;
+//! - [`breaks`]: the break, the cue ball's spot behind the head string and the strike;
 //! - [`play`](mod@play): self-play, whole games between two [`agents`] (`greedy`,
 //!   `sampler`, the planner) on kisstime's own simulator.
 //!
-//! - [`breaks`]: the break, the cue ball's spot behind the head string and the strike.
-//!
-//! Not yet: a position value checked against nested studies.
+//! The cheap position value of [`evaluate`](mod@evaluate) is checked against nested plans
+//! from the tables a shot really leaves in `tests/plan_validation.rs` (docs/plan.md).
 
 pub mod agents;
 pub mod aim;
