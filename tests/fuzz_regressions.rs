@@ -922,3 +922,70 @@ fn a_ball_stays_inside_a_rectangle_table() {
         panic!("{v}\n{}", events.join("\n"));
     }
 }
+
+/// event_loop, finding 30 (open, FUZZING.md): on the 7-ft table, four balls at rest near
+/// the left rail's lower stretch (one pocketed) and the cue ball struck hard with draw
+/// (V0 6.27 m/s, θ 16.5°, b = 0.70) under scaled frictions and restitutions: after its
+/// 74th event, a ball–ball collision, the cue ball's centre is 0.0495 m from the centre
+/// of jaw 11t, inside the jaw's arc plus R. Found by the fuzzer after 666,989 executions.
+#[test]
+#[ignore = "finding 30: a ball inside a jaw after a ball-ball event, open (FUZZING.md)"]
+fn a_ball_stays_out_of_the_jaws_after_a_ball_ball_event() {
+    use kisstime::engine::{Backend, Precision, ShotEngine};
+    use kisstime::simulate::invariants::{ShotRun, check_shot};
+    use kisstime::simulate::{BallState, CueStrike, Limits, SimParams, Table, Vec3};
+    let mut params = SimParams::default();
+    params.ball.u_s = 0.10703053615979914;
+    params.ball.u_r = 0.005351526807989957;
+    params.ball.u_sp = 0.006796439046147245;
+    params.ball.e_b = 0.6372528076171875;
+    params.ball.e_c = 0.4548797786791463;
+    params.ball.f_c = 0.10706676685817214;
+    let r = params.ball.r;
+    let balls = [
+        BallState::at_rest(0.26190203704833986, 0.5338272994995117, r),
+        BallState::at_rest(0.2680727123695044, 0.5906429130597868, r),
+        BallState::at_rest(0.32274157165991874, 0.5739864331195599, r),
+        BallState::at_rest(0.25930369188503394, 0.647115874765602, r),
+        BallState {
+            r: Vec3::new(1.020086352775479, -0.029486352775479032, -0.1),
+            s: MotionState::Pocketed,
+            ..BallState::at_rest(0.0, 0.0, r)
+        },
+    ];
+    let strike = (
+        0,
+        CueStrike {
+            v0: 6.2689208984375,
+            phi: 112.5,
+            theta: 16.5234375,
+            a: -0.10865749163367232,
+            b: 0.7001047596694929,
+        },
+    );
+    let table = Table::seven_foot();
+    let limits = Limits {
+        max_events: 400,
+        max_time: 20.0,
+    };
+    let shots = [kisstime::gpu::GpuShot {
+        balls: balls.to_vec(),
+        strike: Some(strike),
+    }];
+    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let run = engine
+        .simulate(&table, params, limits, &shots, true)
+        .unwrap()
+        .remove(0);
+    let shot = ShotRun {
+        start: &balls,
+        strike: Some(strike),
+        events: &run.events,
+        end: &run.balls,
+        outcome: run.outcome,
+        limits,
+    };
+    if let Err(v) = check_shot(&table, &params, &shot) {
+        panic!("{v}");
+    }
+}
