@@ -276,30 +276,48 @@ fn simulate_and_check(
     kisstime::gpu::GpuRun,
     Result<kisstime::simulate::invariants::Margins, kisstime::simulate::invariants::Violation>,
 ) {
+    use kisstime::simulate::{Limits, SimParams, Table};
+    simulate_and_check_on(
+        &Table::nine_foot(),
+        SimParams::default(),
+        Limits::default(),
+        balls,
+        Some(strike),
+    )
+}
+
+/// A shot simulated on `table` under `params` and `limits` through the public engine
+/// (CPU), its events recorded, and the checker's verdict on it.
+fn simulate_and_check_on(
+    table: &kisstime::simulate::Table,
+    params: kisstime::simulate::SimParams,
+    limits: kisstime::simulate::Limits,
+    balls: &[kisstime::simulate::BallState],
+    strike: Option<(usize, kisstime::simulate::CueStrike)>,
+) -> (
+    kisstime::gpu::GpuRun,
+    Result<kisstime::simulate::invariants::Margins, kisstime::simulate::invariants::Violation>,
+) {
     use kisstime::engine::{Backend, Precision, ShotEngine};
     use kisstime::simulate::invariants::{ShotRun, check_shot};
-    use kisstime::simulate::{Limits, SimParams, Table};
-    let table = Table::nine_foot();
-    let params = SimParams::default();
-    let limits = Limits::default();
     let shots = [kisstime::gpu::GpuShot {
         balls: balls.to_vec(),
-        strike: Some(strike),
+        strike,
     }];
     let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
     let run = engine
-        .simulate(&table, params, limits, &shots, true)
+        .simulate(table, params, limits, &shots, true)
         .unwrap()
         .remove(0);
     let shot = ShotRun {
         start: balls,
-        strike: Some(strike),
+        strike,
         events: &run.events,
         end: &run.balls,
         outcome: run.outcome,
         limits,
     };
-    let verdict = check_shot(&table, &params, &shot);
+    let verdict = check_shot(table, &params, &shot);
     (run, verdict)
 }
 
@@ -771,8 +789,6 @@ fn a_strike_on_the_rim_of_the_ball_is_finite() {
 #[test]
 #[ignore = "finding 16: energy gained at a cushion, open (FUZZING.md)"]
 fn a_cushion_does_not_add_energy() {
-    use kisstime::engine::{Backend, Precision, ShotEngine};
-    use kisstime::simulate::invariants::{ShotRun, check_shot};
     use kisstime::simulate::{BallState, Limits, SimParams, Table, Vec3};
     let mut params = SimParams::default();
     params.ball.u_s = 0.055084161926952604;
@@ -788,29 +804,12 @@ fn a_cushion_does_not_add_energy() {
         s: MotionState::Sliding,
         ..BallState::at_rest(0.09667239379882812, 2.4915564453125003, r)
     }];
-    let table = Table::nine_foot();
     let limits = Limits {
         max_events: 400,
         max_time: 20.0,
     };
-    let shots = [kisstime::gpu::GpuShot {
-        balls: balls.to_vec(),
-        strike: None,
-    }];
-    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
-    let run = engine
-        .simulate(&table, params, limits, &shots, true)
-        .unwrap()
-        .remove(0);
-    let shot = ShotRun {
-        start: &balls,
-        strike: None,
-        events: &run.events,
-        end: &run.balls,
-        outcome: run.outcome,
-        limits,
-    };
-    if let Err(v) = check_shot(&table, &params, &shot) {
+    let (_, verdict) = simulate_and_check_on(&Table::nine_foot(), params, limits, &balls, None);
+    if let Err(v) = verdict {
         panic!("{v}");
     }
 }
@@ -931,8 +930,6 @@ fn a_ball_stays_inside_a_rectangle_table() {
 #[test]
 #[ignore = "finding 30: a ball inside a jaw after a ball-ball event, open (FUZZING.md)"]
 fn a_ball_stays_out_of_the_jaws_after_a_ball_ball_event() {
-    use kisstime::engine::{Backend, Precision, ShotEngine};
-    use kisstime::simulate::invariants::{ShotRun, check_shot};
     use kisstime::simulate::{BallState, CueStrike, Limits, SimParams, Table, Vec3};
     let mut params = SimParams::default();
     params.ball.u_s = 0.10703053615979914;
@@ -963,29 +960,13 @@ fn a_ball_stays_out_of_the_jaws_after_a_ball_ball_event() {
             b: 0.7001047596694929,
         },
     );
-    let table = Table::seven_foot();
     let limits = Limits {
         max_events: 400,
         max_time: 20.0,
     };
-    let shots = [kisstime::gpu::GpuShot {
-        balls: balls.to_vec(),
-        strike: Some(strike),
-    }];
-    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
-    let run = engine
-        .simulate(&table, params, limits, &shots, true)
-        .unwrap()
-        .remove(0);
-    let shot = ShotRun {
-        start: &balls,
-        strike: Some(strike),
-        events: &run.events,
-        end: &run.balls,
-        outcome: run.outcome,
-        limits,
-    };
-    if let Err(v) = check_shot(&table, &params, &shot) {
+    let (_, verdict) =
+        simulate_and_check_on(&Table::seven_foot(), params, limits, &balls, Some(strike));
+    if let Err(v) = verdict {
         panic!("{v}");
     }
 }
