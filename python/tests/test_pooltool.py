@@ -434,10 +434,53 @@ def test_moving_ball_equals_pt_simulate(pt_results):
         assert math.hypot(final[bid]["x"] - g["x"], final[bid]["y"] - g["y"]) < 1e-6, bid
 
 
+def jaw_system() -> "pt.System":
+    """FUZZING.md's finding 30: on the 7-ft table, under scaled frictions and restitutions,
+    the cue ball struck hard with draw ends chattering between ball "1" and the jaw 11t,
+    and each ball–ball kiss (Q1) presses it further into the jaw, where pooltool's
+    detection (roots τ > EPS only, Q6) finds no jaw contact."""
+    params = dict(
+        u_s=0.10703053615979914, u_r=0.005351526807989957,
+        u_sp_proportionality=0.006796439046147245 / 0.028575,
+        e_b=0.6372528076171875, e_c=0.4548797786791463, f_c=0.10706676685817214,
+    )
+    xy = {
+        "cue": (0.26190203704833986, 0.5338272994995117),
+        "1": (0.2680727123695044, 0.5906429130597868),
+        "2": (0.32274157165991874, 0.5739864331195599),
+        "3": (0.25930369188503394, 0.647115874765602),
+    }
+    balls = {bid: pt.Ball.create(bid, xy=p, **params) for bid, p in xy.items()}
+    cue = pt.Cue(cue_ball_id="cue")
+    cue.set_state(V0=6.2689208984375, phi=112.5, theta=16.5234375,
+                  a=-0.10865749163367232, b=0.7001047596694929)
+    return pt.System(cue=cue, table=pt.Table.default(), balls=balls)
+
+
+def test_a_ball_pressed_into_a_jaw_goes_in_as_in_pooltool(pt_results):
+    """Finding 30 is pooltool's own behaviour, reproduced: the same events, and the cue
+    ball ends inside the contact circle of the jaw 11t (its centre closer than r_jaw + R
+    to the jaw's centre) in both. The Rust twin,
+    `a_ball_pressed_into_a_jaw_goes_in_as_in_pooltool` in tests/fuzz_regressions.rs, checks
+    that the invariant checker tells it apart as `RailTunnel`."""
+    theirs = [dict(e, agents=tuple(e["agents"])) for e in pt_results["jaw"]["events"]]
+    conv, result, mine = kisstime_events(jaw_system())
+    assert kpt.first_difference(mine, theirs, **TOL) is None
+    jaw = pt.Table.default().cushion_segments.circular["11t"]
+    contact = jaw.radius + 0.028575
+    final = kpt.to_final(result, conv)
+    for who, end in (("pooltool", pt_results["jaw"]["final"]["cue"]), ("kisstime", final["cue"])):
+        d = math.hypot(end["x"] - jaw.center[0], end["y"] - jaw.center[1])
+        assert contact - 5e-5 < d < contact - 1e-5, (who, d, contact)
+    g = pt_results["jaw"]["final"]["cue"]
+    assert math.hypot(final["cue"]["x"] - g["x"], final["cue"]["y"] - g["y"]) < 1e-9
+
+
 def _main_pt_simulate() -> None:
     out = {}
     systems = {str(s): make_system(s) for s in PT_SIMULATE_SHOTS}
     systems["moving"] = moving_system()
+    systems["jaw"] = jaw_system()
     for name, system in systems.items():
         done = pt.simulate(system)
         out[name] = {

@@ -103,7 +103,7 @@ pub fn check_on_table(table: &Table, radius: f64, p: Vec3) -> Result<(), String>
         let d = ((p.x - q.center.x).powi(2) + (p.y - q.center.y).powi(2)).sqrt();
         if d < q.radius {
             return Err(format!(
-                "over pocket {} (centre {d:.6} m from the pocket's centre, inside its radius                  {}): a ball there has fallen in; give it as pocketed",
+                "over pocket {} (centre {d:.6} m from the pocket's centre, inside its radius {}): a ball there has fallen in; give it as pocketed",
                 table.pocket_ids[k], q.radius
             ));
         }

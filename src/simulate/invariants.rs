@@ -33,10 +33,10 @@
 //!   spec Q2 moves 10% of one ball's speed to the other, and that makes energy when two
 //!   balls move together at nearly the same speed);
 //! - **through a rail** ([`Invariant::RailTunnel`]): a ball off the table, or inside a
-//!   straight cushion, that had touched that cushion while moving into it is reported
-//!   apart from [`Invariant::OffTable`]: pooltool 0.6.0 itself sends such a ball into or
-//!   through the cushion (its detection accepts only roots τ > EPS, spec Q6), and kisstime
-//!   reproduces it ([`touching_into_cushion`]; FUZZING.md, finding 7);
+//!   straight cushion or a jaw, that had touched that cushion while moving into it is
+//!   reported apart from [`Invariant::OffTable`]: pooltool 0.6.0 itself sends such a ball
+//!   into or through the cushion (its detection accepts only roots τ > EPS, spec Q6), and
+//!   kisstime reproduces it ([`touching_into_cushion`]; FUZZING.md, findings 7 and 30);
 //! - **rest** ([`Invariant::NotAtRest`]): a run that is not cut ([`Outcome::cut`] `None`)
 //!   ends with every ball stationary (zero velocity and spin) or pocketed; one that is cut
 //!   says why ([`Cut::MaxEvents`]: exactly `max_events` events; [`Cut::MaxTime`]: the
@@ -119,12 +119,13 @@ pub enum Invariant {
     Energy,
     /// A run that was not cut ended with a ball still moving.
     NotAtRest,
-    /// A ball went into a straight cushion, or through it off the table, after it touched
-    /// the cushion while moving into it: pooltool 0.6.0's detection accepts only roots
-    /// τ > EPS (spec Q6), so such a ball gets no cushion event at all. Reproduced
+    /// A ball went into a straight cushion or a jaw, or through it off the table, after it
+    /// touched the cushion while moving into it: pooltool 0.6.0's detection accepts only
+    /// roots τ > EPS (spec Q6), so such a ball gets no cushion event at all. Reproduced
     /// faithfully (pooltool does the same: `tests/sim_properties.rs`,
-    /// `chatter_pushes_a_ball_through_the_rail_as_in_pooltool`), so it is told apart from
-    /// [`Invariant::OffTable`]: FUZZING.md, finding 7.
+    /// `chatter_pushes_a_ball_through_the_rail_as_in_pooltool`, and
+    /// `tests/fuzz_regressions.rs`, `a_ball_pressed_into_a_jaw_goes_in_as_in_pooltool`), so
+    /// it is told apart from [`Invariant::OffTable`]: FUZZING.md, findings 7 and 30.
     RailTunnel,
 }
 
@@ -253,22 +254,50 @@ pub fn momentum_steal_energy(states: &[BallState; 2], params: &SimParams) -> f64
     gain(l1, l2).max(gain(l2, l1)).max(0.0)
 }
 
-/// The straight cushion (its index in `table.linear`) that ball `b` touches while moving
-/// into it, if any: its centre on the segment's checked line (the line `R` from the
-/// segment on its checked side) or inside it (up to the segment itself), within the
-/// segment's extent, and its path heading into the cushion (its velocity, or its
+/// A cushion of a table: a straight segment or a jaw (its index in `table.linear` or
+/// `table.circular`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cushion {
+    /// A straight cushion segment.
+    Segment(usize),
+    /// A jaw (a circular cushion segment).
+    Jaw(usize),
+}
+
+impl Cushion {
+    /// The cushion in words, by its id in `table` ("cushion segment 3", "the jaw 11t").
+    pub fn describe(self, table: &Table) -> String {
+        let id = |ids: &[String], k: usize| ids.get(k).map_or("?", String::as_str).to_owned();
+        match self {
+            Cushion::Segment(k) => format!("cushion segment {}", id(&table.linear_ids, k)),
+            Cushion::Jaw(k) => format!("the jaw {}", id(&table.circular_ids, k)),
+        }
+    }
+}
+
+/// The cushion that ball `b` touches while moving into it, if any. A straight segment:
+/// the ball's centre on the segment's checked line (the line `R` from the segment on its
+/// checked side) or inside it (up to the segment itself), within the segment's extent. A
+/// jaw: its centre on the circle `r_jaw + R` about the jaw's centre or inside it (up to
+/// the arc itself). And its path heading into the cushion (its velocity, or its
 /// acceleration: a ball the kiss (Q1) left a micrometre inside the line, moving out slowly
 /// while its spin curves it in, never crosses the line from outside). pooltool's detection
 /// finds no root τ > EPS for such a ball (Q6): no cushion event comes, and the ball goes
 /// into the cushion. (A ball that does leave the line and comes back meets the cushion
-/// as usual, and its flag is cleared at that event.)
-pub fn touching_into_cushion(table: &Table, params: &SimParams, b: &BallState) -> Option<usize> {
+/// as usual, and its flag is cleared at that event.) A ball–ball kiss (Q1) puts a ball
+/// there when it presses the ball into a cushion: findings 7 (segments) and 30 (jaws) in
+/// FUZZING.md.
+pub fn touching_into_cushion(table: &Table, params: &SimParams, b: &BallState) -> Option<Cushion> {
     if b.s == MotionState::Pocketed || !b.translating() {
         return None;
     }
     let path = trajectory(b, &params.ball);
     let r = params.ball.r;
-    table.linear.iter().position(|seg| {
+    // depth past the contact surface, and speed and acceleration into it: touching moving in
+    let touching_in = |depth: f64, v_in: f64, a_in: f64| {
+        (-CONTACT_TOL..=r).contains(&depth) && (v_in > 0.0 || a_in > 0.0)
+    };
+    let segment = table.linear.iter().position(|seg| {
         let norm = (seg.lx * seg.lx + seg.ly * seg.ly).sqrt();
         let (d, e) = (seg.p2 - seg.p1, path.c - Vec2::new(seg.p1.x, seg.p1.y));
         let along = (e.x * d.x + e.y * d.y) / (d.x * d.x + d.y * d.y);
@@ -283,13 +312,31 @@ pub fn touching_into_cushion(table: &Table, params: &SimParams, b: &BallState) -
             1 => &[-1.0],
             _ => &[1.0, -1.0],
         };
-        sides.iter().any(|&inward| {
-            // depth past the checked line, into the cushion
-            let depth = inward * value + r;
-            let (v_in, a_in) = (inward * speed, inward * accel);
-            (-CONTACT_TOL..=r).contains(&depth) && (v_in > 0.0 || a_in > 0.0)
+        sides
+            .iter()
+            .any(|&inward| touching_in(inward * value + r, inward * speed, inward * accel))
+    });
+    if let Some(k) = segment {
+        return Some(Cushion::Segment(k));
+    }
+    table
+        .circular
+        .iter()
+        .position(|jaw| {
+            // the unit vector from the ball's centre to the jaw's centre: inward
+            let (dx, dy) = (jaw.center.x - path.c.x, jaw.center.y - path.c.y);
+            let dist = (dx * dx + dy * dy).sqrt();
+            if dist <= 0.0 {
+                return false;
+            }
+            let (nx, ny) = (dx / dist, dy / dist);
+            touching_in(
+                jaw.radius + r - dist,
+                nx * path.b.x + ny * path.b.y,
+                nx * path.a.x + ny * path.a.y,
+            )
         })
-    })
+        .map(Cushion::Jaw)
 }
 
 /// Whether `a` and `b` agree within [`REPLAY_TOLERANCE`] (relative beyond 1).
@@ -375,25 +422,25 @@ pub fn check_shot(
         .collect();
     let mut pocket_events = vec![0usize; n];
     // per ball, the cushion it touched moving into it (Q6) and when (None: at the start)
-    let mut tunnel: Vec<Option<(usize, Option<usize>)>> = run
+    let mut tunnel: Vec<Option<(Cushion, Option<usize>)>> = run
         .start
         .iter()
-        .map(|b| touching_into_cushion(table, params, b).map(|seg| (seg, None)))
+        .map(|b| touching_into_cushion(table, params, b).map(|c| (c, None)))
         .collect();
     let off_table =
-        |i: usize, tunnel: &[Option<(usize, Option<usize>)>], at, why: String| match tunnel
+        |i: usize, tunnel: &[Option<(Cushion, Option<usize>)>], at, why: String| match tunnel
             .get(i)
             .copied()
             .flatten()
         {
-            Some((seg, when)) => violation(
+            Some((cushion, when)) => violation(
                 Invariant::RailTunnel,
                 Some(i),
                 at,
                 format!(
-                    "{why}; the ball touched cushion segment {} moving into it {}, and \
+                    "{why}; the ball touched {} moving into it {}, and \
                      pooltool's detection (roots τ > EPS only, Q6) gives no cushion event",
-                    table.linear_ids.get(seg).map_or("?", String::as_str),
+                    cushion.describe(table),
                     when.map_or("at the start".to_owned(), |k| format!("after event {k}"))
                 ),
             ),
@@ -524,7 +571,7 @@ pub fn check_shot(
                 tunnel[i] = None;
             }
             if tunnel[i].is_none() {
-                tunnel[i] = touching_into_cushion(table, params, s).map(|seg| (seg, Some(k)));
+                tunnel[i] = touching_into_cushion(table, params, s).map(|c| (c, Some(k)));
             }
         }
         // (e) energy
