@@ -20,11 +20,12 @@ fn main() -> ExitCode {
     // Ctrl-C (or SIGTERM): leave no output file, finished or half-written, behind, and say
     // how far the run had got
     let _ = ctrlc::set_handler(|| {
-        kisstime::io::remove_unfinished_outputs();
-        eprintln!(
-            "kisstime: {}; no output file was written",
-            cli::progress::interrupted_message()
-        );
+        let kept = if kisstime::io::remove_unfinished_outputs() {
+            "the outputs finished before it are complete and in place"
+        } else {
+            "no output file was written"
+        };
+        eprintln!("kisstime: {}; {kept}", cli::progress::interrupted_message());
         std::process::exit(130);
     });
     let threads = match &cli.command {

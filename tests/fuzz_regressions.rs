@@ -984,3 +984,49 @@ fn a_ball_pressed_into_a_jaw_goes_in_as_in_pooltool() {
         "{v}"
     );
 }
+
+/// event_loop, finding 31: three balls at rest in a row, each pair exactly 2R apart as
+/// pooltool computes it (its quartic's constant coefficient `Δx² + Δy² − 4R²` is 0), and
+/// the end ball struck away from its neighbour at 1e-9 m/s with massé. pooltool's root
+/// filter keeps the root τ = 0 (spec §4.2), so it collides the pair at once although it
+/// moves apart, and then the next pair, and the first again, all at t = 0
+/// (python/tests/test_pooltool.py, `test_exactly_touching_balls_collide_at_once_as_in_pooltool`,
+/// runs pooltool on it). kisstime waited for the pair to come back (its rule for touching
+/// balls moving apart), met it 2.85 ns later, and the kiss of the other pair (Q1) then left
+/// balls 1 and 2 overlapping by 3.9 µm at the end. Found after 385,426 executions.
+#[test]
+fn exactly_touching_balls_collide_at_once_as_in_pooltool() {
+    use kisstime::simulate::{BallState, CueStrike, EventKind, Limits, SimParams, Table};
+    let params = SimParams::default();
+    let r = params.ball.r;
+    let balls = [
+        BallState::at_rest(0.3205843640387058, 0.191408986531198, r),
+        BallState::at_rest(0.28262233721207614, 0.23412908741139543, r),
+        BallState::at_rest(0.2363870159835479, 0.2005371602428806, r),
+    ];
+    let strike = CueStrike {
+        v0: 1e-9,
+        phi: 215.9967041015625,
+        theta: 53.988189697265625,
+        a: -0.629118477661764,
+        b: -0.45188581056623933,
+    };
+    let (run, verdict) = simulate_and_check_on(
+        &Table::nine_foot(),
+        params,
+        Limits::default(),
+        &balls,
+        Some((2, strike)),
+    );
+    if let Err(v) = verdict {
+        panic!("{v}");
+    }
+    let kisses: Vec<(u32, u32, f64)> = run
+        .events
+        .iter()
+        .filter(|e| e.event.kind == EventKind::BallBall)
+        .map(|e| (e.event.ball, e.event.other, e.event.t))
+        .collect();
+    assert_eq!(kisses, [(1, 2, 0.0), (0, 1, 0.0), (1, 2, 0.0)]);
+    assert_eq!(run.events.len(), 10);
+}

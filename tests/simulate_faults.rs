@@ -162,6 +162,104 @@ fn simulate_to_a_full_device_is_an_error_naming_it() {
     assert_eq!(files(dir.path()), vec!["in.npy".to_owned()]);
 }
 
+/// Finding 22: a run's outputs are renamed into place together, only when all are
+/// complete. The events go to `/dev/full`, which fails only when its buffer is flushed at
+/// the end (a few tables' events fit in it), after the final states and the outcomes were
+/// complete: neither file may then appear (they used to be renamed into place one by one,
+/// the innermost first, before the events' failure).
+#[cfg(target_os = "linux")]
+#[test]
+fn outputs_are_renamed_together_or_not_at_all() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = generated(dir.path(), "in.npy", 3);
+    let (finals, outcomes) = (dir.path().join("final.csv"), dir.path().join("out.csv"));
+    let out = run_kisstime(
+        &[
+            "simulate",
+            s(&input),
+            "-o",
+            "/dev/full",
+            "--final",
+            s(&finals),
+            "--outcomes",
+            s(&outcomes),
+        ],
+        &[],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("/dev/full") && err.contains("No space left"),
+        "{err}"
+    );
+    assert_eq!(files(dir.path()), vec!["in.npy".to_owned()]);
+    // and with every output a file, all three are written
+    let events = dir.path().join("events.csv");
+    let out = run_kisstime(
+        &[
+            "simulate",
+            s(&input),
+            "-o",
+            s(&events),
+            "--final",
+            s(&finals),
+            "--outcomes",
+            s(&outcomes),
+        ],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        files(dir.path()),
+        ["events.csv", "final.csv", "in.npy", "out.csv"].map(String::from)
+    );
+}
+
+/// Finding 29: the events' `.npy` (whose row count is known only at the end) is written
+/// straight into its file, a header for any count first and the real one over it at the
+/// end, not spooled through `$TMPDIR`: with `$TMPDIR` a folder that does not exist the
+/// run succeeds and gives the same array as CSV does. To standard output (which cannot go
+/// back) the rows are still spooled: there the missing `$TMPDIR` is an error.
+#[cfg(unix)]
+#[test]
+fn the_events_npy_is_written_in_place_without_a_spool() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = generated(dir.path(), "in.npy", 50);
+    let (npy, csv) = (dir.path().join("ev.npy"), dir.path().join("ev.csv"));
+    let no_tmp = [("TMPDIR", "/nonexistent-kisstime-tmp")];
+    let out = run_kisstime(&["simulate", s(&input), "-o", s(&npy)], &no_tmp);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = run_kisstime(&["simulate", s(&input), "-o", s(&csv)], &[]);
+    assert!(out.status.success());
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
+    assert!(rows > 50, "{rows} event rows");
+    let bytes = std::fs::read(&npy).unwrap();
+    let array = npyz::NpyFile::new(&bytes[..]).unwrap();
+    assert_eq!(array.shape(), &[rows as u64]);
+    let header_len = bytes.len() - rows * 15 * 8;
+    assert_eq!(header_len % 64, 0, "{header_len}");
+    assert_eq!(
+        files(dir.path()),
+        ["ev.csv", "ev.npy", "in.npy"].map(String::from)
+    );
+    // a device (here through a link named .npy) is written through and cannot go back:
+    // spooled, so the missing $TMPDIR is an error naming the output
+    let null = dir.path().join("null.npy");
+    std::os::unix::fs::symlink("/dev/null", &null).unwrap();
+    let out = run_kisstime(&["simulate", s(&input), "-o", s(&null)], &no_tmp);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("null.npy"), "{err}");
+}
+
 /// Runs `simulate` on `input` (strikes `strikes`) with `extra`, returning the bytes of its
 /// three outputs, or its exit code and error message.
 fn outputs(

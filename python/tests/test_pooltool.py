@@ -476,11 +476,41 @@ def test_a_ball_pressed_into_a_jaw_goes_in_as_in_pooltool(pt_results):
     assert math.hypot(final["cue"]["x"] - g["x"], final["cue"]["y"] - g["y"]) < 1e-9
 
 
+def touching_system() -> "pt.System":
+    """FUZZING.md's finding 31: three balls in a row, each pair exactly 2R apart as
+    pooltool's quartic sees it (its constant coefficient is 0), the end ball struck away
+    from its neighbour at 1e-9 m/s with massé."""
+    xy = {
+        "1": (0.3205843640387058, 0.191408986531198),
+        "2": (0.28262233721207614, 0.23412908741139543),
+        "cue": (0.2363870159835479, 0.2005371602428806),
+    }
+    balls = {bid: pt.Ball.create(bid, xy=p) for bid, p in xy.items()}
+    cue = pt.Cue(cue_ball_id="cue")
+    cue.set_state(V0=1e-9, phi=215.9967041015625, theta=53.988189697265625,
+                  a=-0.629118477661764, b=-0.45188581056623933)
+    table = pt.Table.from_table_specs(PocketTableSpecs(l=2.54, w=1.27))
+    return pt.System(cue=cue, table=table, balls=balls)
+
+
+def test_exactly_touching_balls_collide_at_once_as_in_pooltool(pt_results):
+    """pooltool's root filter keeps τ = 0, so exactly touching balls collide at once even
+    when moving apart; kisstime gives the same events (three kisses at t = 0) and ends."""
+    theirs = [dict(e, agents=tuple(e["agents"])) for e in pt_results["touching"]["events"]]
+    assert [e["time"] for e in theirs if e["type"] == "ball_ball"] == [0.0, 0.0, 0.0]
+    conv, result, mine = kisstime_events(touching_system())
+    assert kpt.first_difference(mine, theirs, **TOL) is None
+    final = kpt.to_final(result, conv)
+    for bid, g in pt_results["touching"]["final"].items():
+        assert math.hypot(final[bid]["x"] - g["x"], final[bid]["y"] - g["y"]) < 1e-9, bid
+
+
 def _main_pt_simulate() -> None:
     out = {}
     systems = {str(s): make_system(s) for s in PT_SIMULATE_SHOTS}
     systems["moving"] = moving_system()
     systems["jaw"] = jaw_system()
+    systems["touching"] = touching_system()
     for name, system in systems.items():
         done = pt.simulate(system)
         out[name] = {

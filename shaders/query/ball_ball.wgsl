@@ -392,8 +392,10 @@ fn pair_contact(p1: BallPath, p2: BallPath, radius: real) -> Contact {
 
 // The simulator's ball–ball detection (spec §4.2): τ until balls b1 and b2 collide. Rules,
 // in pooltool's order: either ball pocketed → never; neither translating → never; centres
-// closer than 2R (3D, strictly) → 0, "now" (Q3); otherwise the first entry into contact
-// of the relative path, by first_contact within the pair's horizon. The Rust twin's docs
+// closer than 2R (3D, strictly) → 0, "now" (Q3); centres exactly 2R apart in pooltool's
+// arithmetic (its quartic's constant coefficient Δx² + Δy² − 4R² is 0) → 0, "now", even
+// for balls moving apart (its root filter keeps τ = 0, §4.2); otherwise the first entry
+// into contact of the relative path, by first_contact within the pair's horizon. The Rust twin's docs
 // say how this differs from pooltool's quartic solver (Q5).
 fn ball_ball_time(b1: BallState, b2: BallState, p: BallParams) -> real {
     let rule = ball_ball_rules(b1, b2, p.r);
@@ -404,8 +406,10 @@ fn ball_ball_time(b1: BallState, b2: BallState, p: BallParams) -> real {
 }
 
 // The rules ball_ball_time applies before any path is computed: NEVER if either ball is
-// pocketed or neither translates, 0 if the centres are closer than 2R (Q3); −1 (Rust:
-// None) when the pair's paths must be solved.
+// pocketed or neither translates, 0 if the centres are closer than 2R (Q3) or exactly 2R
+// apart as pooltool's quartic sees it (its constant coefficient is 0, and its root filter
+// keeps the root τ = 0 even for balls moving apart); −1 (Rust: None) when the pair's paths
+// must be solved.
 fn ball_ball_rules(b1: BallState, b2: BallState, radius: real) -> real {
     if b1.s == STATE_POCKETED || b2.s == STATE_POCKETED {
         return NEVER;
@@ -414,6 +418,14 @@ fn ball_ball_rules(b1: BallState, b2: BallState, radius: real) -> real {
         return NEVER;
     }
     if norm3(b2.r - b1.r) < 2.0 * radius {
+        return 0.0;
+    }
+    // exactly touching in pooltool's arithmetic: its quartic's constant coefficient
+    // e = Δx² + Δy² − 4R² (evaluated as it does) is 0, τ = 0 is a root and its filter keeps
+    // it (§4.2): "now", even for a pair moving apart (FUZZING.md, finding 31)
+    let dx = b2.r.x - b1.r.x;
+    let dy = b2.r.y - b1.r.y;
+    if dx * dx + dy * dy - 4.0 * radius * radius == 0.0 {
         return 0.0;
     }
     return -1.0;

@@ -2,7 +2,6 @@
 //! ([`kisstime::simulate::simulate_batch`] on the CPU, streamed to the outputs chunk by
 //! chunk; or the GPU event loop, [`kisstime::gpu::GpuSimulator`], for `--backend gpu|auto`).
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use kisstime::engine::{Backend, Precision, ShotEngine};
@@ -14,7 +13,7 @@ use kisstime::io::physics::BatchPhysics;
 use kisstime::io::sim_output::{EventsWriter, FinalWriter, OutcomesWriter, TableIds};
 use kisstime::io::strikes::{StrikeRow, match_strikes, read_strikes};
 use kisstime::io::table_json::table_by_name;
-use kisstime::io::{output_error, write_output};
+use kisstime::io::{output_error, write_output, write_outputs};
 use kisstime::resolve::stick_ball::CueStrike;
 use kisstime::simulate::{
     BallState, BatchError, BatchOptions, BatchStats, Limits, SimError, TableRun,
@@ -92,20 +91,6 @@ fn table_error(
             e.into()
         }
         other => in_input(other.to_string(), None),
-    }
-}
-
-/// An optional output: written atomically to `path`, or to standard output when
-/// `to_stdout`, or not at all (`body` gets `None`).
-fn maybe_output(
-    path: Option<&Path>,
-    to_stdout: bool,
-    body: impl FnOnce(Option<&mut dyn Write>) -> Result<(), Error>,
-) -> Result<(), Error> {
-    if path.is_some() || to_stdout {
-        write_output(path, |w| body(Some(w)))
-    } else {
-        body(None)
     }
 }
 
@@ -454,133 +439,130 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
         let written = std::cell::Cell::new(0usize);
         stats = BatchStats::default();
         first_cut = None;
-        let attempt = maybe_output(events_path, false, |events_out| {
-            maybe_output(final_path, final_to_stdout, |final_out| {
-                maybe_output(outcomes_path, false, |outcomes_out| {
-                    let e_err = out_err(events_path);
-                    let f_err = out_err(final_path);
-                    let o_err = out_err(outcomes_path);
-                    let mut events = match events_out {
-                        Some(w) => {
-                            Some(EventsWriter::new(w, Format::of(events_path)).map_err(&e_err)?)
-                        }
-                        None => None,
-                    };
-                    let mut finals = match final_out {
-                        Some(w) => Some(
-                            FinalWriter::new(w, Format::of(final_path), input.balls as u64)
-                                .map_err(&f_err)?,
-                        ),
-                        None => None,
-                    };
-                    let mut outcomes = match outcomes_out {
-                        Some(w) if args.rules.is_some() => Some(
-                            OutcomesWriter::with_verdicts(w, Format::of(outcomes_path), n as u64)
-                                .map_err(&o_err)?,
-                        ),
-                        Some(w) => Some(
-                            OutcomesWriter::new(w, Format::of(outcomes_path), n as u64)
-                                .map_err(&o_err)?,
-                        ),
-                        None => None,
-                    };
-                    let physics = input.physics.as_physics();
-                    let mut start = Vec::new();
-                    let bar = Progress::new("simulating", n as u64, "tables", n >= SHOW_TABLES);
-                    let mut write_run = |piece: &Piece, run: &TableRun| -> Result<(), Error> {
-                        let batch = &piece.batch;
-                        let ids = TableIds {
-                            table: batch.table_id(run.table),
-                            balls: batch.ball_ids(run.table),
+        // the files are renamed into place together, when all are complete
+        let paths = [
+            events_path.map(Some),
+            final_path.map(Some).or(final_to_stdout.then_some(None)),
+            outcomes_path.map(Some),
+        ];
+        let attempt = write_outputs(paths, |[events_out, final_out, outcomes_out]| {
+            let e_err = out_err(events_path);
+            let f_err = out_err(final_path);
+            let o_err = out_err(outcomes_path);
+            let mut events = match events_out {
+                Some(w) => Some(EventsWriter::new(w, Format::of(events_path)).map_err(&e_err)?),
+                None => None,
+            };
+            let mut finals = match final_out {
+                Some(w) => Some(
+                    FinalWriter::new(w, Format::of(final_path), input.balls as u64)
+                        .map_err(&f_err)?,
+                ),
+                None => None,
+            };
+            let mut outcomes = match outcomes_out {
+                Some(w) if args.rules.is_some() => Some(
+                    OutcomesWriter::with_verdicts(w, Format::of(outcomes_path), n as u64)
+                        .map_err(&o_err)?,
+                ),
+                Some(w) => Some(
+                    OutcomesWriter::new(w, Format::of(outcomes_path), n as u64).map_err(&o_err)?,
+                ),
+                None => None,
+            };
+            let physics = input.physics.as_physics();
+            let mut start = Vec::new();
+            let bar = Progress::new("simulating", n as u64, "tables", n >= SHOW_TABLES);
+            let mut write_run = |piece: &Piece, run: &TableRun| -> Result<(), Error> {
+                let batch = &piece.batch;
+                let ids = TableIds {
+                    table: batch.table_id(run.table),
+                    balls: batch.ball_ids(run.table),
+                };
+                if run.outcome.cut.is_some() && first_cut.is_none() {
+                    first_cut = Some(ids.table);
+                }
+                if let Some(w) = events.as_mut() {
+                    w.write_table(ids, &table, run).map_err(&e_err)?;
+                }
+                if let Some(w) = finals.as_mut() {
+                    w.write_table(ids, &table, run).map_err(&f_err)?;
+                }
+                match (outcomes.as_mut(), rules) {
+                    (Some(w), Some(rules)) => {
+                        let k = run.table;
+                        let r = physics.of(k).ball.r;
+                        start.clear();
+                        start.extend(batch.balls(k).iter().map(|b| BallState::from_ball(b, r)));
+                        let shot = Shot {
+                            ids: ids.balls,
+                            start: &start,
+                            events: run.events,
                         };
-                        if run.outcome.cut.is_some() && first_cut.is_none() {
-                            first_cut = Some(ids.table);
-                        }
-                        if let Some(w) = events.as_mut() {
-                            w.write_table(ids, &table, run).map_err(&e_err)?;
-                        }
-                        if let Some(w) = finals.as_mut() {
-                            w.write_table(ids, &table, run).map_err(&f_err)?;
-                        }
-                        match (outcomes.as_mut(), rules) {
-                            (Some(w), Some(rules)) => {
-                                let k = run.table;
-                                let r = physics.of(k).ball.r;
-                                start.clear();
-                                start.extend(
-                                    batch.balls(k).iter().map(|b| BallState::from_ball(b, r)),
-                                );
-                                let shot = Shot {
-                                    ids: ids.balls,
-                                    start: &start,
-                                    events: run.events,
-                                };
-                                let v = rules.judge(&shot, &piece.contexts[k]).map_err(|e| {
-                                    table_error(args, batch, &piece.strike_rows, k, e)
-                                })?;
-                                w.write_judged(ids, run, &v).map_err(&o_err)?;
-                            }
-                            (Some(w), None) => w.write_table(ids, run).map_err(&o_err)?,
-                            (None, _) => {}
-                        }
-                        Ok(())
-                    };
-                    let stop = || {
-                        restart.set(true);
-                        Error::Gpu("the GPU failed after tables were written".into())
-                    };
-                    let result = input.for_each(args, rules, &mut |piece| {
-                        let batch = &piece.batch;
-                        let had_gpu = engine.gpu().is_some();
-                        let sim_input = batch.sim_input_for(&piece.strikes, physics);
-                        let result = engine.simulate_restartable(
-                            &table,
-                            physics,
-                            &options,
-                            batch.num_tables(),
-                            sim_input,
-                            || Err(stop()),
-                            |chunk| {
-                                for run in chunk.iter() {
-                                    write_run(piece, &run)?;
-                                }
-                                written.set(written.get() + chunk.len());
-                                bar.inc(chunk.len() as u64);
-                                Ok::<(), Error>(())
-                            },
-                        );
-                        say(&mut engine);
-                        let s = result.map_err(|e| match e {
-                            BatchError::Table { table: k, error } => {
-                                table_error(args, batch, &piece.strike_rows, k, error)
-                            }
-                            BatchError::Sink(e) => e,
-                        })?;
-                        // the GPU failed at this piece's start, after earlier pieces were
-                        // written from it
-                        if had_gpu && engine.gpu().is_none() && written.get() > s.tables {
-                            return Err(stop());
-                        }
-                        stats.tables += s.tables;
-                        stats.events += s.events;
-                        stats.cut += s.cut;
-                        stats.sim_seconds += s.sim_seconds;
-                        Ok(())
-                    });
-                    bar.done();
-                    result?;
-                    if let Some(w) = events {
-                        w.finish().map_err(&e_err)?;
+                        let v = rules
+                            .judge(&shot, &piece.contexts[k])
+                            .map_err(|e| table_error(args, batch, &piece.strike_rows, k, e))?;
+                        w.write_judged(ids, run, &v).map_err(&o_err)?;
                     }
-                    if let Some(w) = finals {
-                        w.finish().map_err(&f_err)?;
+                    (Some(w), None) => w.write_table(ids, run).map_err(&o_err)?,
+                    (None, _) => {}
+                }
+                Ok(())
+            };
+            let stop = || {
+                restart.set(true);
+                Error::Gpu("the GPU failed after tables were written".into())
+            };
+            let result = input.for_each(args, rules, &mut |piece| {
+                let batch = &piece.batch;
+                let had_gpu = engine.gpu().is_some();
+                let sim_input = batch.sim_input_for(&piece.strikes, physics);
+                let result = engine.simulate_restartable(
+                    &table,
+                    physics,
+                    &options,
+                    batch.num_tables(),
+                    sim_input,
+                    || Err(stop()),
+                    |chunk| {
+                        for run in chunk.iter() {
+                            write_run(piece, &run)?;
+                        }
+                        written.set(written.get() + chunk.len());
+                        bar.inc(chunk.len() as u64);
+                        Ok::<(), Error>(())
+                    },
+                );
+                say(&mut engine);
+                let s = result.map_err(|e| match e {
+                    BatchError::Table { table: k, error } => {
+                        table_error(args, batch, &piece.strike_rows, k, error)
                     }
-                    if let Some(w) = outcomes {
-                        w.finish().map_err(&o_err)?;
-                    }
-                    Ok(())
-                })
-            })
+                    BatchError::Sink(e) => e,
+                })?;
+                // the GPU failed at this piece's start, after earlier pieces were
+                // written from it
+                if had_gpu && engine.gpu().is_none() && written.get() > s.tables {
+                    return Err(stop());
+                }
+                stats.tables += s.tables;
+                stats.events += s.events;
+                stats.cut += s.cut;
+                stats.sim_seconds += s.sim_seconds;
+                Ok(())
+            });
+            bar.done();
+            result?;
+            if let Some(w) = events {
+                w.finish().map_err(&e_err)?;
+            }
+            if let Some(w) = finals {
+                w.finish().map_err(&f_err)?;
+            }
+            if let Some(w) = outcomes {
+                w.finish().map_err(&o_err)?;
+            }
+            Ok(())
         });
         match attempt {
             Err(_) if restart.get() => {

@@ -38,7 +38,9 @@ pub mod stream;
 pub mod strikes;
 pub mod table_json;
 
-pub use self::atomic::{output_error, remove_unfinished_outputs, write_output};
+pub use self::atomic::{
+    Output, output_error, remove_unfinished_outputs, write_output, write_outputs,
+};
 pub use self::columns::{BALL_COLUMNS, BALL_NUMBER_COLUMNS, NEXT_COLUMNS, PAIR_COLUMNS};
 pub use self::csv::{
     format_time, read_batch_csv, read_batch_csv_path, write_batch_csv, write_next_csv,

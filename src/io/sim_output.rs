@@ -37,6 +37,7 @@ use crate::simulate::batch::{TableRun, pocket_of};
 use crate::simulate::events::{Cut, EventKind};
 
 use super::Format;
+use super::atomic::Output;
 
 /// The events output's columns.
 pub const EVENT_COLUMNS: [&str; 15] = [
@@ -99,12 +100,20 @@ pub fn npy_dtype(columns: &[&str]) -> String {
 
 /// The bytes of a version-1.0 `.npy` header for `rows` rows of `columns`.
 fn npy_header(columns: &[&str], rows: u64) -> Vec<u8> {
+    npy_header_of_length(columns, rows, 0)
+}
+
+/// [`npy_header`], padded with spaces to at least `length` bytes (a multiple of 64): a
+/// header written first for a row count not yet known, `u64::MAX` rows, is as long as any
+/// header of the same columns, and the real one, padded to its length, replaces it at the
+/// end.
+fn npy_header_of_length(columns: &[&str], rows: u64, length: usize) -> Vec<u8> {
     let mut dict = format!(
         "{{'descr': {}, 'fortran_order': False, 'shape': ({rows},), }}",
         npy_dtype(columns)
     );
     // magic (6) + version (2) + length (2) + dict + '\n', a multiple of 64
-    while (10 + dict.len() + 1) % 64 != 0 {
+    while (10 + dict.len() + 1) % 64 != 0 || 10 + dict.len() + 1 < length {
         dict.push(' ');
     }
     dict.push('\n');
@@ -124,14 +133,18 @@ enum Cell<'a> {
 }
 
 /// Rows of one output in either format. A `.npy` output whose row count is not known in
-/// advance is spooled to a temporary file and written, header first, by `finish`.
+/// advance gets a placeholder header as long as any (for `u64::MAX` rows), rewritten by
+/// `finish` with the count, where the output can go back ([`Output::rewritable`]: a file,
+/// memory); a stream (standard output, a FIFO) has its rows spooled to an unnamed
+/// temporary file and written after the header by `finish`.
 struct Rows<'w> {
-    out: &'w mut dyn Write,
+    out: &'w mut dyn Output,
     format: Format,
     columns: &'static [&'static str],
     rows: u64,
-    /// `.npy`: the promised row count, or the spool.
+    /// `.npy`: the promised row count; else the placeholder header's length, or the spool.
     promised: Option<u64>,
+    placeholder: Option<usize>,
     spool: Option<std::io::BufWriter<std::fs::File>>,
     buf: ryu::Buffer,
     line: Vec<u8>,
@@ -139,15 +152,20 @@ struct Rows<'w> {
 
 impl<'w> Rows<'w> {
     fn new(
-        out: &'w mut dyn Write,
+        out: &'w mut dyn Output,
         format: Format,
         columns: &'static [&'static str],
         rows: Option<u64>,
     ) -> std::io::Result<Rows<'w>> {
-        let mut spool = None;
+        let (mut spool, mut placeholder) = (None, None);
         match (format, rows) {
             (Format::Csv, _) => writeln!(out, "{}", columns.join(","))?,
             (Format::Npy, Some(n)) => out.write_all(&npy_header(columns, n))?,
+            (Format::Npy, None) if out.rewritable() => {
+                let header = npy_header(columns, u64::MAX);
+                out.write_all(&header)?;
+                placeholder = Some(header.len());
+            }
             (Format::Npy, None) => {
                 spool = Some(std::io::BufWriter::with_capacity(
                     1 << 20,
@@ -161,6 +179,7 @@ impl<'w> Rows<'w> {
             columns,
             rows: 0,
             promised: rows,
+            placeholder,
             spool,
             buf: ryu::Buffer::new(),
             line: Vec::with_capacity(256),
@@ -221,6 +240,11 @@ impl<'w> Rows<'w> {
                 self.rows
             )));
         }
+        if let Some(length) = self.placeholder {
+            let header = npy_header_of_length(self.columns, self.rows, length);
+            debug_assert_eq!(header.len(), length);
+            self.out.rewrite_start(&header)?;
+        }
         if let Some(spool) = self.spool {
             let mut file = spool.into_inner().map_err(|e| e.into_error())?;
             self.out.write_all(&npy_header(self.columns, self.rows))?;
@@ -259,8 +283,9 @@ fn ball_cells(b: &BallState) -> [Cell<'static>; 8] {
 pub struct EventsWriter<'w>(Rows<'w>);
 
 impl<'w> EventsWriter<'w> {
-    /// Starts it (the CSV header; a `.npy` output is spooled until [`Self::finish`]).
-    pub fn new(out: &'w mut dyn Write, format: Format) -> std::io::Result<EventsWriter<'w>> {
+    /// Starts it (the CSV header; a `.npy` output's real header, whose row count is known
+    /// only at the end, is written by [`Self::finish`]).
+    pub fn new(out: &'w mut dyn Output, format: Format) -> std::io::Result<EventsWriter<'w>> {
         Ok(EventsWriter(Rows::new(out, format, &EVENT_COLUMNS, None)?))
     }
 
@@ -313,7 +338,7 @@ pub struct FinalWriter<'w>(Rows<'w>);
 impl<'w> FinalWriter<'w> {
     /// Starts it for `balls` balls in all (the `.npy` header promises them).
     pub fn new(
-        out: &'w mut dyn Write,
+        out: &'w mut dyn Output,
         format: Format,
         balls: u64,
     ) -> std::io::Result<FinalWriter<'w>> {
@@ -374,7 +399,7 @@ pub struct OutcomesWriter<'w>(Rows<'w>);
 impl<'w> OutcomesWriter<'w> {
     /// Starts it for `tables` tables.
     pub fn new(
-        out: &'w mut dyn Write,
+        out: &'w mut dyn Output,
         format: Format,
         tables: u64,
     ) -> std::io::Result<OutcomesWriter<'w>> {
@@ -389,7 +414,7 @@ impl<'w> OutcomesWriter<'w> {
     /// Starts it for `tables` tables with the game's verdict
     /// ([`JUDGED_OUTCOME_COLUMNS`]; rows by [`OutcomesWriter::write_judged`]).
     pub fn with_verdicts(
-        out: &'w mut dyn Write,
+        out: &'w mut dyn Output,
         format: Format,
         tables: u64,
     ) -> std::io::Result<OutcomesWriter<'w>> {

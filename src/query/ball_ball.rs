@@ -541,8 +541,10 @@ pub fn pair_contact(p1: &BallPath, p2: &BallPath, radius: f64) -> Contact {
 /// τ until balls 1 and 2 first touch (`|Δp(τ)| = 2R`), or `∞`.
 ///
 /// Rules, in pooltool's order: either ball pocketed → `∞`; neither translating → `∞`;
-/// centres closer than 2R (3D, strictly) → `0`, "now" (Q3); otherwise the first entry
-/// into contact of the relative path `Δp(τ) = Δa τ² + Δb τ + Δc`.
+/// centres closer than 2R (3D, strictly) → `0`, "now" (Q3); centres exactly 2R apart in
+/// pooltool's arithmetic (its quartic's constant coefficient `Δx² + Δy² − 4R²` is 0) →
+/// `0`, "now", even for balls moving apart (its root filter keeps τ = 0, §4.2); otherwise
+/// the first entry into contact of the relative path `Δp(τ) = Δa τ² + Δb τ + Δc`.
 ///
 /// Method: the crate's exact solver ([`crate::query::ball_ball::first_contact`]) on the relative
 /// path, within the pair's horizon (the earlier of the two balls' transitions, widened
@@ -559,8 +561,10 @@ pub fn ball_ball_time(b1: &BallState, b2: &BallState, p: &BallParams) -> f64 {
 }
 
 /// The rules [`ball_ball_time`] applies before any path is computed: `∞` if either ball
-/// is pocketed or neither translates, `0` if the centres are closer than `2R` (Q3);
-/// `None` when the pair's paths must be solved.
+/// is pocketed or neither translates, `0` if the centres are closer than `2R` (Q3) or
+/// exactly `2R` apart as pooltool's quartic sees it (its constant coefficient is 0, and its
+/// root filter keeps the root τ = 0 even for balls moving apart); `None` when the pair's
+/// paths must be solved.
 pub fn ball_ball_rules(b1: &BallState, b2: &BallState, radius: f64) -> Option<f64> {
     if b1.s == MotionState::Pocketed || b2.s == MotionState::Pocketed {
         return Some(f64::INFINITY);
@@ -569,6 +573,13 @@ pub fn ball_ball_rules(b1: &BallState, b2: &BallState, radius: f64) -> Option<f6
         return Some(f64::INFINITY);
     }
     if (b2.r - b1.r).norm() < 2.0 * radius {
+        return Some(0.0);
+    }
+    // exactly touching in pooltool's arithmetic: its quartic's constant coefficient
+    // e = Δx² + Δy² − 4R² (evaluated as it does) is 0, τ = 0 is a root and its filter keeps
+    // it (§4.2): "now", even for a pair moving apart (FUZZING.md, finding 31)
+    let (dx, dy) = (b2.r.x - b1.r.x, b2.r.y - b1.r.y);
+    if dx * dx + dy * dy - 4.0 * radius * radius == 0.0 {
         return Some(0.0);
     }
     None
