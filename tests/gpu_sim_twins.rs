@@ -423,6 +423,19 @@ fn pair_twins_match_the_rust_twins() {
         push_state(&mut xs, &b2);
         pairs.push((*b1, b2));
     }
+    // exactly touching as pooltool computes it (FUZZING.md, finding 31), the struck ball
+    // moving apart: "now" on both
+    let touching = BallState::at_rest(0.28262233721207614, 0.23412908741139543, p.r);
+    let struck = BallState {
+        v: Vec3::new(-3.3026151662877387e-10, -2.5942644950186135e-10, 0.0),
+        w: Vec3::new(1e-8, -1e-8, 5e-9),
+        s: MotionState::Sliding,
+        ..BallState::at_rest(0.2363870159835479, 0.2005371602428806, p.r)
+    };
+    assert_eq!(ball_ball_time(&touching, &struck, &p), 0.0);
+    push_state(&mut xs, &touching);
+    push_state(&mut xs, &struck);
+    pairs.push((touching, struck));
     let ys = k.run(&pipe, &xs, 6 * pairs.len(), pairs.len());
     let mut problems = Vec::new();
     let (mut hits, mut now, mut apart, mut worst) = (0, 0, 0, 0f64);
