@@ -315,8 +315,8 @@ fuzz_target!(|data: &[u8]| {
                 && v.detail.starts_with("ball_")
                 && v.detail.contains("_cushion:")
             {
-                // finding 16 (open): energy gained at a cushion (Stronge's compliant model,
-                // parameters far from pooltool's): counted, not a failure, until examined
+                // finding 16: energy gained at a cushion under parameters far from
+                // pooltool's, as pooltool's own cushion model gains it: counted, not a failure
                 STATS[CUSHION_ENERGY].fetch_add(1, Relaxed);
             } else if let Err(v) = verdict {
                 panic!(

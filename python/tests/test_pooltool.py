@@ -36,6 +36,7 @@ if os.environ.get("CI"):
 else:
     pt = pytest.importorskip("pooltool")
 import pooltool.constants as pt_const  # noqa: E402
+from pooltool.events.datatypes import AgentType  # noqa: E402
 from pooltool.objects.ball.datatypes import BallState  # noqa: E402
 from pooltool.objects.table.specs import PocketTableSpecs  # noqa: E402
 
@@ -505,17 +506,75 @@ def test_exactly_touching_balls_collide_at_once_as_in_pooltool(pt_results):
         assert math.hypot(final[bid]["x"] - g["x"], final[bid]["y"] - g["y"]) < 1e-9, bid
 
 
+def cushion_energy_system() -> "pt.System":
+    """FUZZING.md's finding 16: a ball sliding at 4.2 m/s with 173 rad/s of spin into the
+    foot rail, under a cushion friction four times pooltool's default."""
+    R = 0.028575
+    params = dict(
+        u_s=0.055084161926952604, u_r=0.002500317317734928,
+        u_sp_proportionality=0.019301464723413223 / R, e_b=0.5,
+        e_c=0.26104106999514737, f_c=0.7913824105551804,
+    )
+    cue_ball = pt.Ball.create("cue", xy=(0.09667239379882812, 2.4915564453125003), **params)
+    cue_ball.state = BallState(
+        rvw=np.array([[0.09667239379882812, 2.4915564453125003, R], [-3.0, -3.0, 0.0],
+                      [-100.0, -100.0, -100.0]]),
+        s=pt_const.sliding,
+    )
+    balls = {"cue": cue_ball, "2": pt.Ball.create("2", xy=(1.0, 0.3), **params)}
+    cue = pt.Cue(cue_ball_id="cue")
+    cue.set_state(V0=0.0)
+    table = pt.Table.from_table_specs(PocketTableSpecs(l=2.54, w=1.27))
+    return pt.System(cue=cue, table=table, balls=balls)
+
+
+def test_a_cushion_adds_energy_as_in_pooltool(pt_results):
+    """Finding 16 is pooltool's cushion model, reproduced: pooltool's own run gains energy
+    at a cushion event (the ball's kinetic energy after it above that before it), and
+    kisstime gives the same events."""
+    gains = pt_results["cushion_energy"]["gains"]
+    assert any(g["type"] == "ball_linear_cushion" and g["after"] > 1.3 * g["before"]
+               for g in gains), gains
+    theirs = [dict(e, agents=tuple(e["agents"]))
+              for e in pt_results["cushion_energy"]["events"]]
+    conv, result, mine = kisstime_events(cushion_energy_system())
+    assert len(mine) == len(theirs)
+    assert kpt.first_difference(mine, theirs, **TOL) is None
+
+
+def _energy_gains(system) -> list[dict]:
+    """The events of a simulated pooltool System at which a ball's kinetic energy
+    (translation and rotation) rose, with the energy before and after."""
+    gains = []
+    for ev in system.events:
+        for agent in ev.agents:
+            if agent.agent_type != AgentType.BALL or agent.initial is None or agent.final is None:
+                continue
+            params = agent.initial.params
+
+            def energy(rvw):
+                v, w = rvw[1], rvw[2]
+                return 0.5 * params.m * (v @ v) + 0.2 * params.m * params.R**2 * (w @ w)
+
+            before, after = energy(agent.initial.state.rvw), energy(agent.final.state.rvw)
+            if after > before + 1e-9 and ev.event_type.value != "stick_ball":
+                gains.append({"type": ev.event_type.value, "before": before, "after": after})
+    return gains
+
+
 def _main_pt_simulate() -> None:
     out = {}
     systems = {str(s): make_system(s) for s in PT_SIMULATE_SHOTS}
     systems["moving"] = moving_system()
     systems["jaw"] = jaw_system()
     systems["touching"] = touching_system()
+    systems["cushion_energy"] = cushion_energy_system()
     for name, system in systems.items():
         done = pt.simulate(system)
         out[name] = {
             "events": kpt.from_pooltool_events(done),
             "final": kpt.from_pooltool_final(done),
+            "gains": _energy_gains(done),
         }
     print(json.dumps(out))
 
