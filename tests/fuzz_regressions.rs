@@ -1036,3 +1036,48 @@ fn exactly_touching_balls_collide_at_once_as_in_pooltool() {
     assert_eq!(kisses, [(1, 2, 0.0), (0, 1, 0.0), (1, 2, 0.0)]);
     assert_eq!(run.events.len(), 10);
 }
+
+/// event_loop, finding 32: a ball sliding with 170 rad/s of spin chatters along the left
+/// rail of the 7-ft table into the corner pocket lb (a hundred cushion events ~1 ms apart),
+/// and one cushion's kiss (Q1) leaves its centre a rounding error inside the pocket's
+/// circle. kisstime pocketed a ball only where its centre *entered* the circle, so this one
+/// rolled on, out of the circle and off the table; pooltool's quartic takes the first
+/// crossing either way and pockets it where it leaves the circle, 0.31 s later
+/// (python/tests/test_pooltool.py, `test_a_ball_inside_a_pocket_circle_falls_in_as_in_pooltool`,
+/// runs pooltool on it). `circle_crossing` now does the same. Found after 375,654
+/// executions.
+#[test]
+fn a_ball_a_kiss_leaves_inside_a_pocket_circle_falls_in_as_in_pooltool() {
+    use kisstime::simulate::{BallState, EventKind, Limits, SimParams, Table, Vec3};
+    let mut params = SimParams::default();
+    params.ball.u_s = 0.1879169515578241;
+    params.ball.u_r = 0.013252366431597414;
+    params.ball.u_sp = 0.004261549747994339;
+    params.ball.e_b = 0.5;
+    params.ball.e_c = 0.21333772610400897;
+    params.ball.f_c = 0.050544464302585024;
+    let r = params.ball.r;
+    let balls = [
+        BallState {
+            v: Vec3::new(-3.0, -3.0, 0.0),
+            w: Vec3::new(-100.0, -100.0, -100.0),
+            s: MotionState::Sliding,
+            ..BallState::at_rest(0.6960367782592773, 0.974774609375, r)
+        },
+        BallState::at_rest(0.8, 1.8, r),
+    ];
+    let limits = Limits {
+        max_events: 400,
+        max_time: 20.0,
+    };
+    let table = Table::seven_foot();
+    let (run, verdict) = simulate_and_check_on(&table, params, limits, &balls, None);
+    if let Err(v) = verdict {
+        panic!("{v}");
+    }
+    let last = run.events.last().unwrap().event;
+    assert_eq!(run.events.len(), 185);
+    assert_eq!((last.kind, last.ball), (EventKind::BallPocket, 0));
+    assert_eq!(table.pocket_ids[last.other as usize], "lb");
+    assert!((last.t - 1.128845880053901).abs() < 1e-9, "{}", last.t);
+}

@@ -24,7 +24,7 @@ use kisstime::model::vec3::Vec3;
 use kisstime::motion::evolve::{TransitionKind, evolve, next_transition};
 use kisstime::motion::trajectory::trajectory;
 use kisstime::query::ball_ball::ball_ball_time;
-use kisstime::query::ball_circle::circle_entry;
+use kisstime::query::ball_circle::circle_crossing;
 use kisstime::query::ball_cushion::ball_linear_cushion_time;
 use kisstime::query::ball_pocket::ball_pocket_time;
 use kisstime::query::bounds::{box_outside_circle, box_outside_extent, boxes_apart, path_box};
@@ -311,7 +311,25 @@ fn detection_twins_match_the_rust_twins() {
     let table = Table::nine_foot();
     k.pipeline(&source("f32", &FILES, ENTRY), "items_main", "f32 detection");
     let pipe = k.pipeline(&source("f64", &FILES, ENTRY), "items_main", "f64 detection");
-    let states = random_states(600, 29);
+    let mut states = random_states(600, 29);
+    // balls inside each pocket's circle, moving out of it (finding 32: the first crossing
+    // is the exit, found by first_exit)
+    for pk in &table.pockets {
+        let (dx, dy) = (0.635 - pk.center.x, 1.27 - pk.center.y);
+        let norm = (dx * dx + dy * dy).sqrt();
+        let (ux, uy) = (dx / norm, dy / norm);
+        states.push(BallState {
+            r: Vec3::new(
+                pk.center.x + 0.5 * pk.radius * ux,
+                pk.center.y + 0.5 * pk.radius * uy,
+                p.r,
+            ),
+            v: Vec3::new(1.5 * ux - 0.3 * uy, 1.5 * uy + 0.3 * ux, 0.0),
+            w: Vec3::new(20.0, -10.0, 5.0),
+            s: MotionState::Sliding,
+            t: 0.0,
+        });
+    }
     let mut xs = Vec::new();
     let mut cpu = Vec::new();
     for b in &states {
@@ -331,7 +349,7 @@ fn detection_twins_match_the_rust_twins() {
             xs.extend([0.0; 6]);
             let t = if b.translating() {
                 let c = kisstime::model::Vec2::new(jaw.center.x, jaw.center.y);
-                circle_entry(&trajectory(b, &p), c, jaw.radius + p.r)
+                circle_crossing(&trajectory(b, &p), c, jaw.radius + p.r)
             } else {
                 f64::INFINITY
             };
@@ -387,6 +405,14 @@ fn detection_twins_match_the_rust_twins() {
     println!(
         "{name}: {} ball-item pairs, {hits} with a time, {outside} ruled out by the box; largest difference {worst:.2e}",
         cpu.len()
+    );
+    let exits = cpu[cpu.len() - 6 * 36..]
+        .iter()
+        .filter(|&&(what, t, _)| what == "pocket" && t.is_finite())
+        .count();
+    assert!(
+        exits >= 6,
+        "every ball inside a pocket's circle leaves it: {exits}"
     );
     assert!(outside > cpu.len() / 2, "the box tests rule most items out");
     assert!(hits > 300, "the cases reach cushions, jaws and pockets");

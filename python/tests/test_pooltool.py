@@ -542,6 +542,41 @@ def test_a_cushion_adds_energy_as_in_pooltool(pt_results):
     assert kpt.first_difference(mine, theirs, **TOL) is None
 
 
+def pocket_circle_system() -> "pt.System":
+    """FUZZING.md's finding 32: a ball with 170 rad/s of spin chatters along the left rail
+    of the 7-ft table into the corner pocket lb, and a cushion's kiss leaves its centre a
+    rounding error inside the pocket's circle."""
+    R = 0.028575
+    params = dict(
+        u_s=0.1879169515578241, u_r=0.013252366431597414,
+        u_sp_proportionality=0.004261549747994339 / R, e_b=0.5,
+        e_c=0.21333772610400897, f_c=0.050544464302585024,
+    )
+    xy = (0.6960367782592773, 0.974774609375)
+    cue_ball = pt.Ball.create("cue", xy=xy, **params)
+    cue_ball.state = BallState(
+        rvw=np.array([[*xy, R], [-3.0, -3.0, 0.0], [-100.0, -100.0, -100.0]]),
+        s=pt_const.sliding,
+    )
+    balls = {"cue": cue_ball, "2": pt.Ball.create("2", xy=(0.8, 1.8), **params)}
+    cue = pt.Cue(cue_ball_id="cue")
+    cue.set_state(V0=0.0)
+    return pt.System(cue=cue, table=pt.Table.default(), balls=balls)
+
+
+def test_a_ball_inside_a_pocket_circle_falls_in_as_in_pooltool(pt_results):
+    """pooltool's quartic takes the first crossing of a pocket's circle either way, so a
+    ball a kiss left inside it is pocketed where it leaves; kisstime gives the same events
+    and pockets it in lb too."""
+    theirs = [dict(e, agents=tuple(e["agents"]))
+              for e in pt_results["pocket_circle"]["events"]]
+    assert theirs[-1]["type"] == "ball_pocket" and theirs[-1]["agents"] == ("cue", "lb")
+    conv, result, mine = kisstime_events(pocket_circle_system())
+    assert len(mine) == len(theirs)
+    assert kpt.first_difference(mine, theirs, **TOL) is None
+    assert kpt.to_final(result, conv)["cue"]["pocket"] == "lb"
+
+
 def _energy_gains(system) -> list[dict]:
     """The events of a simulated pooltool System at which a ball's kinetic energy
     (translation and rotation) rose, with the energy before and after."""
@@ -569,6 +604,7 @@ def _main_pt_simulate() -> None:
     systems["jaw"] = jaw_system()
     systems["touching"] = touching_system()
     systems["cushion_energy"] = cushion_energy_system()
+    systems["pocket_circle"] = pocket_circle_system()
     for name, system in systems.items():
         done = pt.simulate(system)
         out[name] = {

@@ -270,6 +270,61 @@ fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real
     return NO_ROOT;
 }
 
+// The first time in (0, h] at which f, negative at 0, reaches 0 (f goes from < 0 to ≥ 0:
+// the path leaves the circle |C| = 2R it starts inside), or −1 if none.
+//
+// Method: the critical points of f split [0, h] into pieces on which f is monotone (each
+// found by refine_root on f', which is monotone between the inflection points of f, the
+// roots of the quadratic f''); the first piece whose ends straddle 0 brackets the exit,
+// refined by refine_root on f. For a path that starts inside a circle this is the
+// smallest positive root of pooltool's quartic (spec §4.5–4.6): its detection does not
+// ask which way the path crosses.
+fn first_exit(rel: RelPath, four_r2: real, h: real) -> real {
+    // inflection points of f: roots of f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C in (0, h)
+    let a = rel.a;
+    let b = rel.b;
+    let c = rel.c;
+    let s = quadratic_roots(6.0 * dot(a, a), 6.0 * dot(a, b), dot(b, b) + 2.0 * dot(a, c));
+    var knots = array<real, 3>(h, h, h);
+    var n_knots = 0u;
+    if s.n >= 1u && s.r0 > 0.0 && s.r0 < h {
+        knots[n_knots] = s.r0;
+        n_knots += 1u;
+    }
+    if s.n == 2u && s.r1 > 0.0 && s.r1 < h && s.r1 > s.r0 {
+        knots[n_knots] = s.r1;
+        n_knots += 1u;
+    }
+    // walk the pieces [lo, hi] on which f' is monotone, in time order
+    var lo: real = 0.0;
+    let e0 = contact_fn(rel, four_r2, lo, 0u);
+    var f_lo = e0.x;
+    var f1_lo = e0.y;
+    for (var piece = 0u; piece <= n_knots; piece++) {
+        let hi = knots[piece];
+        let e_hi = contact_fn(rel, four_r2, hi, 0u);
+        let f_hi = e_hi.x;
+        let f1_hi = e_hi.y;
+        // a critical point of f inside the piece splits it into two monotone halves
+        if (f1_lo < 0.0 && f1_hi > 0.0) || (f1_lo > 0.0 && f1_hi < 0.0) {
+            let tc = refine_root(rel, four_r2, 1u, lo, hi, f1_lo, f1_hi);
+            let f_c = contact_fn(rel, four_r2, tc, 0u).x;
+            if f_lo < 0.0 && f_c >= 0.0 {
+                return refine_root(rel, four_r2, 0u, lo, tc, f_lo, f_c);
+            }
+            lo = tc;
+            f_lo = f_c;
+        }
+        if f_lo < 0.0 && f_hi >= 0.0 {
+            return refine_root(rel, four_r2, 0u, lo, hi, f_lo, f_hi);
+        }
+        lo = hi;
+        f_lo = f_hi;
+        f1_lo = f1_hi;
+    }
+    return NO_ROOT;
+}
+
 // The sign of the first clearly non-zero derivative of f at t = 0: negative when a touching
 // pair approaches, positive when it separates, zero when nothing moves relative to anything.
 //

@@ -75,7 +75,8 @@ fn linear_cushion_time_on(path: Path, seg: LinearCushion, radius: real) -> real 
 }
 
 // τ until a translating ball's centre reaches distance r_c + R from the jaw's centre
-// (§4.5; the whole circle, no arc restriction), or NEVER. See circle_entry
+// (§4.5; the whole circle, no arc restriction; from outside, or from inside where a kiss
+// left it), or NEVER. See circle_crossing
 // (query/ball_circle.wgsl) for the method.
 fn ball_circular_cushion_time(b: BallState, seg: CircularCushion, p: BallParams) -> real {
     if !ball_translating(b) {
@@ -83,5 +84,5 @@ fn ball_circular_cushion_time(b: BallState, seg: CircularCushion, p: BallParams)
     }
     let path = trajectory(b, p);
     let center = real2(seg.center.x, seg.center.y);
-    return circle_entry(path, center, seg.radius + p.r);
+    return circle_crossing(path, center, seg.radius + p.r);
 }

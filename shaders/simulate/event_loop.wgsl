@@ -495,7 +495,7 @@ fn item_time(which: u32, m: u32, path: Path, bx: PathBox, r: real) -> real {
     if box_outside_circle(bx, center, rho) || circle_out_of_reach(path, center, rho) {
         return NEVER;
     }
-    return circle_entry(path, center, rho);
+    return circle_crossing(path, center, rho);
 }
 
 fn n_items(which: u32) -> u32 {

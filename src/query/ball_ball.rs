@@ -401,6 +401,62 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
     NO_ROOT
 }
 
+/// The first time in `(0, h]` at which `f`, negative at 0, reaches 0 (`f` goes from `< 0`
+/// to `≥ 0`: the path leaves the circle `|C| = 2R` it starts inside), or [`NO_ROOT`] if
+/// none.
+///
+/// Method: the critical points of `f` split `[0, h]` into pieces on which `f` is monotone
+/// (each found by [`refine_root`] on `f'`, which is monotone between the inflection points
+/// of `f`, the roots of the quadratic `f''`); the first piece whose ends straddle 0
+/// brackets the exit, refined by [`refine_root`] on `f`. For a path that starts inside a
+/// circle this is the smallest positive root of pooltool's quartic (spec §4.5–4.6): its
+/// detection does not ask which way the path crosses.
+pub fn first_exit(rel: &RelPath, four_r2: f64, h: f64) -> f64 {
+    // inflection points of f: roots of f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C in (0, h)
+    let (a, b, c) = (rel.a, rel.b, rel.c);
+    let (n, s0, s1) = quadratic_roots(
+        6.0 * dot(a, a),
+        6.0 * dot(a, b),
+        dot(b, b) + 2.0 * dot(a, c),
+    );
+    let mut knots = [h, h, h];
+    let mut n_knots = 0;
+    if n >= 1 && s0 > 0.0 && s0 < h {
+        knots[n_knots] = s0;
+        n_knots += 1;
+    }
+    if n == 2 && s1 > 0.0 && s1 < h && s1 > s0 {
+        knots[n_knots] = s1;
+        n_knots += 1;
+    }
+    // walk the pieces [lo, hi] on which f' is monotone, in time order
+    let mut lo = 0.0;
+    let (mut f_lo, mut f1_lo, _) = contact_fn(rel, four_r2, lo, 0);
+    // an index loop, as in the WGSL twin
+    #[allow(clippy::needless_range_loop)]
+    for piece in 0..=n_knots {
+        let hi = knots[piece];
+        let (f_hi, f1_hi, _) = contact_fn(rel, four_r2, hi, 0);
+        // a critical point of f inside the piece splits it into two monotone halves
+        if (f1_lo < 0.0 && f1_hi > 0.0) || (f1_lo > 0.0 && f1_hi < 0.0) {
+            let tc = refine_root(rel, four_r2, 1, lo, hi, f1_lo, f1_hi);
+            let (f_c, _, _) = contact_fn(rel, four_r2, tc, 0);
+            if f_lo < 0.0 && f_c >= 0.0 {
+                return refine_root(rel, four_r2, 0, lo, tc, f_lo, f_c);
+            }
+            lo = tc;
+            f_lo = f_c;
+        }
+        if f_lo < 0.0 && f_hi >= 0.0 {
+            return refine_root(rel, four_r2, 0, lo, hi, f_lo, f_hi);
+        }
+        lo = hi;
+        f_lo = f_hi;
+        f1_lo = f1_hi;
+    }
+    NO_ROOT
+}
+
 /// The sign of the first clearly non-zero derivative of `f` at `t = 0`: negative when a
 /// touching pair approaches, positive when it separates, zero when nothing moves
 /// relative to anything.

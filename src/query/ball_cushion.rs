@@ -6,7 +6,7 @@ use crate::model::ball_state::BallState;
 use crate::model::sim_params::{BallParams, EPS};
 use crate::model::table::{CircularCushion, LinearCushion};
 use crate::motion::trajectory::{Path, position_at, trajectory};
-use crate::query::ball_circle::circle_entry;
+use crate::query::ball_circle::circle_crossing;
 
 /// pooltool's quadratic solver (`ptmath/roots/quadratic.py: solve`, §4.4), copied in its
 /// arithmetic: `|A| < EPS` gives the linear root twice (none if also `|B| < EPS`);
@@ -78,15 +78,16 @@ pub fn linear_cushion_time_on(path: &Path, seg: &LinearCushion, radius: f64) -> 
 }
 
 /// τ until a translating ball's centre reaches distance `r_c + R` from the jaw's centre
-/// (§4.5; the whole circle, no arc restriction), or `∞`. See
-/// [`crate::query::ball_circle::circle_entry`] for the method.
+/// (§4.5; the whole circle, no arc restriction; from outside, or from inside where a kiss
+/// left it), or `∞`. See
+/// [`crate::query::ball_circle::circle_crossing`] for the method.
 pub fn ball_circular_cushion_time(b: &BallState, seg: &CircularCushion, p: &BallParams) -> f64 {
     if !b.translating() {
         return f64::INFINITY;
     }
     let path = trajectory(b, p);
     let center = Vec2::new(seg.center.x, seg.center.y);
-    circle_entry(&path, center, seg.radius + p.r)
+    circle_crossing(&path, center, seg.radius + p.r)
 }
 
 #[cfg(test)]

@@ -7,18 +7,19 @@ use crate::model::ball_state::BallState;
 use crate::model::sim_params::BallParams;
 use crate::model::table::Pocket;
 use crate::motion::trajectory::trajectory;
-use crate::query::ball_circle::circle_entry;
+use crate::query::ball_circle::circle_crossing;
 
 /// τ until a translating ball's centre enters the circle of radius `r_p` (not `r_p ± R`)
-/// about the pocket's centre, or `∞` (non-translating balls too). See
-/// [`crate::query::ball_circle::circle_entry`] for the method.
+/// about the pocket's centre (or, for a centre a kiss left inside it, leaves it: pooltool's
+/// quartic does not ask which way), or `∞` (non-translating balls too). See
+/// [`crate::query::ball_circle::circle_crossing`] for the method.
 pub fn ball_pocket_time(b: &BallState, pocket: &Pocket, p: &BallParams) -> f64 {
     if !b.translating() {
         return f64::INFINITY;
     }
     let path = trajectory(b, p);
     let center = Vec2::new(pocket.center.x, pocket.center.y);
-    circle_entry(&path, center, pocket.radius)
+    circle_crossing(&path, center, pocket.radius)
 }
 
 #[cfg(test)]

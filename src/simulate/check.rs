@@ -9,10 +9,11 @@
 //! and from every jaw arc (not inside a cushion), and enclosed by the table: each of the
 //! four rays from the centre along ±x and ±y must meet a cushion segment, a jaw or a pocket
 //! circle (a ball behind a rail or away from the table has a ray that escapes), and not
-//! over a pocket: a centre inside a pocket's circle is refused (the event loop pockets a
-//! ball when its centre *enters* the circle, so a ball that starts inside is never
-//! pocketed, and once struck it rolled out behind the cushions and off the table: the
-//! `event_loop` fuzz target's finding 8, FUZZING.md).
+//! over a pocket: a centre more than [`LAYOUT_TOLERANCE`] inside a pocket's circle is
+//! refused (a ball there has fallen in: give it as pocketed; the `event_loop` fuzz
+//! target's finding 8, FUZZING.md). A centre within the tolerance of the circle, where a
+//! cushion's kiss can leave a ball mid-shot, is on the table: the event loop pockets it
+//! where its path crosses the circle, as pooltool does (finding 32).
 
 use crate::error::SimError;
 use crate::model::MotionState;
@@ -78,8 +79,29 @@ pub fn check_layout(table: &Table, radius: f64, balls: &[BallState]) -> Result<(
     Ok(())
 }
 
-/// Why a ball centred at `p` is not on the playing surface of `table`, if it is not.
+/// Why a ball centred at `p` is not on the playing surface of `table`, if it is not: for a
+/// ball given at rest (a layout), so a centre over a pocket counts as off (see the module
+/// docs); [`check_in_play`] is the same test without that clause.
 pub fn check_on_table(table: &Table, radius: f64, p: Vec3) -> Result<(), String> {
+    check_in_play(table, radius, p)?;
+    for (k, q) in table.pockets.iter().enumerate() {
+        let d = ((p.x - q.center.x).powi(2) + (p.y - q.center.y).powi(2)).sqrt();
+        if d < q.radius - LAYOUT_TOLERANCE {
+            return Err(format!(
+                "over pocket {} (centre {d:.6} m from the pocket's centre, inside its radius {}): a ball there has fallen in; give it as pocketed",
+                table.pocket_ids[k], q.radius
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Why a ball centred at `p` is not in play on `table` mid-shot, if it is not: inside a
+/// cushion or a jaw, or off the table, as [`check_on_table`] says, but a centre over a
+/// pocket's circle is in play. A shot can put it there without its path entering the
+/// circle (a cushion's kiss, Q1, that ends inside it), and pooltool, as the event loop,
+/// pockets such a ball where its path leaves the circle (FUZZING.md, finding 32).
+pub fn check_in_play(table: &Table, radius: f64, p: Vec3) -> Result<(), String> {
     let reach = radius - LAYOUT_TOLERANCE;
     for (k, seg) in table.linear.iter().enumerate() {
         let d = segment_distance(p, seg.p1, seg.p2);
@@ -96,15 +118,6 @@ pub fn check_on_table(table: &Table, radius: f64, p: Vec3) -> Result<(), String>
             return Err(format!(
                 "inside the jaw {} (centre {d:.6} m from the arc's centre)",
                 table.circular_ids[k]
-            ));
-        }
-    }
-    for (k, q) in table.pockets.iter().enumerate() {
-        let d = ((p.x - q.center.x).powi(2) + (p.y - q.center.y).powi(2)).sqrt();
-        if d < q.radius {
-            return Err(format!(
-                "over pocket {} (centre {d:.6} m from the pocket's centre, inside its radius {}): a ball there has fallen in; give it as pocketed",
-                table.pocket_ids[k], q.radius
             ));
         }
     }

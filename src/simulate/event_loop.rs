@@ -23,7 +23,7 @@ use crate::model::{MotionState, Vec2};
 use crate::motion::evolve::{TransitionKind, evolve, next_transition};
 use crate::motion::trajectory::{Path, trajectory};
 use crate::query::ball_ball::{RelPath, ball_ball_rules, ball_ball_time_on, cannot_meet};
-use crate::query::ball_circle::circle_entry;
+use crate::query::ball_circle::circle_crossing;
 use crate::query::ball_cushion::linear_cushion_time_on;
 use crate::query::bounds::{
     PathBox, box_outside_circle, box_outside_extent, boxes_apart, path_box,
@@ -547,7 +547,7 @@ impl EventLoop<'_> {
             if box_outside_circle(bx, center, rho) || circle_out_of_reach(path, center, rho) {
                 return f64::INFINITY;
             }
-            circle_entry(path, center, rho)
+            circle_crossing(path, center, rho)
         };
         match which {
             Items::Linear => match box_outside_extent(bx, &tb.linear[m]) {

@@ -23,7 +23,7 @@
 //!   up to [`crate::simulate::LAYOUT_TOLERANCE`]); a cut run ends mid-shot, where moving
 //!   balls may overlap (pooltool resolves an overlap at once, Q3), and is not checked;
 //! - **on the table** ([`Invariant::OffTable`]): every unpocketed ball ends on the playing
-//!   surface ([`crate::simulate::check::check_on_table`]), and so does every ball an event
+//!   surface ([`crate::simulate::check::check_in_play`]), and so does every ball an event
 //!   leaves unpocketed;
 //! - **energy** ([`Invariant::Energy`]): the total kinetic energy, translational and
 //!   rotational (`½ m |v|² + ½ (2/5 m R²) |ω|²`, m and R from the parameters), never grows
@@ -78,7 +78,7 @@ use crate::motion::trajectory::trajectory;
 use crate::query::CONTACT_TOL;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::batch::EventRecord;
-use crate::simulate::check::check_on_table;
+use crate::simulate::check::check_in_play;
 use crate::simulate::event_loop::Limits;
 use crate::simulate::events::{Cut, EventKind, NO_AGENT, Outcome};
 
@@ -554,7 +554,7 @@ pub fn check_shot(
                 ));
             }
             if s.s != MotionState::Pocketed
-                && let Err(why) = check_on_table(table, r, s.r)
+                && let Err(why) = check_in_play(table, r, s.r)
             {
                 let why = format!("after {}: {why}", e.kind.name());
                 return Err(off_table(i, &tunnel, at, why));
@@ -658,7 +658,7 @@ pub fn check_shot(
     // (c) on the table at the end
     for (i, b) in run.end.iter().enumerate() {
         if b.s != MotionState::Pocketed
-            && let Err(why) = check_on_table(table, r, b.r)
+            && let Err(why) = check_in_play(table, r, b.r)
         {
             return Err(off_table(i, &tunnel, None, format!("at the end: {why}")));
         }

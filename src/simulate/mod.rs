@@ -25,7 +25,7 @@
 //!
 //! Deviations from pooltool, each documented where it happens:
 //! - detection times come from exact bracketing root finders ([`crate::query::ball_ball`],
-//!   [`crate::query::ball_circle::circle_entry`]) instead of Algorithm 1010 on the expanded quartic; they agree
+//!   [`crate::query::ball_circle::circle_crossing`]) instead of Algorithm 1010 on the expanded quartic; they agree
 //!   with pooltool to ~1e-13 s and are closer to the exact root (pooltool's filter would
 //!   also take a graze within ~1e-17 m as a touch);
 //! - Q5: a quartic with leading coefficient exactly 0 is solved as it is, not "now";
