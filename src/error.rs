@@ -169,9 +169,13 @@ pub enum SimError {
         /// What is wrong with it.
         reason: String,
     },
-    /// Two balls that overlap at rest (their indices in the table, `first < second`, and
-    /// how deep in m), found by [`crate::simulate::check_layout`].
-    #[error("balls {first} and {second} overlap by {depth:e} m at rest")]
+    /// Two balls that overlap (their indices in the table, `first < second`, and how deep
+    /// in m), found by [`crate::simulate::check_layout`]: by more than 10 µm at rest, or
+    /// 0.1 mm where either moves.
+    #[error(
+        "balls {first} and {second} overlap by {depth:e} m (more than 10 µm at rest, 0.1 mm \
+         where either moves)"
+    )]
     Overlap {
         /// The first ball's index.
         first: usize,

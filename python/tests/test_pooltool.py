@@ -577,6 +577,77 @@ def test_a_ball_inside_a_pocket_circle_falls_in_as_in_pooltool(pt_results):
     assert kpt.to_final(result, conv)["cue"]["pocket"] == "lb"
 
 
+def billiard_system() -> "pt.System":
+    """FUZZING.md's finding 19: on a 3 m × 3 m billiard table (no pockets), with a cushion
+    friction of 1e-9 (pooltool refuses 0, and so does kisstime), a ball sliding with 173
+    rad/s of spin off the bottom and left rails into the top one."""
+    from pooltool.objects.table.specs import BilliardTableSpecs
+
+    R = 0.028575
+    side = 2.9999618530273438
+    xy = (2.8219471886157987, 0.07527489512860774)
+    cue_ball = pt.Ball.create("cue", xy=xy, f_c=1e-9)
+    cue_ball.state = BallState(
+        rvw=np.array([[*xy, R], [-3.0, -3.0, 0.0], [-100.0, -100.0, -100.0]]),
+        s=pt_const.sliding,
+    )
+    balls = {"cue": cue_ball, "2": pt.Ball.create("2", xy=(1.5, 2.5), f_c=1e-9)}
+    cue = pt.Cue(cue_ball_id="cue")
+    cue.set_state(V0=0.0)
+    table = pt.Table.from_table_specs(BilliardTableSpecs(l=side, w=side))
+    return pt.System(cue=cue, table=table, balls=balls)
+
+
+def test_a_nearly_frictionless_cushion_shot_on_a_billiard_table_is_pooltools(pt_results):
+    """kisstime's events are pooltool's on its billiard table, and the ball meets the top
+    rail at y = l − R (with f_c = 0 the cushion left an acceleration of ~1e-14 along the
+    rail and the copied quadratic lost its root; f_c = 0 is refused now, as in pooltool)."""
+    theirs = [dict(e, agents=tuple(e["agents"])) for e in pt_results["billiard"]["events"]]
+    conv, result, mine = kisstime_events(billiard_system())
+    assert len(mine) == len(theirs)
+    assert kpt.first_difference(mine, theirs, **TOL) is None
+    with pytest.raises(ValueError, match="f_c"):
+        conv.simulate(physics=dict(conv.physics, f_c=0.0))
+
+
+def chatter_system() -> "pt.System":
+    """FUZZING.md's finding 33: a massé into two balls by the left rail of a 0.735 m
+    square billiard table."""
+    from pooltool.objects.table.specs import BilliardTableSpecs
+
+    R = 0.028575
+    params = dict(
+        u_s=0.050010577705338156, u_r=0.0025, u_sp_proportionality=0.003175 / R,
+        e_b=0.5688400268554688, e_c=0.2125, f_c=0.05007409094683693,
+    )
+    xy = {
+        "cue": (0.07692935004085302, 0.32022825556844475),
+        "1": (0.0306652158588171, 0.4391806460296735),
+        "2": (0.08881520060002804, 0.43918064602967344),
+    }
+    balls = {bid: pt.Ball.create(bid, xy=p, **params) for bid, p in xy.items()}
+    cue = pt.Cue(cue_ball_id="cue")
+    cue.set_state(V0=1.68304443359375, phi=8.4320068359375, theta=89.99862670898438,
+                  a=0.998044963916957, b=0.0)
+    table = pt.Table.from_table_specs(
+        BilliardTableSpecs(l=0.7353286743164063, w=0.73529052734375, cushion_height=0.036576)
+    )
+    return pt.System(cue=cue, table=table, balls=balls)
+
+
+def test_a_chattering_masse_is_pooltools_until_pooltool_raises(pt_results):
+    """pooltool's own run raises in its cushion resolver (the ball does not approach the
+    cushion, Q16), where kisstime gives no impulse and goes on; every event before is
+    pooltool's."""
+    run = pt_results["chatter"]
+    assert run["raised"] == "AssertionError", run["raised"]
+    theirs = [dict(e, agents=tuple(e["agents"])) for e in run["events"]]
+    assert len(theirs) > 150
+    conv, result, mine = kisstime_events(chatter_system(), max_events=400)
+    assert len(mine) == 400 > len(theirs)
+    assert kpt.first_difference(mine[: len(theirs)], theirs, **TOL) is None
+
+
 def _energy_gains(system) -> list[dict]:
     """The events of a simulated pooltool System at which a ball's kinetic energy
     (translation and rotation) rose, with the energy before and after."""
@@ -605,6 +676,7 @@ def _main_pt_simulate() -> None:
     systems["touching"] = touching_system()
     systems["cushion_energy"] = cushion_energy_system()
     systems["pocket_circle"] = pocket_circle_system()
+    systems["billiard"] = billiard_system()
     for name, system in systems.items():
         done = pt.simulate(system)
         out[name] = {
@@ -612,6 +684,14 @@ def _main_pt_simulate() -> None:
             "final": kpt.from_pooltool_final(done),
             "gains": _energy_gains(done),
         }
+    # a run pooltool stops by raising: the events it had recorded
+    system = chatter_system()
+    try:
+        pt.simulate(system, inplace=True, max_events=400)
+        raised = None
+    except Exception as e:  # noqa: BLE001 - which exception is what the test checks
+        raised = type(e).__name__
+    out["chatter"] = {"events": kpt.from_pooltool_events(system), "raised": raised}
     print(json.dumps(out))
 
 

@@ -17,10 +17,10 @@
 //! u_s = 0.2                     # sliding friction
 //! u_r = 0.01                    # rolling resistance
 //! u_sp_proportionality = 0.4444444444444444   # spinning friction u_sp = this × R (a length)
-//! u_b = 0.05                    # ball–ball friction (unused by the default resolver)
+//! u_b = 0.05                    # ball–ball friction, > 0 (unused by the default resolver)
 //! e_b = 0.95                    # ball–ball restitution, in (0, 1]
 //! e_c = 0.85                    # cushion restitution, in (0, 1]
-//! f_c = 0.2                     # cushion friction, ≥ 0
+//! f_c = 0.2                     # cushion friction, > 0
 //! g = 9.81                      # gravity, m/s²
 //!
 //! [cue]

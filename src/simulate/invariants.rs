@@ -36,7 +36,9 @@
 //!   straight cushion or a jaw, that had touched that cushion while moving into it is
 //!   reported apart from [`Invariant::OffTable`]: pooltool 0.6.0 itself sends such a ball
 //!   into or through the cushion (its detection accepts only roots τ > EPS, spec Q6), and
-//!   kisstime reproduces it ([`touching_into_cushion`]; FUZZING.md, findings 7 and 30);
+//!   kisstime reproduces it ([`touching_into_cushion`]; FUZZING.md, findings 7 and 30); so
+//!   is a ball that the kiss of a ball–ball event (Q1) moved, by at most [`KISS_REACH`],
+//!   from the playing surface into a cushion (findings 13 and 33);
 //! - **rest** ([`Invariant::NotAtRest`]): a run that is not cut ([`Outcome::cut`] `None`)
 //!   ends with every ball stationary (zero velocity and spin) or pocketed; one that is cut
 //!   says why ([`Cut::MaxEvents`]: exactly `max_events` events; [`Cut::MaxTime`]: the
@@ -97,6 +99,12 @@ pub const ENERGY_REL_TOLERANCE: f64 = 1e-9;
 /// The absolute growth of the total kinetic energy (J) allowed from one event to the next,
 /// beside [`ENERGY_REL_TOLERANCE`]: rounding near rest.
 pub const ENERGY_ABS_TOLERANCE: f64 = 1e-15;
+
+/// The farthest (m) a ball–ball event's kiss (Q1) may move a ball for the checker to put
+/// a ball it pushes into a cushion down to the kiss (as [`Invariant::RailTunnel`]): the
+/// spacer moves a ball by at most 5 µm along its velocity, or along the line of centres
+/// by half the pair's overlap; 1 mm is far beyond either.
+pub const KISS_REACH: f64 = 1e-3;
 
 /// How far (m, per coordinate; m/s and rad/s for velocities and spins, relative beyond
 /// 1) the final balls may lie from those the recorded events replay to.
@@ -544,7 +552,7 @@ pub fn check_shot(
             pocketed[ball] = true;
             pocket_events[ball] += 1;
         }
-        for (i, s) in record.balls() {
+        for (k_ball, (i, s)) in record.balls().enumerate() {
             if s.s == MotionState::Pocketed && !pocketed[i] {
                 return Err(violation(
                     Invariant::BallCount,
@@ -557,6 +565,27 @@ pub fn check_shot(
                 && let Err(why) = check_in_play(table, r, s.r)
             {
                 let why = format!("after {}: {why}", e.kind.name());
+                // the kiss (Q1) of a ball–ball event pushed a ball that was in play into
+                // a cushion: pooltool's make_kiss moves the pair apart without looking at
+                // the cushions (FUZZING.md, findings 13 and 33)
+                if e.kind == EventKind::BallBall
+                    && let Some(before) = involved_before.get(k_ball)
+                    && check_in_play(table, r, before.r).is_ok()
+                    && (s.r - before.r).norm() <= KISS_REACH
+                {
+                    return Err(violation(
+                        Invariant::RailTunnel,
+                        Some(i),
+                        at,
+                        format!(
+                            "{why}; the kiss of this ball–ball event (Q1: pooltool's \
+                             make_kiss moves the pair apart without looking at the \
+                             cushions) moved it {:.3e} m, from where it was in play into \
+                             the cushion",
+                            (s.r - before.r).norm()
+                        ),
+                    ));
+                }
                 return Err(off_table(i, &tunnel, at, why));
             }
         }

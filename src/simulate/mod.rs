@@ -72,7 +72,7 @@ pub use batch::{
     BatchError, BatchOptions, BatchStats, Chunk, DEFAULT_CHUNK_TABLES, EventRecord, TableRun,
     check_tables, pocket_of, simulate_batch,
 };
-pub use check::{LAYOUT_TOLERANCE, check_layout};
+pub use check::{LAYOUT_TOLERANCE, MOVING_OVERLAP_TOLERANCE, check_layout};
 pub use event_loop::{EventLoop, Limits, MAX_BALLS, simulate};
 pub use events::{Cut, Event, EventKind, NO_AGENT, Outcome};
 pub use watch::{ShotFacts, TableWatch, Watch, WatchOptions, WatchedContact, WatchedPot};
