@@ -81,7 +81,8 @@ pub enum Command {
     /// ball's final state
     /// (`table,ball,state,x,y,vx,vy,wx,wy,wz,pocket`), --outcomes one row a table
     /// (`table,events,t_end,cut`). Without -o and --final the final states go to standard
-    /// output. A summary line on stderr gives tables/s and events/s.
+    /// output (unless `--outcomes -` does). A summary line on stderr gives tables/s and
+    /// events/s.
     Simulate(SimulateArgs),
     /// Which shot should I play? Plans the next shot of an 8-ball or 9-ball position under
     /// cue noise and the game's rules.

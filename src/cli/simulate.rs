@@ -429,7 +429,10 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let events_path = args.output.as_deref();
     let final_path = args.final_states.as_deref();
     let outcomes_path = args.outcomes.as_deref();
-    let final_to_stdout = events_path.is_none() && final_path.is_none();
+    // the final states go to standard output when no output was named for them or the
+    // events, unless the outcomes go there (two tables in one stream would be no use)
+    let outcomes_to_stdout = outcomes_path.is_some_and(|p| p.as_os_str() == "-");
+    let final_to_stdout = events_path.is_none() && final_path.is_none() && !outcomes_to_stdout;
     let mut stats;
     let mut first_cut;
     loop {
