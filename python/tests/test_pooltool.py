@@ -648,6 +648,39 @@ def test_a_chattering_masse_is_pooltools_until_pooltool_raises(pt_results):
     assert kpt.first_difference(mine[: len(theirs)], theirs, **TOL) is None
 
 
+def throat_system() -> "pt.System":
+    """FUZZING.md's finding 34: a ball with 170 rad/s of spin chatters along the throat
+    of the 7-ft table's corner pocket lb and, rolling in, clips the deep end of its
+    segment."""
+    R = 0.028575
+    params = dict(
+        u_s=0.20322407042678328, u_r=0.004767399444076855,
+        u_sp_proportionality=0.0031786287836843797 / R, e_b=0.5, e_c=0.2125,
+        f_c=0.050544464302585024,
+    )
+    xy = (0.322786402130127, 0.6505086463928222)
+    moving = pt.Ball.create("1", xy=xy, **params)
+    moving.state = BallState(
+        rvw=np.array([[*xy, R], [-3.0, -3.0, 0.0], [-100.0, -100.0, -100.0]]),
+        s=pt_const.sliding,
+    )
+    balls = {"0": pt.Ball.create("0", xy=(0.6509302291870117, 0.6450686683654785), **params),
+             "1": moving}
+    cue = pt.Cue(cue_ball_id="0")
+    cue.set_state(V0=0.0)
+    return pt.System(cue=cue, table=pt.Table.default(), balls=balls)
+
+
+def test_a_ball_clipping_a_throat_segment_end_is_pooltools(pt_results):
+    """pooltool has no event where a ball passes the bare end of a straight cushion, and
+    pockets it; kisstime gives the same 141 events."""
+    theirs = [dict(e, agents=tuple(e["agents"])) for e in pt_results["throat"]["events"]]
+    assert theirs[-1]["type"] == "ball_pocket" and theirs[-1]["agents"] == ("1", "lb")
+    conv, result, mine = kisstime_events(throat_system())
+    assert len(mine) == len(theirs)
+    assert kpt.first_difference(mine, theirs, **TOL) is None
+
+
 def _energy_gains(system) -> list[dict]:
     """The events of a simulated pooltool System at which a ball's kinetic energy
     (translation and rotation) rose, with the energy before and after."""
@@ -677,6 +710,7 @@ def _main_pt_simulate() -> None:
     systems["cushion_energy"] = cushion_energy_system()
     systems["pocket_circle"] = pocket_circle_system()
     systems["billiard"] = billiard_system()
+    systems["throat"] = throat_system()
     for name, system in systems.items():
         done = pt.simulate(system)
         out[name] = {

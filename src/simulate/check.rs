@@ -117,7 +117,9 @@ pub fn check_on_table(table: &Table, radius: f64, p: Vec3) -> Result<(), String>
 pub fn check_in_play(table: &Table, radius: f64, p: Vec3) -> Result<(), String> {
     let reach = radius - LAYOUT_TOLERANCE;
     for (k, seg) in table.linear.iter().enumerate() {
-        let d = segment_distance(p, seg.p1, seg.p2);
+        let Some(d) = distance_within_extent(p, seg.p1, seg.p2) else {
+            continue;
+        };
         if d < reach {
             return Err(format!(
                 "inside cushion segment {} (centre {d:.6} m from it, less than R = {radius})",
@@ -155,17 +157,24 @@ pub fn check_in_play(table: &Table, radius: f64, p: Vec3) -> Result<(), String> 
     Ok(())
 }
 
-/// The distance in the xy-plane from `p` to the segment `a`–`b`.
-fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
+/// The distance in the xy-plane from `p` to the line of the segment `a`–`b`, where `p`
+/// lies within the segment's extent (its projection on the segment between `a` and `b`);
+/// `None` beyond the ends. That is pooltool's straight cushion (§4.4): the ball meets it
+/// only where its centre projects inside the segment, never at a bare end (jaws cover the
+/// ends at pocket mouths; a ball passing the deep end of a throat segment on its way into
+/// the pocket clips it, in pooltool as here: FUZZING.md, finding 34).
+fn distance_within_extent(p: Vec3, a: Vec3, b: Vec3) -> Option<f64> {
     let (ex, ey) = (b.x - a.x, b.y - a.y);
     let (wx, wy) = (p.x - a.x, p.y - a.y);
     let len2 = ex * ex + ey * ey;
-    let u = if len2 > 0.0 {
-        ((wx * ex + wy * ey) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    ((wx - u * ex).powi(2) + (wy - u * ey).powi(2)).sqrt()
+    if len2 <= 0.0 {
+        return Some((wx * wx + wy * wy).sqrt());
+    }
+    let u = (wx * ex + wy * ey) / len2;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    Some(((wx - u * ex).powi(2) + (wy - u * ey).powi(2)).sqrt())
 }
 
 /// Whether the ray from `p` along the unit axis `d` meets the segment `a`–`b` (xy-plane).
