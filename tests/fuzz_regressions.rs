@@ -288,6 +288,16 @@ fn simulate_and_check(
 
 /// A shot simulated on `table` under `params` and `limits` through the public engine
 /// (CPU), its events recorded, and the checker's verdict on it.
+/// pooltool's parameters with the ball's frictions and restitutions the fuzzer chose:
+/// `[u_s, u_r, u_sp, e_b, e_c, f_c]`.
+fn fuzzed_params(ball: [f64; 6]) -> kisstime::simulate::SimParams {
+    let mut params = kisstime::simulate::SimParams::default();
+    let [u_s, u_r, u_sp, e_b, e_c, f_c] = ball;
+    (params.ball.u_s, params.ball.u_r, params.ball.u_sp) = (u_s, u_r, u_sp);
+    (params.ball.e_b, params.ball.e_c, params.ball.f_c) = (e_b, e_c, f_c);
+    params
+}
+
 fn simulate_and_check_on(
     table: &kisstime::simulate::Table,
     params: kisstime::simulate::SimParams,
@@ -788,14 +798,15 @@ fn a_strike_on_the_rim_of_the_ball_is_finite() {
 #[test]
 fn a_cushion_adds_energy_as_in_pooltool() {
     use kisstime::simulate::invariants::Invariant;
-    use kisstime::simulate::{BallState, Limits, SimParams, Table, Vec3};
-    let mut params = SimParams::default();
-    params.ball.u_s = 0.055084161926952604;
-    params.ball.u_r = 0.002500317317734928;
-    params.ball.u_sp = 0.019301464723413223;
-    params.ball.e_b = 0.5;
-    params.ball.e_c = 0.26104106999514737;
-    params.ball.f_c = 0.7913824105551804;
+    use kisstime::simulate::{BallState, Limits, Table, Vec3};
+    let params = fuzzed_params([
+        0.055084161926952604,
+        0.002500317317734928,
+        0.019301464723413223,
+        0.5,
+        0.26104106999514737,
+        0.7913824105551804,
+    ]);
     let r = params.ball.r;
     let balls = [
         BallState {
@@ -942,14 +953,15 @@ fn a_frictionless_cushion_is_refused_and_a_nearly_frictionless_one_stays_on_the_
 #[test]
 fn a_ball_pressed_into_a_jaw_goes_in_as_in_pooltool() {
     use kisstime::simulate::invariants::Invariant;
-    use kisstime::simulate::{BallState, CueStrike, Limits, SimParams, Table, Vec3};
-    let mut params = SimParams::default();
-    params.ball.u_s = 0.10703053615979914;
-    params.ball.u_r = 0.005351526807989957;
-    params.ball.u_sp = 0.006796439046147245;
-    params.ball.e_b = 0.6372528076171875;
-    params.ball.e_c = 0.4548797786791463;
-    params.ball.f_c = 0.10706676685817214;
+    use kisstime::simulate::{BallState, CueStrike, Limits, Table, Vec3};
+    let params = fuzzed_params([
+        0.10703053615979914,
+        0.005351526807989957,
+        0.006796439046147245,
+        0.6372528076171875,
+        0.4548797786791463,
+        0.10706676685817214,
+    ]);
     let r = params.ball.r;
     let balls = [
         BallState::at_rest(0.26190203704833986, 0.5338272994995117, r),
@@ -1049,14 +1061,15 @@ fn exactly_touching_balls_collide_at_once_as_in_pooltool() {
 /// executions.
 #[test]
 fn a_ball_a_kiss_leaves_inside_a_pocket_circle_falls_in_as_in_pooltool() {
-    use kisstime::simulate::{BallState, EventKind, Limits, SimParams, Table, Vec3};
-    let mut params = SimParams::default();
-    params.ball.u_s = 0.1879169515578241;
-    params.ball.u_r = 0.013252366431597414;
-    params.ball.u_sp = 0.004261549747994339;
-    params.ball.e_b = 0.5;
-    params.ball.e_c = 0.21333772610400897;
-    params.ball.f_c = 0.050544464302585024;
+    use kisstime::simulate::{BallState, EventKind, Limits, Table, Vec3};
+    let params = fuzzed_params([
+        0.1879169515578241,
+        0.013252366431597414,
+        0.004261549747994339,
+        0.5,
+        0.21333772610400897,
+        0.050544464302585024,
+    ]);
     let r = params.ball.r;
     let balls = [
         BallState {
@@ -1096,15 +1109,16 @@ fn a_ball_a_kiss_leaves_inside_a_pocket_circle_falls_in_as_in_pooltool() {
 #[test]
 fn a_kiss_that_pushes_a_ball_into_a_rail_is_told_apart() {
     use kisstime::simulate::invariants::Invariant;
-    use kisstime::simulate::{BallState, CueStrike, Limits, SimParams, Table};
+    use kisstime::simulate::{BallState, CueStrike, Limits, Table};
     let table = Table::rectangle(0.73529052734375, 0.7353286743164063, 0.036576).unwrap();
-    let mut params = SimParams::default();
-    params.ball.u_s = 0.050010577705338156;
-    params.ball.u_r = 0.0025;
-    params.ball.u_sp = 0.003175;
-    params.ball.e_b = 0.5688400268554688;
-    params.ball.e_c = 0.2125;
-    params.ball.f_c = 0.05007409094683693;
+    let params = fuzzed_params([
+        0.050010577705338156,
+        0.0025,
+        0.003175,
+        0.5688400268554688,
+        0.2125,
+        0.05007409094683693,
+    ]);
     let r = params.ball.r;
     let balls = [
         BallState::at_rest(0.07692935004085302, 0.32022825556844475, r),
@@ -1144,14 +1158,15 @@ fn a_kiss_that_pushes_a_ball_into_a_rail_is_told_apart() {
 /// segment's extent. Found after 2,656,925 executions (sixth round).
 #[test]
 fn a_ball_clipping_the_end_of_a_throat_segment_is_in_play() {
-    use kisstime::simulate::{BallState, EventKind, Limits, SimParams, Table, Vec3};
-    let mut params = SimParams::default();
-    params.ball.u_s = 0.20322407042678328;
-    params.ball.u_r = 0.004767399444076855;
-    params.ball.u_sp = 0.0031786287836843797;
-    params.ball.e_b = 0.5;
-    params.ball.e_c = 0.2125;
-    params.ball.f_c = 0.050544464302585024;
+    use kisstime::simulate::{BallState, EventKind, Limits, Table, Vec3};
+    let params = fuzzed_params([
+        0.20322407042678328,
+        0.004767399444076855,
+        0.0031786287836843797,
+        0.5,
+        0.2125,
+        0.050544464302585024,
+    ]);
     let r = params.ball.r;
     let balls = [
         BallState::at_rest(0.6509302291870117, 0.6450686683654785, r),

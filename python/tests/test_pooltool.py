@@ -506,6 +506,17 @@ def test_exactly_touching_balls_collide_at_once_as_in_pooltool(pt_results):
         assert math.hypot(final[bid]["x"] - g["x"], final[bid]["y"] - g["y"]) < 1e-9, bid
 
 
+def _fuzzed_moving_ball(bid: str, xy: tuple[float, float], **params: float) -> "pt.Ball":
+    """A ball sliding at (−3, −3) m/s with (−100, −100, −100) rad/s of spin, as the
+    `event_loop` fuzz target's already-moving balls, with the BallParams `params`."""
+    ball = pt.Ball.create(bid, xy=xy, **params)
+    ball.state = BallState(
+        rvw=np.array([[*xy, ball.params.R], [-3.0, -3.0, 0.0], [-100.0, -100.0, -100.0]]),
+        s=pt_const.sliding,
+    )
+    return ball
+
+
 def cushion_energy_system() -> "pt.System":
     """FUZZING.md's finding 16: a ball sliding at 4.2 m/s with 173 rad/s of spin into the
     foot rail, under a cushion friction four times pooltool's default."""
@@ -515,12 +526,7 @@ def cushion_energy_system() -> "pt.System":
         u_sp_proportionality=0.019301464723413223 / R, e_b=0.5,
         e_c=0.26104106999514737, f_c=0.7913824105551804,
     )
-    cue_ball = pt.Ball.create("cue", xy=(0.09667239379882812, 2.4915564453125003), **params)
-    cue_ball.state = BallState(
-        rvw=np.array([[0.09667239379882812, 2.4915564453125003, R], [-3.0, -3.0, 0.0],
-                      [-100.0, -100.0, -100.0]]),
-        s=pt_const.sliding,
-    )
+    cue_ball = _fuzzed_moving_ball("cue", (0.09667239379882812, 2.4915564453125003), **params)
     balls = {"cue": cue_ball, "2": pt.Ball.create("2", xy=(1.0, 0.3), **params)}
     cue = pt.Cue(cue_ball_id="cue")
     cue.set_state(V0=0.0)
@@ -553,11 +559,7 @@ def pocket_circle_system() -> "pt.System":
         e_c=0.21333772610400897, f_c=0.050544464302585024,
     )
     xy = (0.6960367782592773, 0.974774609375)
-    cue_ball = pt.Ball.create("cue", xy=xy, **params)
-    cue_ball.state = BallState(
-        rvw=np.array([[*xy, R], [-3.0, -3.0, 0.0], [-100.0, -100.0, -100.0]]),
-        s=pt_const.sliding,
-    )
+    cue_ball = _fuzzed_moving_ball("cue", xy, **params)
     balls = {"cue": cue_ball, "2": pt.Ball.create("2", xy=(0.8, 1.8), **params)}
     cue = pt.Cue(cue_ball_id="cue")
     cue.set_state(V0=0.0)
@@ -583,14 +585,9 @@ def billiard_system() -> "pt.System":
     rad/s of spin off the bottom and left rails into the top one."""
     from pooltool.objects.table.specs import BilliardTableSpecs
 
-    R = 0.028575
     side = 2.9999618530273438
     xy = (2.8219471886157987, 0.07527489512860774)
-    cue_ball = pt.Ball.create("cue", xy=xy, f_c=1e-9)
-    cue_ball.state = BallState(
-        rvw=np.array([[*xy, R], [-3.0, -3.0, 0.0], [-100.0, -100.0, -100.0]]),
-        s=pt_const.sliding,
-    )
+    cue_ball = _fuzzed_moving_ball("cue", xy, f_c=1e-9)
     balls = {"cue": cue_ball, "2": pt.Ball.create("2", xy=(1.5, 2.5), f_c=1e-9)}
     cue = pt.Cue(cue_ball_id="cue")
     cue.set_state(V0=0.0)
@@ -659,11 +656,7 @@ def throat_system() -> "pt.System":
         f_c=0.050544464302585024,
     )
     xy = (0.322786402130127, 0.6505086463928222)
-    moving = pt.Ball.create("1", xy=xy, **params)
-    moving.state = BallState(
-        rvw=np.array([[*xy, R], [-3.0, -3.0, 0.0], [-100.0, -100.0, -100.0]]),
-        s=pt_const.sliding,
-    )
+    moving = _fuzzed_moving_ball("1", xy, **params)
     balls = {"0": pt.Ball.create("0", xy=(0.6509302291870117, 0.6450686683654785), **params),
              "1": moving}
     cue = pt.Cue(cue_ball_id="0")

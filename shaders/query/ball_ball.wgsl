@@ -172,10 +172,15 @@ fn refine_from(
     return t;
 }
 
-// The first time in (0, h] at which f goes from > 0 to ≤ 0, or −1 if none (rule 4). With
-// start_inside, f(0) counts as ≤ 0 whatever its rounding (rule 3, separating).
-fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real {
-    // inflection points of f: roots of f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C in (0, h)
+// The ends of the pieces of [0, h] on which f' is monotone, in time order: the inflection
+// points of f in (0, h) (the roots of the quadratic f''/2 = 6|A|² t² + 6 A·B t + |B|² +
+// 2 A·C), then h; and how many inflection points there are (0 to 2: knots[n] is h).
+struct Knots {
+    knots: array<real, 3>,
+    n: u32,
+}
+
+fn inflection_knots(rel: RelPath, h: real) -> Knots {
     let a = rel.a;
     let b = rel.b;
     let c = rel.c;
@@ -190,6 +195,15 @@ fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real
         knots[n_knots] = s.r1;
         n_knots += 1u;
     }
+    return Knots(knots, n_knots);
+}
+
+// The first time in (0, h] at which f goes from > 0 to ≤ 0, or −1 if none (rule 4). With
+// start_inside, f(0) counts as ≤ 0 whatever its rounding (rule 3, separating).
+fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real {
+    let pieces = inflection_knots(rel, h);
+    var knots = pieces.knots;
+    let n_knots = pieces.n;
     // walk the pieces [lo, hi] on which f' is monotone, in time order
     var lo: real = 0.0;
     let e0 = contact_fn(rel, four_r2, lo, 0u);
@@ -280,21 +294,9 @@ fn first_entry(rel: RelPath, four_r2: real, h: real, start_inside: bool) -> real
 // smallest positive root of pooltool's quartic (spec §4.5–4.6): its detection does not
 // ask which way the path crosses.
 fn first_exit(rel: RelPath, four_r2: real, h: real) -> real {
-    // inflection points of f: roots of f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C in (0, h)
-    let a = rel.a;
-    let b = rel.b;
-    let c = rel.c;
-    let s = quadratic_roots(6.0 * dot(a, a), 6.0 * dot(a, b), dot(b, b) + 2.0 * dot(a, c));
-    var knots = array<real, 3>(h, h, h);
-    var n_knots = 0u;
-    if s.n >= 1u && s.r0 > 0.0 && s.r0 < h {
-        knots[n_knots] = s.r0;
-        n_knots += 1u;
-    }
-    if s.n == 2u && s.r1 > 0.0 && s.r1 < h && s.r1 > s.r0 {
-        knots[n_knots] = s.r1;
-        n_knots += 1u;
-    }
+    let pieces = inflection_knots(rel, h);
+    var knots = pieces.knots;
+    let n_knots = pieces.n;
     // walk the pieces [lo, hi] on which f' is monotone, in time order
     var lo: real = 0.0;
     let e0 = contact_fn(rel, four_r2, lo, 0u);

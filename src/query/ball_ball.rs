@@ -302,13 +302,11 @@ pub fn refine_from(
     t
 }
 
-/// The first time in `(0, h]` at which `f` goes from `> 0` to `≤ 0`, or `−1` if none
-/// (rule 4). With `start_inside`, `f(0)` counts as `≤ 0` whatever its rounding: the pair
-/// touches at 0 and separates, so only a later entry into contact counts (rule 3).
-// `!(x < y)` rather than `x >= y` in the walk, as in the WGSL twin: it also stops on NaN
-#[allow(clippy::neg_cmp_op_on_partial_ord)]
-pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f64 {
-    // inflection points of f: roots of f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C in (0, h)
+/// The ends of the pieces of `[0, h]` on which `f'` is monotone, in time order: the
+/// inflection points of `f` in `(0, h)` (the roots of the quadratic
+/// `f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C`), then `h`; and how many inflection points
+/// there are (0 to 2: `knots[n]` is `h`).
+pub fn inflection_knots(rel: &RelPath, h: f64) -> ([f64; 3], usize) {
     let (a, b, c) = (rel.a, rel.b, rel.c);
     let (n, s0, s1) = quadratic_roots(
         6.0 * dot(a, a),
@@ -325,6 +323,16 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
         knots[n_knots] = s1;
         n_knots += 1;
     }
+    (knots, n_knots)
+}
+
+/// The first time in `(0, h]` at which `f` goes from `> 0` to `≤ 0`, or `−1` if none
+/// (rule 4). With `start_inside`, `f(0)` counts as `≤ 0` whatever its rounding: the pair
+/// touches at 0 and separates, so only a later entry into contact counts (rule 3).
+// `!(x < y)` rather than `x >= y` in the walk, as in the WGSL twin: it also stops on NaN
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f64 {
+    let (knots, n_knots) = inflection_knots(rel, h);
     // walk the pieces [lo, hi] on which f' is monotone, in time order
     let mut lo = 0.0;
     let (mut f_lo, mut f1_lo, mut f2_lo) = contact_fn(rel, four_r2, lo, 0);
@@ -412,23 +420,7 @@ pub fn first_entry(rel: &RelPath, four_r2: f64, h: f64, start_inside: bool) -> f
 /// circle this is the smallest positive root of pooltool's quartic (spec §4.5–4.6): its
 /// detection does not ask which way the path crosses.
 pub fn first_exit(rel: &RelPath, four_r2: f64, h: f64) -> f64 {
-    // inflection points of f: roots of f''/2 = 6|A|² t² + 6 A·B t + |B|² + 2 A·C in (0, h)
-    let (a, b, c) = (rel.a, rel.b, rel.c);
-    let (n, s0, s1) = quadratic_roots(
-        6.0 * dot(a, a),
-        6.0 * dot(a, b),
-        dot(b, b) + 2.0 * dot(a, c),
-    );
-    let mut knots = [h, h, h];
-    let mut n_knots = 0;
-    if n >= 1 && s0 > 0.0 && s0 < h {
-        knots[n_knots] = s0;
-        n_knots += 1;
-    }
-    if n == 2 && s1 > 0.0 && s1 < h && s1 > s0 {
-        knots[n_knots] = s1;
-        n_knots += 1;
-    }
+    let (knots, n_knots) = inflection_knots(rel, h);
     // walk the pieces [lo, hi] on which f' is monotone, in time order
     let mut lo = 0.0;
     let (mut f_lo, mut f1_lo, _) = contact_fn(rel, four_r2, lo, 0);
