@@ -288,6 +288,23 @@ fn simulate_and_check(
 
 /// A shot simulated on `table` under `params` and `limits` through the public engine
 /// (CPU), its events recorded, and the checker's verdict on it.
+/// The `event_loop` target's limits: 400 events or 20 s.
+const FUZZ_LIMITS: kisstime::simulate::Limits = kisstime::simulate::Limits {
+    max_events: 400,
+    max_time: 20.0,
+};
+
+/// A ball sliding at (−3, −3) m/s with (−100, −100, −100) rad/s of spin at (x, y): the
+/// `event_loop` target's already-moving ball.
+fn fuzzed_moving(x: f64, y: f64, r: f64) -> kisstime::simulate::BallState {
+    kisstime::simulate::BallState {
+        v: kisstime::simulate::Vec3::new(-3.0, -3.0, 0.0),
+        w: kisstime::simulate::Vec3::new(-100.0, -100.0, -100.0),
+        s: MotionState::Sliding,
+        ..kisstime::simulate::BallState::at_rest(x, y, r)
+    }
+}
+
 /// pooltool's parameters with the ball's frictions and restitutions the fuzzer chose:
 /// `[u_s, u_r, u_sp, e_b, e_c, f_c]`.
 fn fuzzed_params(ball: [f64; 6]) -> kisstime::simulate::SimParams {
@@ -678,24 +695,16 @@ fn simulation_parameters_with_a_subnormal_radius_are_refused() {
 #[test]
 fn deeply_overlapping_moving_balls_are_refused() {
     use kisstime::engine::{Backend, Precision, ShotEngine};
-    use kisstime::simulate::{BallState, Limits, SimParams, Table, Vec3};
+    use kisstime::simulate::{BallState, SimParams, Table, Vec3};
     let r = 0.028575;
-    let moving = |x: f64, y: f64| BallState {
-        v: Vec3::new(-3.0, -3.0, 0.0),
-        w: Vec3::new(-100.0, -100.0, -100.0),
-        s: MotionState::Sliding,
-        ..BallState::at_rest(x, y, r)
-    };
+    let moving = |x: f64, y: f64| fuzzed_moving(x, y, r);
     let mut balls = vec![
         BallState::at_rest(0.032034765625, r, r),
         moving(0.0424140625, r),
     ];
     balls.extend((0..20).map(|_| moving(r, r)));
     let (table, params) = (Table::nine_foot(), SimParams::default());
-    let limits = Limits {
-        max_events: 400,
-        max_time: 20.0,
-    };
+    let limits = FUZZ_LIMITS;
     let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
     let shots = [kisstime::gpu::GpuShot {
         balls: balls.clone(),
@@ -798,7 +807,7 @@ fn a_strike_on_the_rim_of_the_ball_is_finite() {
 #[test]
 fn a_cushion_adds_energy_as_in_pooltool() {
     use kisstime::simulate::invariants::Invariant;
-    use kisstime::simulate::{BallState, Limits, Table, Vec3};
+    use kisstime::simulate::{BallState, Limits, Table};
     let params = fuzzed_params([
         0.055084161926952604,
         0.002500317317734928,
@@ -809,12 +818,7 @@ fn a_cushion_adds_energy_as_in_pooltool() {
     ]);
     let r = params.ball.r;
     let balls = [
-        BallState {
-            v: Vec3::new(-3.0, -3.0, 0.0),
-            w: Vec3::new(-100.0, -100.0, -100.0),
-            s: MotionState::Sliding,
-            ..BallState::at_rest(0.09667239379882812, 2.4915564453125003, r)
-        },
+        fuzzed_moving(0.09667239379882812, 2.4915564453125003, r),
         BallState::at_rest(1.0, 0.3, r),
     ];
     let limits = Limits {
@@ -892,24 +896,16 @@ fn subnormal_restitutions_are_refused() {
 #[test]
 fn a_frictionless_cushion_is_refused_and_a_nearly_frictionless_one_stays_on_the_table() {
     use kisstime::engine::{Backend, Precision, ShotEngine};
-    use kisstime::simulate::{BallState, EventKind, Limits, SimParams, Table, Vec3};
+    use kisstime::simulate::{BallState, EventKind, SimParams, Table};
     let side = 2.9999618530273438;
     let table = Table::rectangle(side, side, 0.036576).unwrap();
     let mut params = SimParams::default();
     let r = params.ball.r;
     let balls = [
-        BallState {
-            v: Vec3::new(-3.0, -3.0, 0.0),
-            w: Vec3::new(-100.0, -100.0, -100.0),
-            s: MotionState::Sliding,
-            ..BallState::at_rest(2.8219471886157987, 0.07527489512860774, r)
-        },
+        fuzzed_moving(2.8219471886157987, 0.07527489512860774, r),
         BallState::at_rest(1.5, 2.5, r),
     ];
-    let limits = Limits {
-        max_events: 400,
-        max_time: 20.0,
-    };
+    let limits = FUZZ_LIMITS;
     for f_c in [0.0, -0.1, 1e-320] {
         params.ball.f_c = f_c;
         let shots = [kisstime::gpu::GpuShot {
@@ -953,7 +949,7 @@ fn a_frictionless_cushion_is_refused_and_a_nearly_frictionless_one_stays_on_the_
 #[test]
 fn a_ball_pressed_into_a_jaw_goes_in_as_in_pooltool() {
     use kisstime::simulate::invariants::Invariant;
-    use kisstime::simulate::{BallState, CueStrike, Limits, Table, Vec3};
+    use kisstime::simulate::{BallState, CueStrike, Table, Vec3};
     let params = fuzzed_params([
         0.10703053615979914,
         0.005351526807989957,
@@ -984,10 +980,7 @@ fn a_ball_pressed_into_a_jaw_goes_in_as_in_pooltool() {
             b: 0.7001047596694929,
         },
     );
-    let limits = Limits {
-        max_events: 400,
-        max_time: 20.0,
-    };
+    let limits = FUZZ_LIMITS;
     let (run, verdict) =
         simulate_and_check_on(&Table::seven_foot(), params, limits, &balls, Some(strike));
     assert_eq!(run.outcome.cut, None);
@@ -1061,7 +1054,7 @@ fn exactly_touching_balls_collide_at_once_as_in_pooltool() {
 /// executions.
 #[test]
 fn a_ball_a_kiss_leaves_inside_a_pocket_circle_falls_in_as_in_pooltool() {
-    use kisstime::simulate::{BallState, EventKind, Limits, Table, Vec3};
+    use kisstime::simulate::{BallState, EventKind, Table};
     let params = fuzzed_params([
         0.1879169515578241,
         0.013252366431597414,
@@ -1072,18 +1065,10 @@ fn a_ball_a_kiss_leaves_inside_a_pocket_circle_falls_in_as_in_pooltool() {
     ]);
     let r = params.ball.r;
     let balls = [
-        BallState {
-            v: Vec3::new(-3.0, -3.0, 0.0),
-            w: Vec3::new(-100.0, -100.0, -100.0),
-            s: MotionState::Sliding,
-            ..BallState::at_rest(0.6960367782592773, 0.974774609375, r)
-        },
+        fuzzed_moving(0.6960367782592773, 0.974774609375, r),
         BallState::at_rest(0.8, 1.8, r),
     ];
-    let limits = Limits {
-        max_events: 400,
-        max_time: 20.0,
-    };
+    let limits = FUZZ_LIMITS;
     let table = Table::seven_foot();
     let (run, verdict) = simulate_and_check_on(&table, params, limits, &balls, None);
     if let Err(v) = verdict {
@@ -1109,7 +1094,7 @@ fn a_ball_a_kiss_leaves_inside_a_pocket_circle_falls_in_as_in_pooltool() {
 #[test]
 fn a_kiss_that_pushes_a_ball_into_a_rail_is_told_apart() {
     use kisstime::simulate::invariants::Invariant;
-    use kisstime::simulate::{BallState, CueStrike, Limits, Table};
+    use kisstime::simulate::{BallState, CueStrike, Table};
     let table = Table::rectangle(0.73529052734375, 0.7353286743164063, 0.036576).unwrap();
     let params = fuzzed_params([
         0.050010577705338156,
@@ -1132,10 +1117,7 @@ fn a_kiss_that_pushes_a_ball_into_a_rail_is_told_apart() {
         a: 0.998044963916957,
         b: 0.0,
     };
-    let limits = Limits {
-        max_events: 400,
-        max_time: 20.0,
-    };
+    let limits = FUZZ_LIMITS;
     let (_, verdict) = simulate_and_check_on(&table, params, limits, &balls, Some((0, strike)));
     let v = verdict.unwrap_err();
     assert_eq!(
@@ -1158,7 +1140,7 @@ fn a_kiss_that_pushes_a_ball_into_a_rail_is_told_apart() {
 /// segment's extent. Found after 2,656,925 executions (sixth round).
 #[test]
 fn a_ball_clipping_the_end_of_a_throat_segment_is_in_play() {
-    use kisstime::simulate::{BallState, EventKind, Limits, Table, Vec3};
+    use kisstime::simulate::{BallState, EventKind, Table};
     let params = fuzzed_params([
         0.20322407042678328,
         0.004767399444076855,
@@ -1170,17 +1152,9 @@ fn a_ball_clipping_the_end_of_a_throat_segment_is_in_play() {
     let r = params.ball.r;
     let balls = [
         BallState::at_rest(0.6509302291870117, 0.6450686683654785, r),
-        BallState {
-            v: Vec3::new(-3.0, -3.0, 0.0),
-            w: Vec3::new(-100.0, -100.0, -100.0),
-            s: MotionState::Sliding,
-            ..BallState::at_rest(0.322786402130127, 0.6505086463928222, r)
-        },
+        fuzzed_moving(0.322786402130127, 0.6505086463928222, r),
     ];
-    let limits = Limits {
-        max_events: 400,
-        max_time: 20.0,
-    };
+    let limits = FUZZ_LIMITS;
     let table = Table::seven_foot();
     let (run, verdict) = simulate_and_check_on(&table, params, limits, &balls, None);
     if let Err(v) = verdict {
