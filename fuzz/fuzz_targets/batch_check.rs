@@ -38,12 +38,21 @@ pub fn check_batch(batch: &Batch) {
                 n[2].abs() <= Ball::MAX_SPEED && n[3].abs() <= Ball::MAX_SPEED,
                 "a speed beyond the range"
             );
-            assert!(n[4..].iter().all(|w| w.abs() <= Ball::MAX_SPIN), "a spin beyond the range");
+            assert!(
+                n[4..].iter().all(|w| w.abs() <= Ball::MAX_SPIN),
+                "a spin beyond the range"
+            );
             let p = ball_path(b, &Params::default());
             let coeffs = [p.a.x, p.a.y, p.b.x, p.b.y, p.c.x, p.c.y];
-            assert!(coeffs.iter().all(|v| v.is_finite()), "a path that is not finite");
+            assert!(
+                coeffs.iter().all(|v| v.is_finite()),
+                "a path that is not finite"
+            );
             if p.flags & PATH_MOVES != 0 {
-                assert!(p.tmax.is_finite() && p.tmax >= 0.0, "a moving path without an end");
+                assert!(
+                    p.tmax.is_finite() && p.tmax >= 0.0,
+                    "a moving path without an end"
+                );
             }
         }
         let n = ids.len();
@@ -81,6 +90,7 @@ pub fn check_round_trips(batch: &Batch) {
     same_batch(batch, &back);
     let mut npy = Vec::new();
     kisstime::io::npy::write_batch_npy(&mut npy, batch).expect("write npy");
-    let back = kisstime::io::npy::read_batch_npy(&npy[..], "round-trip.npy").expect("read back npy");
+    let back =
+        kisstime::io::npy::read_batch_npy(&npy[..], "round-trip.npy").expect("read back npy");
     same_batch(batch, &back);
 }

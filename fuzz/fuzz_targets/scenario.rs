@@ -32,7 +32,8 @@ fuzz_target!(|data: &[u8]| {
             };
             let mut lp = EventLoop::new(&s.table, s.params, limits, s.balls.len())
                 .expect("validated parameters");
-            lp.reset(&s.initial(), Some((s.cue, s.shot))).expect("a validated layout");
+            lp.reset(&s.initial(), Some((s.cue, s.shot)))
+                .expect("a validated layout");
             while lp.step().is_some() {}
         }
         Err(e) => {
