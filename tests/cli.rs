@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use kisstime::{Params, Status};
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64Mcg;
 
 const HEADER_IN: &str = "table,ball,state,x,y,vx,vy,wx,wy,wz";
 const HEADER_OUT: &str = "table,i,j,t,status,horizon";
@@ -450,15 +452,8 @@ fn failed_run_leaves_an_existing_output_file_unchanged() {
 
 /// Many random tables (a fixed simple generator), some balls aimed at others.
 fn big_csv() -> String {
-    let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
-    let mut next = move || {
-        // splitmix64
-        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Pcg64Mcg::seed_from_u64(0x9e37_79b9_7f4a_7c15);
+    let mut next = move || rng.random::<f64>();
     let r = kisstime::model::DEFAULT_RADIUS;
     let mut s = String::from(HEADER_IN);
     s.push('\n');

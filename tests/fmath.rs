@@ -8,7 +8,11 @@
 //! two results' positions on the line of doubles (`f64::to_bits`), so a subnormal result
 //! counts in subnormal ulps and +0 / −0 are the same point.
 
+mod common;
+
 use std::f64::consts::{FRAC_PI_2, PI};
+
+use common::rng::TestRng;
 
 use kisstime::model::fmath::{
     HalfPiRem, TRIG_BOUND, acos_poly, cos_poly, exp_poly, pow2i, reduce_half_pi, sin_poly,
@@ -42,35 +46,6 @@ fn step(x: f64, n: i64) -> f64 {
         -f64::from_bits((-o) as u64)
     } else {
         f64::from_bits(o as u64)
-    }
-}
-
-/// splitmix64: a fixed, dependency-free stream of inputs.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform on [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
-    /// Uniform on [lo, hi).
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    /// ±10^u with u uniform on [lo, hi): many magnitudes.
-    fn log_signed(&mut self, lo: f64, hi: f64) -> f64 {
-        let m = 10f64.powf(self.range(lo, hi));
-        if self.next_u64() & 1 == 0 { m } else { -m }
     }
 }
 
@@ -161,7 +136,7 @@ fn pow2i_is_exact_over_its_range() {
 
 #[test]
 fn exp_within_its_bound() {
-    let mut rng = Rng(0x0E49);
+    let mut rng = TestRng::new(0x0E49);
     let cases: [(&str, Vec<f64>); 6] = [
         (
             "[-745, 0] (the physics: -c·|slip|)",
@@ -226,7 +201,7 @@ fn exp_special_values() {
 
 #[test]
 fn sin_and_cos_within_their_bound() {
-    let mut rng = Rng(0x51C0);
+    let mut rng = TestRng::new(0x51C0);
     // the doubles nearest to multiples of π/2, where sin or cos is tiny, and their
     // neighbours: all of them up to 2·10⁴ quadrants, then a random sample up to the bound
     let near_zeros = |j: f64| {
@@ -260,7 +235,7 @@ fn sin_and_cos_within_their_bound() {
             (0..20_000)
                 .flat_map(|_| {
                     let j = (rng.unit() * max_j).floor();
-                    near_zeros(if rng.next_u64() & 1 == 0 { j } else { -j })
+                    near_zeros(if rng.coin() { j } else { -j })
                 })
                 .filter(|x| x.abs() <= TRIG_BOUND)
                 .collect(),
@@ -270,7 +245,7 @@ fn sin_and_cos_within_their_bound() {
             (0..200_000)
                 .map(|_| {
                     let x = rng.range(1e4, TRIG_BOUND);
-                    if rng.next_u64() & 1 == 0 { x } else { -x }
+                    if rng.coin() { x } else { -x }
                 })
                 .collect(),
         ),
@@ -362,8 +337,8 @@ fn sin_and_cos_special_values() {
 
 #[test]
 fn acos_within_its_bound() {
-    let mut rng = Rng(0xAC05);
-    let near = |to: f64, rng: &mut Rng| {
+    let mut rng = TestRng::new(0xAC05);
+    let near = |to: f64, rng: &mut TestRng| {
         // to − sign(to)·10^u: distances from 1e-16 to 0.5
         let d = 10f64.powf(rng.range(-16.5, -0.3));
         to - to.signum() * d

@@ -31,6 +31,7 @@ use kisstime::model::fmath::{TRIG_BOUND, acos_poly, cos_poly, exp_poly, sin_poly
 mod common;
 
 use common::kernel::F64Kernels;
+use common::rng::TestRng;
 
 const PRELUDE_F64: &str = include_str!("../shaders/real_f64.wgsl");
 const PRELUDE_F32: &str = include_str!("../shaders/real_f32.wgsl");
@@ -88,23 +89,6 @@ fn run_f64(k: &F64Kernels, pipeline: &wgpu::ComputePipeline, xs: &[f64]) -> Vec<
     k.run(pipeline, xs, xs.len(), xs.len().div_ceil(4))
 }
 
-/// splitmix64, for a fixed set of arguments.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-}
-
 /// How many doubles apart `a` and `b` are (0 when both are NaN).
 fn ulps(a: f64, b: f64) -> u64 {
     let ordinal = |x: f64| {
@@ -125,7 +109,7 @@ fn up(x: f64, n: u64) -> f64 {
 
 /// The arguments of each function: the physics' ranges and the hard places, `per` each.
 fn arguments(per: usize) -> [Vec<f64>; 4] {
-    let mut rng = Rng(0x6F3A);
+    let mut rng = TestRng::new(0x6F3A);
     let mut exp = vec![
         0.0, -0.0, 1.0, -1.0, 1e-300, -1e-20, -745.0, -708.4, -746.5, -800.0,
     ];

@@ -32,6 +32,7 @@ use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
 use common::kernel::{self, F64Kernels};
+use common::rng::TestRng;
 use kisstime::MotionState;
 use kisstime::model::vec3::angle;
 use kisstime::model::{BallParams, BallState, LinearCushion, Pocket, ResolverParams, Table, Vec3};
@@ -242,39 +243,9 @@ fn transition_main(@builtin(global_invocation_id) id: vec3<u32>) {
 // ---------------------------------------------------------------------------------------
 // Inputs, comparison
 
-/// SplitMix64: a small deterministic generator, so a failing case can be replayed.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [lo, hi).
-    fn f(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * ((self.next() >> 11) as f64 / (1u64 << 53) as f64)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-
-    fn coin(&mut self) -> bool {
-        self.next() & 1 == 1
-    }
-
-    fn sign(&mut self) -> f64 {
-        if self.coin() { 1.0 } else { -1.0 }
-    }
-
-    /// A vector with components uniform in [−a, a).
-    fn vec(&mut self, a: f64) -> Vec3 {
-        Vec3::new(self.f(-a, a), self.f(-a, a), self.f(-a, a))
-    }
+/// A vector with components uniform in [−a, a).
+fn rand_vec(rng: &mut TestRng, a: f64) -> Vec3 {
+    v3(rng.range(-a, a), rng.range(-a, a), rng.range(-a, a))
 }
 
 fn v3(x: f64, y: f64, z: f64) -> Vec3 {
@@ -493,14 +464,14 @@ fn param_sets() -> Vec<(BallParams, ResolverParams)> {
 
 /// A ball with velocity `v` and a spin of `kind`: rolling, sliding with random spin, or
 /// stunned (no spin).
-fn moving_ball(rng: &mut Rng, r: Vec3, v: Vec3, radius: f64) -> BallState {
+fn moving_ball(rng: &mut TestRng, r: Vec3, v: Vec3, radius: f64) -> BallState {
     let (w, s) = match rng.below(3) {
         0 => (
-            rolling_spin(v, radius) + v3(0.0, 0.0, rng.f(-60.0, 60.0)),
+            rolling_spin(v, radius) + v3(0.0, 0.0, rng.range(-60.0, 60.0)),
             MotionState::Rolling,
         ),
         1 => (
-            rng.f(-3.0, 3.0) * rolling_spin(v, radius) + rng.vec(60.0),
+            rng.range(-3.0, 3.0) * rolling_spin(v, radius) + rand_vec(rng, 60.0),
             MotionState::Sliding,
         ),
         _ => (Vec3::ZERO, MotionState::Sliding),
@@ -510,7 +481,7 @@ fn moving_ball(rng: &mut Rng, r: Vec3, v: Vec3, radius: f64) -> BallState {
         v,
         w,
         s,
-        t: rng.f(0.0, 10.0),
+        t: rng.range(0.0, 10.0),
     }
 }
 
@@ -520,23 +491,28 @@ fn dir(a: f64) -> Vec3 {
 }
 
 /// The ball–ball cases: (category, b1, b2).
-fn ball_ball_cases(rng: &mut Rng, p: &BallParams) -> Vec<(&'static str, BallState, BallState)> {
+fn ball_ball_cases(rng: &mut TestRng, p: &BallParams) -> Vec<(&'static str, BallState, BallState)> {
     let radius = p.r;
     let mut cases = Vec::new();
     for i in 0..6000 {
-        let r1 = v3(rng.f(0.1, 1.1), rng.f(0.1, 2.4), radius);
-        let psi = rng.f(0.0, 2.0 * PI);
+        let r1 = v3(rng.range(0.1, 1.1), rng.range(0.1, 2.4), radius);
+        let psi = rng.range(0.0, 2.0 * PI);
         // at the detected contact: 2R apart, to rounding or a little inside
-        let dist = 2.0 * radius - if rng.coin() { rng.f(0.0, 1e-9) } else { 0.0 };
-        let speed = rng.f(0.02, 6.0);
-        let still = |rng: &mut Rng, r: Vec3| BallState {
+        let dist = 2.0 * radius
+            - if rng.coin() {
+                rng.range(0.0, 1e-9)
+            } else {
+                0.0
+            };
+        let speed = rng.range(0.02, 6.0);
+        let still = |rng: &mut TestRng, r: Vec3| BallState {
             w: if rng.coin() {
-                v3(0.0, 0.0, rng.f(-40.0, 40.0))
+                v3(0.0, 0.0, rng.range(-40.0, 40.0))
             } else {
                 Vec3::ZERO
             },
             s: MotionState::Stationary,
-            t: rng.f(0.0, 10.0),
+            t: rng.range(0.0, 10.0),
             ..BallState::at_rest(r.x, r.y, radius)
         };
         let (cat, b1, b2) = match i % 8 {
@@ -548,7 +524,7 @@ fn ball_ball_cases(rng: &mut Rng, p: &BallParams) -> Vec<(&'static str, BallStat
             }
             // a cut on a still ball
             1 | 2 => {
-                let cut = rng.f(-1.5, 1.5);
+                let cut = rng.range(-1.5, 1.5);
                 let b1 = moving_ball(rng, r1, speed * dir(psi), radius);
                 let b2 = still(rng, r1 + dist * dir(psi + cut));
                 ("cut", b1, b2)
@@ -556,8 +532,8 @@ fn ball_ball_cases(rng: &mut Rng, p: &BallParams) -> Vec<(&'static str, BallStat
             // both moving, approaching along the line of centres
             3 | 4 => {
                 let n = dir(psi);
-                let mut v1 = rng.f(0.0, 4.0) * dir(rng.f(0.0, 2.0 * PI));
-                let mut v2 = rng.f(0.0, 4.0) * dir(rng.f(0.0, 2.0 * PI));
+                let mut v1 = rng.range(0.0, 4.0) * dir(rng.range(0.0, 2.0 * PI));
+                let mut v2 = rng.range(0.0, 4.0) * dir(rng.range(0.0, 2.0 * PI));
                 if (v1 - v2).dot(n) < 0.0 {
                     std::mem::swap(&mut v1, &mut v2);
                 }
@@ -568,10 +544,10 @@ fn ball_ball_cases(rng: &mut Rng, p: &BallParams) -> Vec<(&'static str, BallStat
             // a chaser catching a ball moving the same way: the touching fix
             5 => {
                 let n = dir(psi);
-                let s = rng.f(0.05, 3.0);
-                let ds = rng.f(0.0005, 0.02);
-                let v1 = s * dir(psi + rng.f(-0.05, 0.05));
-                let v2 = (s - ds) * dir(psi + rng.f(-0.02, 0.02));
+                let s = rng.range(0.05, 3.0);
+                let ds = rng.range(0.0005, 0.02);
+                let v1 = s * dir(psi + rng.range(-0.05, 0.05));
+                let v2 = (s - ds) * dir(psi + rng.range(-0.02, 0.02));
                 let b1 = moving_ball(rng, r1, v1, radius);
                 let b2 = moving_ball(rng, r1 + dist * n, v2, radius);
                 ("chasing", b1, b2)
@@ -582,10 +558,10 @@ fn ball_ball_cases(rng: &mut Rng, p: &BallParams) -> Vec<(&'static str, BallStat
                 let tiny = if rng.coin() {
                     0.0
                 } else {
-                    10f64.powf(rng.f(-15.0, -2.0)) / radius
+                    10f64.powf(rng.range(-15.0, -2.0)) / radius
                 };
                 let b1 = BallState {
-                    w: tiny * rng.vec(1.0),
+                    w: tiny * rand_vec(rng, 1.0),
                     ..moving_ball(rng, r1, speed * dir(psi), radius)
                 };
                 let b1 = BallState {
@@ -601,7 +577,7 @@ fn ball_ball_cases(rng: &mut Rng, p: &BallParams) -> Vec<(&'static str, BallStat
             // the kiss's fallbacks: nothing translates (overlapping or apart), or the
             // balls move together (no root; ℓ1 = ℓ2 when along the line of centres)
             _ => {
-                let gap = rng.f(-1e-4, 1e-4);
+                let gap = rng.range(-1e-4, 1e-4);
                 if rng.coin() {
                     let b1 = still(rng, r1);
                     let b2 = BallState {
@@ -617,7 +593,7 @@ fn ball_ball_cases(rng: &mut Rng, p: &BallParams) -> Vec<(&'static str, BallStat
                     let v = if rng.coin() {
                         speed * dir(psi)
                     } else {
-                        speed * dir(rng.f(0.0, 2.0 * PI))
+                        speed * dir(rng.range(0.0, 2.0 * PI))
                     };
                     let b1 = moving_ball(rng, r1, v, radius);
                     let b2 = BallState {
@@ -686,7 +662,7 @@ fn ball_ball_twin_matches_rust() {
         BB_ENTRY,
         "ball_ball_main",
     );
-    let mut rng = Rng(17);
+    let mut rng = TestRng::new(17);
     let mut branches = Branches::default();
     let mut failures = Vec::new();
     for (set, (p, rp)) in param_sets().iter().enumerate() {
@@ -879,7 +855,7 @@ fn stronge_twin_matches_rust() {
         "stronge_main",
         "stronge",
     );
-    let mut rng = Rng(5);
+    let mut rng = TestRng::new(5);
     let mut cases: Vec<(f64, f64, StrongeConsts)> = Vec::new();
     for set in 0..44 {
         let k = if set == 0 {
@@ -895,17 +871,17 @@ fn stronge_twin_matches_rust() {
                 ..default_consts()
             }
         } else {
-            let beta_t = rng.f(2.5, 4.5);
-            let beta_n = rng.f(0.8, 1.2);
-            let omega_ratio = rng.f(1.5, 2.2);
+            let beta_t = rng.range(2.5, 4.5);
+            let beta_n = rng.range(0.8, 1.2);
+            let omega_ratio = rng.range(1.5, 2.2);
             StrongeConsts {
-                mu: rng.f(0.05, 0.4),
-                e: rng.f(0.5, 0.98),
+                mu: rng.range(0.05, 0.4),
+                e: rng.range(0.5, 0.98),
                 eta2: (beta_t / beta_n) / (omega_ratio * omega_ratio),
                 beta_t,
                 beta_n,
-                k_n: rng.f(500.0, 5000.0),
-                m: rng.f(0.1, 0.2),
+                k_n: rng.range(500.0, 5000.0),
+                m: rng.range(0.1, 0.2),
             }
         };
         let rho = k.beta_t / k.beta_n;
@@ -931,10 +907,10 @@ fn stronge_twin_matches_rust() {
             1.32,
         ];
         let n = if set == 0 { 3000 } else { 250 };
-        rs.extend((0..n).map(|_| rng.f(0.0, 1.4 * big_h)));
-        rs.extend((0..n / 10).map(|_| rng.f(0.0, 1.1 * big_l)));
+        rs.extend((0..n).map(|_| rng.range(0.0, 1.4 * big_h)));
+        rs.extend((0..n / 10).map(|_| rng.range(0.0, 1.1 * big_l)));
         for r in rs {
-            let v_n0 = -rng.f(0.01, 6.0);
+            let v_n0 = -rng.range(0.01, 6.0);
             cases.push((r * v_n0, v_n0, k));
         }
     }
@@ -985,18 +961,18 @@ fn stronge_twin_matches_rust() {
 /// A ball near a cushion (`r`, `n_out` the horizontal normal pointing from the cushion to
 /// the ball, `along` a horizontal tangent) with a velocity of `kind` and a spin.
 fn cushion_ball(
-    rng: &mut Rng,
+    rng: &mut TestRng,
     r: Vec3,
     n_out: Vec3,
     along: Vec3,
     radius: f64,
 ) -> (&'static str, BallState) {
-    let speed = rng.f(0.02, 6.0);
+    let speed = rng.range(0.02, 6.0);
     let (cat, a, away) = match rng.below(10) {
-        0 => ("shallow", rng.sign() * rng.f(1.40, 1.5706), false),
-        1 => ("moving away", rng.f(-1.5, 1.5), true),
+        0 => ("shallow", rng.sign() * rng.range(1.40, 1.5706), false),
+        1 => ("moving away", rng.range(-1.5, 1.5), true),
         2 => ("square", 0.0, false),
-        _ => ("angled", rng.f(-1.4, 1.4), false),
+        _ => ("angled", rng.range(-1.4, 1.4), false),
     };
     let toward = if away { n_out } else { -n_out };
     let v = speed * (a.cos() * toward + a.sin() * along);
@@ -1005,7 +981,7 @@ fn cushion_ball(
         // at rest, or spinning in place: the kiss's fallback, no impulse
         0 => {
             b.v = Vec3::ZERO;
-            b.w = v3(0.0, 0.0, rng.f(-40.0, 40.0));
+            b.w = v3(0.0, 0.0, rng.range(-40.0, 40.0));
             b.s = MotionState::Spinning;
             return ("at rest", b);
         }
@@ -1015,7 +991,7 @@ fn cushion_ball(
             return ("fallback label", b);
         }
         // strong spin: every Stronge regime
-        2 | 3 => b.w = rng.vec(250.0),
+        2 | 3 => b.w = rand_vec(rng, 250.0),
         _ => {}
     }
     (cat, b)
@@ -1065,7 +1041,7 @@ fn cushion_twins_match_rust() {
     let linear_pipeline = pipelines(&k, &cushion_files, CU_ENTRY, "linear_main");
     let circular_pipeline = pipelines(&k, &cushion_files, CU_ENTRY, "circular_main");
     let table = Table::nine_foot();
-    let mut rng = Rng(99);
+    let mut rng = TestRng::new(99);
     let mut branches = Branches::default();
     let mut failures = Vec::new();
     for (set, (p, rp)) in param_sets().iter().enumerate() {
@@ -1077,8 +1053,8 @@ fn cushion_twins_match_rust() {
             let e = (seg.p2 - seg.p1).unit();
             let nh = v3(seg.lx, seg.ly, 0.0).unit();
             let side = rng.sign();
-            let foot = seg.p1 + rng.f(0.02, 0.98) * (seg.p2 - seg.p1);
-            let gap = radius + rng.f(-1e-9, 1e-9);
+            let foot = seg.p1 + rng.range(0.02, 0.98) * (seg.p2 - seg.p1);
+            let gap = radius + rng.range(-1e-9, 1e-9);
             let c = v3(foot.x, foot.y, 0.0) + (side * gap) * nh;
             let along = rng.sign() * e;
             let (cat, b) = cushion_ball(&mut rng, v3(c.x, c.y, radius), side * nh, along, radius);
@@ -1131,8 +1107,8 @@ fn cushion_twins_match_rust() {
         let mut cases = Vec::new();
         for i in 0..6000 {
             let seg = table.circular[i % table.circular.len()];
-            let u = dir(rng.f(0.0, 2.0 * PI));
-            let gap = radius + seg.radius + rng.f(-1e-9, 1e-9);
+            let u = dir(rng.range(0.0, 2.0 * PI));
+            let gap = radius + seg.radius + rng.range(-1e-9, 1e-9);
             let c = v3(seg.center.x, seg.center.y, 0.0) + gap * u;
             let along = rng.sign() * v3(-u.y, u.x, 0.0);
             let (cat, b) = cushion_ball(&mut rng, v3(c.x, c.y, radius), u, along, radius);
@@ -1221,13 +1197,13 @@ fn cushion_twins_match_rust() {
 // ---------------------------------------------------------------------------------------
 // Pocket, transitions
 
-fn random_ball(rng: &mut Rng) -> BallState {
+fn random_ball(rng: &mut TestRng) -> BallState {
     BallState {
-        r: v3(rng.f(-0.1, 1.4), rng.f(-0.1, 2.6), 0.028575),
-        v: rng.vec(5.0),
-        w: rng.vec(200.0),
+        r: v3(rng.range(-0.1, 1.4), rng.range(-0.1, 2.6), 0.028575),
+        v: rand_vec(rng, 5.0),
+        w: rand_vec(rng, 200.0),
         s: MotionState::ALL[rng.below(5)],
-        t: rng.f(0.0, 30.0),
+        t: rng.range(0.0, 30.0),
     }
 }
 
@@ -1237,7 +1213,7 @@ fn pocket_and_transition_twins_match_rust() {
     let Some(k) = F64Kernels::open(test) else {
         return;
     };
-    let mut rng = Rng(3);
+    let mut rng = TestRng::new(3);
     let mut failures = Vec::new();
 
     let pocket = pipelines(
@@ -1251,7 +1227,7 @@ fn pocket_and_transition_twins_match_rust() {
         .map(|i| {
             let mut pk = table.pockets[i % table.pockets.len()];
             if i % 2 == 1 {
-                pk.depth = rng.f(0.02, 0.2);
+                pk.depth = rng.range(0.02, 0.2);
             }
             (random_ball(&mut rng), pk)
         })

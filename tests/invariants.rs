@@ -1,5 +1,5 @@
 //! Seeded property tests of the whole-shot simulation: random valid tables and strikes
-//! (a hand-rolled SplitMix64, so every case is reproducible from its seed), simulated
+//! (seeded PCG from `tests/common/rng.rs`, so every case is reproducible from its seed), simulated
 //! through the public entry point (`ShotEngine` on the CPU, events recorded), each run
 //! checked by `kisstime::simulate::invariants::check_shot` (ball count, records, event
 //! times, no overlap and every ball on the table at the end, no energy gained after the
@@ -19,6 +19,7 @@
 
 mod common;
 
+use common::rng::TestRng;
 use kisstime::MotionState;
 use kisstime::engine::{Backend, Precision, ShotEngine};
 use kisstime::gpu::{GpuRun, GpuShot, GpuSimulator};
@@ -26,32 +27,6 @@ use kisstime::simulate::invariants::{
     END_OVERLAP_TOLERANCE, Invariant, Margins, ShotRun, Violation, check_shot,
 };
 use kisstime::simulate::{BallState, CueStrike, Limits, SimParams, Table};
-
-/// SplitMix64 (Steele, Lea and Flood 2014): small, seedable, good enough for layouts.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-}
 
 /// The table every generated shot is played on, its playing surface `w × l`.
 fn table() -> (Table, f64, f64) {
@@ -62,7 +37,7 @@ fn table() -> (Table, f64, f64) {
 /// (no overlap), frozen against an earlier one (centre distance exactly 2R, or 2R plus
 /// 1e-12 to 1e-6 m), against a rail, or at a pocket's mouth; a position that overlaps
 /// or leaves the surface is drawn again.
-fn layout(rng: &mut SplitMix64, table: &Table, w: f64, l: f64, r: f64) -> Vec<BallState> {
+fn layout(rng: &mut TestRng, table: &Table, w: f64, l: f64, r: f64) -> Vec<BallState> {
     let n = 1 + rng.below(16);
     let mut balls: Vec<BallState> = Vec::with_capacity(n);
     while balls.len() < n {
@@ -106,7 +81,7 @@ fn layout(rng: &mut SplitMix64, table: &Table, w: f64, l: f64, r: f64) -> Vec<Ba
 
 /// A random valid strike: V0 in [0.2, 8] m/s, any aim, elevation 0–60°, the tip anywhere
 /// within 0.9 R of the centre.
-fn strike(rng: &mut SplitMix64, n: usize) -> (usize, CueStrike) {
+fn strike(rng: &mut TestRng, n: usize) -> (usize, CueStrike) {
     let rho = 0.9 * rng.unit().sqrt();
     let angle = std::f64::consts::TAU * rng.unit();
     let theta = if rng.below(3) == 0 {
@@ -130,7 +105,7 @@ fn strike(rng: &mut SplitMix64, n: usize) -> (usize, CueStrike) {
 fn shots_of(seed: u64, count: usize) -> Vec<GpuShot> {
     let (table, w, l) = table();
     let r = SimParams::default().ball.r;
-    let mut rng = SplitMix64(seed);
+    let mut rng = TestRng::new(seed);
     (0..count)
         .map(|_| {
             let balls = layout(&mut rng, &table, w, l, r);
@@ -236,7 +211,7 @@ fn shots_with_balls_already_pocketed_keep_every_invariant() {
     let params = SimParams::default();
     let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
     let mut shots = shots_of(77, 60);
-    let mut rng = SplitMix64(78);
+    let mut rng = TestRng::new(78);
     for shot in &mut shots {
         let cue = shot.strike.map_or(0, |s| s.0);
         for (i, b) in shot.balls.iter_mut().enumerate() {

@@ -727,6 +727,8 @@ pub fn simulate(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_pcg::Pcg64Mcg;
 
     fn run(
         balls: &[BallState],
@@ -879,22 +881,6 @@ mod tests {
         assert!(EventLoop::new(&table, bad, Limits::default(), 1).is_err());
     }
 
-    /// A small deterministic generator for the random-shot test.
-    struct XorShift(u64);
-
-    impl XorShift {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.next()
-        }
-    }
-
     /// Random racks and strikes, touching pairs included: every table ends at rest,
     /// uncut, with finite states.
     #[test]
@@ -902,21 +888,21 @@ mod tests {
         let p = SimParams::default();
         let r = p.ball.r;
         let table = Table::nine_foot();
-        let mut rng = XorShift(0x9e3779b97f4a7c15);
+        let mut rng = Pcg64Mcg::seed_from_u64(0x9e37_79b9_7f4a_7c15);
         let mut lp = EventLoop::new(&table, p, Limits::default(), 12).unwrap();
         for _ in 0..60 {
             let mut balls: Vec<BallState> = Vec::new();
             while balls.len() < 12 {
-                let (x, y) = if balls.is_empty() || rng.next() < 0.7 {
+                let (x, y) = if balls.is_empty() || rng.random_bool(0.7) {
                     (
-                        rng.range(r + 1e-3, 1.27 - r - 1e-3),
-                        rng.range(r + 1e-3, 2.54 - r - 1e-3),
+                        rng.random_range(r + 1e-3..1.27 - r - 1e-3),
+                        rng.random_range(r + 1e-3..2.54 - r - 1e-3),
                     )
                 } else {
                     // right beside an existing ball, a tiny gap away
                     let o = balls[balls.len() - 1].r;
-                    let a = rng.range(0.0, 6.3);
-                    let d = 2.0 * r + 10f64.powf(rng.range(-9.0, -3.0));
+                    let a: f64 = rng.random_range(0.0..6.3);
+                    let d = 2.0 * r + 10f64.powf(rng.random_range(-9.0..-3.0));
                     (o.x + d * a.cos(), o.y + d * a.sin())
                 };
                 let inside = x > r && x < 1.27 - r && y > r && y < 2.54 - r;
@@ -926,11 +912,11 @@ mod tests {
                 }
             }
             let strike = CueStrike {
-                v0: rng.range(0.5, 8.0),
-                phi: rng.range(0.0, 360.0),
-                theta: rng.range(0.0, 30.0),
-                a: rng.range(-0.5, 0.5),
-                b: rng.range(-0.5, 0.5),
+                v0: rng.random_range(0.5..8.0),
+                phi: rng.random_range(0.0..360.0),
+                theta: rng.random_range(0.0..30.0),
+                a: rng.random_range(-0.5..0.5),
+                b: rng.random_range(-0.5..0.5),
             };
             lp.reset(&balls, Some((0, strike))).unwrap();
             let mut n = 0;

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod kernel;
+pub mod rng;
 
 use kisstime::model::{dot, norm};
 use kisstime::query::RelPath;
