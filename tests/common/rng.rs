@@ -12,10 +12,6 @@ impl TestRng {
         TestRng(Pcg64Mcg::seed_from_u64(seed))
     }
 
-    pub fn next_u64(&mut self) -> u64 {
-        self.0.random()
-    }
-
     /// Uniform on `[0, 1)`.
     pub fn unit(&mut self) -> f64 {
         self.0.random()
