@@ -5,8 +5,9 @@
 #   kernel, readback and unpacking) and the agreement with the CPU f64 reference, plus
 #   one CPU run for scale;
 # - sim: `kisstime bench --sim` on the GPU event loop, ordinary shots and breaks: shots/s
-#   and events/s end to end and kernel-only, the phases (pack, upload, kernel, readback,
-#   unpack), and (for ordinary shots up to SIM_CPU_MAX tables, where the CPU runs beside
+#   and events/s end to end and kernel-only, the phases (pack, upload, kernel and the
+#   passes on the device's clock where it has timestamps, readback, unpack, and the host
+#   work hidden behind the device's), and (for ordinary shots up to SIM_CPU_MAX tables, where the CPU runs beside
 #   it) the tables whose events differ from the CPU's;
 # - study: `kisstime shots` (the built-in study) on the GPU and on the CPU: samples/s end
 #   to end and the GPU's phases (`--verbose`).
@@ -132,8 +133,9 @@ if sims:
             sp = b.get("gpu_split")
             if sp:
                 print("          phases: " + ", ".join(
-                    f"{name} {sp.get(name + '_s', 0) * 1e3:.1f} ms"
-                    for name in ("pack", "upload", "kernel", "readback", "unpack")))
+                    f"{name} {(sp.get(name + '_s') or 0) * 1e3:.1f} ms"
+                    for name in ("pack", "upload", "kernel", "kernel_device", "readback",
+                                 "unpack", "overlapped")))
 if studies:
     print()
     print(f"{'samples':>8} {'seconds':>8} {'samples/s':>12}  backend")

@@ -515,3 +515,33 @@ fn buffer_reuse_timing() {
         println!("{name}: median {:.3} s, runs {t:.3?}", t[2]);
     }
 }
+
+/// The phases of a call are timed: in chunks, the host's packing and unpacking while the
+/// device runs (`overlapped`) are part of `pack` and `unpack`; where the adapter has GPU
+/// timestamps, the device's own clock counts the event loop's passes, within the host's
+/// wait for them.
+#[test]
+fn the_phases_are_timed_and_the_passes_on_the_devices_clock() {
+    let Some(mut gpu) = open(Precision::F64, "gpu_event_loop timings") else {
+        return;
+    };
+    let params = SimParams::default();
+    let (table, inputs) = reference_shots(100..140);
+    gpu.max_tables_per_chunk = 9;
+    gpu.simulate(&table, params, Limits::default(), &inputs, false)
+        .unwrap();
+    let t = gpu.timings();
+    println!("{}", t.describe());
+    assert!(
+        t.pack > 0.0 && t.upload > 0.0 && t.kernel > 0.0 && t.unpack > 0.0,
+        "{t:?}"
+    );
+    assert!(
+        t.overlapped > 0.0 && t.overlapped <= t.pack + t.unpack,
+        "{t:?}"
+    );
+    match t.kernel_device {
+        Some(device) => assert!(device > 0.0 && device <= t.kernel, "{t:?}"),
+        None => println!("the adapter has no GPU timestamps: the passes are not timed on it"),
+    }
+}

@@ -501,3 +501,70 @@ fn simulate_with_the_gpu_lost_mid_run() {
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(err.contains("cannot be taken back"), "{err}");
 }
+
+/// A batch in several chunks runs each chunk on the device while the host unpacks the one
+/// before and packs the one after. A failed dispatch or a lost device in a later chunk,
+/// and a bad table in the chunk packed during a run, are errors that name what failed;
+/// nothing is left mapped: after a failed dispatch or a bad table the same simulator runs
+/// the batch again, bit for bit the runs of one chunk.
+#[test]
+fn a_failure_in_a_later_chunk_while_the_host_works_on_its_neighbours() {
+    let (table, inputs) = shots();
+    let params = SimParams::default();
+    let limits = Limits::default();
+    let Some(mut whole) = engine(Backend::Gpu, "pipelined_chunk_fault") else {
+        return;
+    };
+    let want = whole
+        .gpu()
+        .unwrap()
+        .simulate(&table, params, limits, &inputs, false)
+        .unwrap();
+    // the dispatches of the first chunk alone (7 tables, 4 events a dispatch)
+    let first_chunk = {
+        let g = whole.gpu().unwrap();
+        g.events_per_dispatch = 4;
+        g.simulate(&table, params, limits, &inputs[..7], false)
+            .unwrap();
+        g.dispatches() as u32
+    };
+    // 30 tables in chunks of 7 (five chunks): the fault comes in the second chunk, while
+    // the host unpacks the first and packs the third
+    for fault in [
+        Fault::FailedDispatchAfter(first_chunk + 2),
+        Fault::DeviceLostAfter(first_chunk + 2),
+    ] {
+        let mut engine = engine(Backend::Gpu, "pipelined_chunk_fault").unwrap();
+        let g = engine.gpu().unwrap();
+        g.max_tables_per_chunk = 7;
+        g.events_per_dispatch = 4;
+        let runs = g.simulate(&table, params, limits, &inputs, false).unwrap();
+        assert_eq!(runs, want, "in chunks");
+        assert!(
+            g.dispatches() > u64::from(first_chunk) + 4,
+            "{}",
+            g.dispatches()
+        );
+        g.inject_fault(fault);
+        match g.simulate(&table, params, limits, &inputs, false) {
+            Err(Error::Gpu(_)) => {}
+            other => panic!("{fault:?}: {other:?}"),
+        }
+        if matches!(fault, Fault::FailedDispatchAfter(_)) {
+            let again = g.simulate(&table, params, limits, &inputs, false).unwrap();
+            assert_eq!(again, want, "{fault:?}: the same simulator again");
+        }
+    }
+    // a ball off the table in table 17 (the third chunk, packed while the second runs)
+    let mut bad = inputs.clone();
+    bad[17].balls[0].r.x = -5.0;
+    let mut engine = engine(Backend::Gpu, "pipelined_chunk_fault").unwrap();
+    let g = engine.gpu().unwrap();
+    g.max_tables_per_chunk = 7;
+    match g.simulate(&table, params, limits, &bad, false) {
+        Err(Error::Input(e)) => assert!(e.to_string().contains("table 17"), "{e}"),
+        other => panic!("{other:?}"),
+    }
+    let again = g.simulate(&table, params, limits, &inputs, false).unwrap();
+    assert_eq!(again, want, "after the bad table");
+}

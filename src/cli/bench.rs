@@ -107,6 +107,12 @@ pub struct GpuSplit {
     pub readback_s: f64,
     /// Converting the results into answers on the host.
     pub unpack_s: f64,
+    /// The part of `pack_s` and `unpack_s` done while the device ran (the event loop
+    /// packs a chunk and unpacks the one before while the device runs a chunk).
+    pub overlapped_s: f64,
+    /// The event loop's compute passes on the device's own clock (GPU timestamps), where
+    /// the adapter has them (else null).
+    pub kernel_device_s: Option<f64>,
 }
 
 impl From<GpuTimings> for GpuSplit {
@@ -117,6 +123,8 @@ impl From<GpuTimings> for GpuSplit {
             kernel_s: t.kernel,
             readback_s: t.readback,
             unpack_s: t.unpack,
+            overlapped_s: t.overlapped,
+            kernel_device_s: t.kernel_device,
         }
     }
 }
@@ -502,14 +510,19 @@ impl SimBenchReport {
             );
             if let (Some(s), Some(k)) = (&f.gpu_split, f.kernel_shots_per_s) {
                 out += &format!(
-                    "  device: {}\n  pack {:.1} ms, upload {:.1} ms, kernel {:.1} ms ({} dispatches; {k:.0} shots/s), readback {:.1} ms, unpack {:.1} ms\n",
+                    "  device: {}\n  pack {:.1} ms, upload {:.1} ms, kernel {:.1} ms{} ({} dispatches; {k:.0} shots/s), readback {:.1} ms, unpack {:.1} ms ({:.1} ms of packing and unpacking while the kernel ran)\n",
                     f.device,
                     1e3 * s.pack_s,
                     1e3 * s.upload_s,
                     1e3 * s.kernel_s,
+                    match s.kernel_device_s {
+                        Some(d) => format!(" ({:.1} ms on the device's clock)", 1e3 * d),
+                        None => String::new(),
+                    },
                     f.dispatches.unwrap_or(0),
                     1e3 * s.readback_s,
-                    1e3 * s.unpack_s
+                    1e3 * s.unpack_s,
+                    1e3 * s.overlapped_s
                 );
             }
             if let Some((events, moved)) = f.tables_differ {
@@ -569,9 +582,13 @@ impl BenchReport {
             ] {
                 if let Some(s) = split {
                     out += &format!(
-                        "  {what}: upload {:.1} ms, kernel {:.1} ms, readback {:.1} ms\n",
+                        "  {what}: upload {:.1} ms, kernel {:.1} ms{}, readback {:.1} ms\n",
                         1e3 * s.upload_s,
                         1e3 * s.kernel_s,
+                        match s.kernel_device_s {
+                            Some(d) => format!(" ({:.1} ms on the device's clock)", 1e3 * d),
+                            None => String::new(),
+                        },
                         1e3 * s.readback_s
                     );
                 }

@@ -90,6 +90,8 @@ pub(super) struct Opened {
     pub(super) adapter: AdapterSummary,
     pub(super) limits: wgpu::Limits,
     pub(super) watch: DeviceWatch,
+    /// Whether the device was opened with `TIMESTAMP_QUERY` (where the adapter offers it).
+    pub(super) timestamps: bool,
 }
 
 /// Opens the adapter (see [`pick_adapter`]) and a device on it with the features that
@@ -118,6 +120,11 @@ pub(super) fn open(precision: Precision) -> Result<Opened, Error> {
         }
         features |= wgpu::Features::SHADER_F64;
     }
+    // the device's own time of the compute passes, where the adapter can tell it
+    let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+    if timestamps {
+        features |= wgpu::Features::TIMESTAMP_QUERY;
+    }
     let adapter_limits = adapter.limits();
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("kisstime"),
@@ -133,7 +140,90 @@ pub(super) fn open(precision: Precision) -> Result<Opened, Error> {
         adapter: summary,
         limits: adapter_limits,
         watch,
+        timestamps,
     })
+}
+
+/// The device's own time of a compute pass: GPU timestamps written at the pass's start and
+/// end (`TIMESTAMP_QUERY`), resolved and read back with the pass's results.
+pub(super) struct PassTimer {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    back: wgpu::Buffer,
+    /// Nanoseconds a timestamp tick.
+    period_ns: f64,
+}
+
+impl PassTimer {
+    /// The query set and buffers, on a device opened with `TIMESTAMP_QUERY`.
+    pub(super) fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> PassTimer {
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 2 * wgpu::QUERY_SIZE as u64,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        PassTimer {
+            set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("kisstime pass timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            }),
+            resolve: buffer(
+                "kisstime timestamps resolved",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            back: buffer(
+                "kisstime timestamps readback",
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+            period_ns: f64::from(queue.get_timestamp_period()),
+        }
+    }
+
+    /// The pass's timestamp writes: its start in query 0, its end in query 1.
+    pub(super) fn writes(&self) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.set,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        }
+    }
+
+    /// After the pass: the timestamps resolved and copied to the readback buffer, which is
+    /// returned with its length, to be mapped with the submission's other readbacks.
+    pub(super) fn resolve(&self, encoder: &mut wgpu::CommandEncoder) -> (&wgpu::Buffer, u64) {
+        let len = 2 * wgpu::QUERY_SIZE as u64;
+        encoder.resolve_query_set(&self.set, 0..2, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.back, 0, len);
+        (&self.back, len)
+    }
+
+    /// The pass's seconds on the device, from the readback mapped after the submission
+    /// that resolved them (its timestamps, in ticks; 0 if the end reads before the
+    /// start); the readback is unmapped then.
+    pub(super) fn seconds(&self) -> Result<f64, Error> {
+        let (back, len) = self.back();
+        let ticks = match back.slice(..len).get_mapped_range() {
+            Ok(view) => {
+                let start: u64 = bytemuck::pod_read_unaligned(&view[..8]);
+                let end: u64 = bytemuck::pod_read_unaligned(&view[8..16]);
+                Ok(end.saturating_sub(start))
+            }
+            Err(e) => Err(gpu_error(format!(
+                "the GPU's timestamps are not readable: {e}"
+            ))),
+        };
+        back.unmap();
+        Ok(ticks? as f64 * self.period_ns * 1e-9)
+    }
+
+    /// The readback buffer and its length (mapped after a submission that resolved).
+    pub(super) fn back(&self) -> (&wgpu::Buffer, u64) {
+        (&self.back, 2 * wgpu::QUERY_SIZE as u64)
+    }
 }
 
 /// Notices a lost device, and errors that the device raises outside any error scope

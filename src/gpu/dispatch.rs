@@ -4,7 +4,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use super::device::{Scopes, copy_to_mapped, gpu_error, map_and_wait};
+use super::device::{PassTimer, Scopes, copy_to_mapped, gpu_error, map_and_wait};
 use super::{GpuEngine, Precision};
 use crate::batch::Batch;
 use crate::error::Error;
@@ -84,7 +84,9 @@ impl GpuEngine {
         self.timings.upload += clock.elapsed().as_secs_f64();
 
         let clock = std::time::Instant::now();
-        self.dispatch_and_map(kernel, &grid)?;
+        if let Some(seconds) = self.dispatch_and_map(kernel, &grid)? {
+            *self.timings.kernel_device.get_or_insert(0.0) += seconds;
+        }
         self.timings.kernel += clock.elapsed().as_secs_f64();
 
         let clock = std::time::Instant::now();
@@ -161,9 +163,10 @@ impl GpuEngine {
     }
 
     /// Dispatches `kernel` over `grid`, copies the results to the readback buffers, maps
-    /// them and waits. Any failure (validation, out of memory, a lost device, a failed map)
+    /// them and waits; returns the pass's seconds on the device's clock where the adapter
+    /// has timestamps. Any failure (validation, out of memory, a lost device, a failed map)
     /// is an error, and no buffer is left mapped then.
-    fn dispatch_and_map(&self, kernel: Kernel, grid: &Grid) -> Result<(), Error> {
+    fn dispatch_and_map(&self, kernel: Kernel, grid: &Grid) -> Result<Option<f64>, Error> {
         let bufs = self.bufs.as_ref().expect("upload made the buffers");
         let scopes = Scopes::push(&self.device);
         let mut encoder = self
@@ -185,7 +188,7 @@ impl GpuEngine {
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("kisstime"),
-                timestamp_writes: None,
+                timestamp_writes: self.timer.as_ref().map(PassTimer::writes),
             });
             pass.set_pipeline(self.pipeline(kernel));
             pass.set_bind_group(0, &bufs.bind, &[]);
@@ -194,14 +197,28 @@ impl GpuEngine {
         let (bytes_t, bytes_code) = (grid.bytes_t, grid.bytes_code);
         encoder.copy_buffer_to_buffer(&bufs.out_t, 0, &bufs.read_t, 0, bytes_t);
         encoder.copy_buffer_to_buffer(&bufs.out_code, 0, &bufs.read_code, 0, bytes_code);
+        let mut mapped = vec![(&bufs.read_t, bytes_t), (&bufs.read_code, bytes_code)];
+        if let Some(timer) = &self.timer {
+            mapped.push(timer.resolve(&mut encoder));
+        }
         self.queue.submit([encoder.finish()]);
         map_and_wait(
             &self.device,
             scopes,
             &self.watch,
-            &[(&bufs.read_t, bytes_t), (&bufs.read_code, bytes_code)],
+            &mapped,
             "the GPU dispatch",
-        )
+        )?;
+        // the pass on the device's clock, where it has one
+        let Some(timer) = &self.timer else {
+            return Ok(None);
+        };
+        let seconds = timer.seconds();
+        if seconds.is_err() {
+            bufs.read_t.unmap();
+            bufs.read_code.unmap();
+        }
+        seconds.map(Some)
     }
 
     /// Converts the grid's mapped results to f64 times and codes, and unmaps the buffers.

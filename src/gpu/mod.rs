@@ -52,7 +52,7 @@ pub use shader::{GPU_MAX_BALLS_LINE, shader_source};
 pub use sim_layout::{GPU_BALL_BUCKETS, GPU_MAX_BALLS, GpuRun, GpuShot, SimLayout, WatchedRun};
 pub use simulate::{
     CheckedTables, EVENT_LOOP_THREADS, EVENTS_PER_DISPATCH, FillTable, GpuOutput, GpuSimulator,
-    MAX_TABLES_PER_CHUNK, OnEvent,
+    MAX_TABLES_PER_CHUNK, OnEvent, PIPELINE_CHUNKS, PIPELINE_MIN_TABLES,
 };
 
 /// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the
@@ -68,7 +68,10 @@ pub struct ChunkLimits {
 }
 
 /// Timings of the last call, for benchmarks: host packing, upload, kernel, readback and
-/// host unpacking in seconds (wall clock on the host, summed over chunks).
+/// host unpacking in seconds (wall clock on the host, summed over chunks). The event loop
+/// packs a chunk and unpacks the one before while the device runs a chunk
+/// ([`PIPELINE_CHUNKS`]): that time, `overlapped`, is in `pack` and `unpack`
+/// too, so the phases add up to more than the call's wall time by about `overlapped`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GpuTimings {
     /// Checking the input and laying it out as the shader reads it, on the host (the
@@ -83,6 +86,13 @@ pub struct GpuTimings {
     /// Converting the mapped results into answers, on the host (the kernels' engine
     /// counts this in `readback`).
     pub unpack: f64,
+    /// The part of `pack` and `unpack` done on the host while the device ran a chunk.
+    pub overlapped: f64,
+    /// The event loop's compute passes timed on the device itself (GPU timestamps at each
+    /// pass's start and end), where the adapter has timestamps (`None` elsewhere): `kernel`
+    /// less this is the host's waiting, the launches and, in the event loop, the "tables
+    /// still running" readbacks between dispatches.
+    pub kernel_device: Option<f64>,
 }
 
 impl GpuTimings {
@@ -93,13 +103,22 @@ impl GpuTimings {
         self.kernel += other.kernel;
         self.readback += other.readback;
         self.unpack += other.unpack;
+        self.overlapped += other.overlapped;
+        if let Some(d) = other.kernel_device {
+            *self.kernel_device.get_or_insert(0.0) += d;
+        }
     }
 
     /// One line: each phase in seconds.
     pub fn describe(&self) -> String {
+        let device = match self.kernel_device {
+            Some(d) => format!(" ({d:.3} s on the device's clock)"),
+            None => String::new(),
+        };
         format!(
-            "pack {:.3} s, upload {:.3} s, kernel {:.3} s, readback {:.3} s, unpack {:.3} s",
-            self.pack, self.upload, self.kernel, self.readback, self.unpack
+            "pack {:.3} s, upload {:.3} s, kernel {:.3} s{device}, readback {:.3} s, unpack \
+             {:.3} s ({:.3} s of packing and unpacking while the kernel ran)",
+            self.pack, self.upload, self.kernel, self.readback, self.unpack, self.overlapped
         )
     }
 }
@@ -120,6 +139,8 @@ pub struct GpuEngine {
     #[cfg(feature = "testing")]
     pending_fault: Option<(Fault, u32)>,
     timings: GpuTimings,
+    /// The kernels' passes timed on the device, where the adapter has timestamps.
+    timer: Option<device::PassTimer>,
 }
 
 impl GpuEngine {
@@ -142,14 +163,17 @@ impl GpuEngine {
         };
         Ok(GpuEngine {
             max_groups_per_dim: adapter_limits.max_compute_workgroups_per_dimension,
-            device: opened.device,
-            queue: opened.queue,
             adapter: opened.adapter,
             precision,
             pipelines,
             bufs: None,
             host: buffers::HostArrays::default(),
             limits,
+            timer: opened
+                .timestamps
+                .then(|| device::PassTimer::new(&opened.device, &opened.queue)),
+            device: opened.device,
+            queue: opened.queue,
             watch: opened.watch,
             #[cfg(feature = "testing")]
             pending_fault: None,

@@ -14,15 +14,23 @@
 //!
 //! The buffers and their bind group are made once and reused across chunks and calls while
 //! they are large enough. A batch is cut into chunks of whole tables that fit the device's
-//! largest binding. A call runs on the pipeline built for the smallest ball-count bucket
+//! largest binding, a large one into a few chunks ([`PIPELINE_CHUNKS`] of at least
+//! [`PIPELINE_MIN_TABLES`]): while the device runs a chunk, a host thread unpacks the chunk
+//! before it and packs the chunk after it (Rayon over tables, touching no device queue), so
+//! that only the first chunk's packing and the last one's unpacking are not hidden behind
+//! the device's work. A call runs on the pipeline built for the smallest ball-count bucket
 //! that holds its largest table ([`SimLayout::bucket`]; up to [`GPU_MAX_BALLS`] balls);
 //! each bucket's pipeline is built when first needed. There is no fall back to the CPU
 //! here (the caller chooses: [`crate::engine::ShotEngine`] does).
 
+use std::time::Instant;
+
 use rayon::prelude::*;
 
 use super::GpuTimings;
-use super::device::{self, AdapterSummary, Scopes, copy_to_mapped, gpu_error, map_and_wait};
+use super::device::{
+    self, AdapterSummary, PassTimer, Scopes, copy_to_mapped, gpu_error, map_and_wait,
+};
 use super::shader::simulate_source;
 use super::sim_layout::{
     EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, MAX_LAYOUT, NEVER_F32, NEVER_F64,
@@ -69,6 +77,16 @@ fn event_loop_threads() -> Result<usize, Error> {
 
 /// Tables per chunk, at most, by default.
 pub const MAX_TABLES_PER_CHUNK: usize = 1 << 20;
+
+/// A batch of at least twice this many tables is cut into chunks of at least this many
+/// (and at most [`PIPELINE_CHUNKS`] of them, where the bindings allow), so that the host's
+/// packing and unpacking overlap the device's runs: enough tables a chunk to fill an H200
+/// (10⁴ tables ran at the rate of 10⁶ there, 2,000 did not).
+pub const PIPELINE_MIN_TABLES: usize = 1 << 15;
+
+/// The chunks a large batch is cut into, at most (see [`PIPELINE_MIN_TABLES`]): the host
+/// packs the first and unpacks the last alone, the rest while the device runs.
+pub const PIPELINE_CHUNKS: usize = 4;
 
 /// What [`GpuSimulator::simulate_with`] hands each event to: `(table, record)`.
 pub type OnEvent<'a> = &'a mut dyn FnMut(usize, &EventRecord);
@@ -202,6 +220,13 @@ struct PackedChunk {
     struck: Option<u32>,
 }
 
+/// The host arrays a chunk's I/O blocks (or its position and strike blocks) are packed
+/// in, kept across chunks and calls.
+struct HostBlocks {
+    r: Vec<u8>,
+    u: Vec<u8>,
+}
+
 /// The event loop's pipelines of one bucket: the loop itself, and the expansion of one
 /// position into a chunk's tables.
 struct LoopPipelines {
@@ -225,6 +250,8 @@ pub struct GpuSimulator {
     /// The largest storage binding the device allows, in bytes.
     max_binding: u64,
     watch: device::DeviceWatch,
+    /// The event loop's passes timed on the device, where the adapter has timestamps.
+    timer: Option<PassTimer>,
     bufs: Option<LoopBuffers>,
     /// A chunk's I/O blocks packed on the host, kept across calls.
     pack_r: Vec<u8>,
@@ -271,7 +298,11 @@ impl GpuSimulator {
         }
         let opened = device::open(precision)?;
         let device = opened.device;
+        let timer = opened
+            .timestamps
+            .then(|| PassTimer::new(&device, &opened.queue));
         let mut sim = GpuSimulator {
+            timer,
             max_groups_per_dim: opened.limits.max_compute_workgroups_per_dimension,
             max_binding: opened
                 .limits
@@ -508,70 +539,130 @@ impl GpuSimulator {
             .max(per * EVENT_REALS * real)
             .max(4 * (1 + per * EVENT_UINTS));
         let fit = (self.max_binding / per_table as u64).max(1) as usize;
-        let chunk = self.max_tables_per_chunk.max(1).min(fit);
+        let chunk = chunk_tables(n, self.max_tables_per_chunk.min(fit));
         let (record, watch_cue, watch_stop, watch_facts) = match &mode {
             GpuOutput::Finals => (false, NO_WATCH, false, false),
             GpuOutput::Events(_) => (true, NO_WATCH, false, false),
             GpuOutput::Watch(w) => (false, w.cue as u32, w.stop_at_first_contact, w.facts),
         };
-        let mut runs = Vec::with_capacity(n);
-        let mut watches = Vec::new();
-        for start in (0..n).step_by(chunk) {
-            let part = input.part(start..n.min(start + chunk));
-            // the buffers fit the largest chunk of this call (they grow for a larger one)
-            let capacity = chunk.min(n);
-            let end = n.min(start + chunk);
-            let call = ChunkCall {
-                table,
-                physics: physics.part(start..end),
-                limits,
-                layout,
-                input: part,
-                first: start,
-                record,
-                watch_cue,
-                watch_stop,
-                watch_facts,
-            };
-            let done = self.simulate_chunk(&call, capacity, &mut mode);
-            let (r, w) = done.inspect_err(|_| self.total.add(&self.timings))?;
-            runs.extend(r);
-            watches.extend(w);
-        }
+        let calls: Vec<ChunkCall<'_>> = (0..n)
+            .step_by(chunk)
+            .map(|start| {
+                let end = n.min(start + chunk);
+                ChunkCall {
+                    table,
+                    physics: physics.part(start..end),
+                    limits,
+                    layout,
+                    input: input.part(start..end),
+                    first: start,
+                    record,
+                    watch_cue,
+                    watch_stop,
+                    watch_facts,
+                }
+            })
+            .collect();
+        // the buffers fit the largest chunk of this call (they grow for a larger one)
+        let capacity = chunk.min(n);
+        let mut host = HostBlocks {
+            r: std::mem::take(&mut self.pack_r),
+            u: std::mem::take(&mut self.pack_u),
+        };
+        let done = self.run_chunks(&calls, capacity, &mut host, &mut mode);
+        self.pack_r = host.r;
+        self.pack_u = host.u;
         self.total.add(&self.timings);
-        Ok((runs, watches))
+        done
     }
 
-    /// One chunk of tables that fits the buffers (made for `capacity` tables), in its
-    /// phases: the buffers and the shared data, the packing, the upload, the dispatches,
-    /// the readback and unpacking (each timed in [`GpuTimings`]).
-    fn simulate_chunk(
+    /// The chunks one after the other on the device, each in its phases (the buffers and
+    /// the shared data, the upload, the dispatches, the readback), while on the host a
+    /// worker unpacks the chunk before and packs the chunk after (each phase timed in
+    /// [`GpuTimings`]). The first chunk is packed, and the last unpacked, alone.
+    fn run_chunks(
         &mut self,
-        call: &ChunkCall<'_>,
+        calls: &[ChunkCall<'_>],
         capacity: usize,
+        host: &mut HostBlocks,
         mode: &mut GpuOutput<'_>,
     ) -> Result<(Vec<GpuRun>, Vec<WatchedRun>), Error> {
-        if call.input.len() == 0 {
-            return Ok((Vec::new(), Vec::new()));
-        }
-        let clock = std::time::Instant::now();
-        self.prepare_chunk(call, capacity)?;
-        let packed = self.pack_chunk(call)?;
+        let precision = self.precision;
+        let mut runs = Vec::new();
+        let mut watches = Vec::new();
+        let clock = Instant::now();
+        let mut next = match calls.first() {
+            Some(call) => Some(pack_chunk(precision, call, host)?),
+            None => None,
+        };
         self.timings.pack += clock.elapsed().as_secs_f64();
-        if let GpuOutput::Events(on_event) = mode {
-            for (k, record) in &packed.strikes {
-                on_event(call.first + k, record);
+        // the chunk read back and not yet unpacked: its runs so far and its readback
+        let mut back: Option<(Vec<GpuRun>, ReadBack)> = None;
+        for (k, call) in calls.iter().enumerate() {
+            let PackedChunk {
+                strikes,
+                runs: chunk_runs,
+                struck,
+            } = next.take().expect("each chunk is packed before its turn");
+            let clock = Instant::now();
+            self.prepare_chunk(call, capacity)?;
+            self.timings.pack += clock.elapsed().as_secs_f64();
+            if struck.is_some() {
+                self.expanded += 1;
             }
+            if let GpuOutput::Events(on_event) = mode {
+                for (j, record) in &strikes {
+                    on_event(call.first + j, record);
+                }
+            }
+            let clock = Instant::now();
+            self.upload_chunk(call, host, struck)?;
+            self.timings.upload += clock.elapsed().as_secs_f64();
+            // while the device runs this chunk, the host unpacks the one before and packs
+            // the one after (the upload has copied the host arrays)
+            let before = back.take();
+            let after = calls.get(k + 1);
+            let arrays = &mut *host;
+            let (worker, (dispatched, kernel)) = std::thread::scope(|s| {
+                let worker = s.spawn(move || {
+                    let clock = Instant::now();
+                    let unpacked = before.map(|(mut runs, readback)| {
+                        unpack_chunk(precision, readback, &mut runs).map(|w| (runs, w))
+                    });
+                    let unpack = clock.elapsed().as_secs_f64();
+                    let clock = Instant::now();
+                    let packed = after.map(|c| pack_chunk(precision, c, arrays));
+                    (unpacked, unpack, packed, clock.elapsed().as_secs_f64())
+                });
+                let clock = Instant::now();
+                let dispatched = self.dispatch_chunk(call, mode);
+                let kernel = clock.elapsed().as_secs_f64();
+                (worker.join(), (dispatched, kernel))
+            });
+            let (unpacked, unpack, packed, pack) =
+                worker.unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            self.timings.kernel += kernel;
+            self.timings.unpack += unpack;
+            self.timings.pack += pack;
+            self.timings.overlapped += unpack + pack;
+            // failures in the batch's order: the chunk before, this one, the one after
+            if let Some(unpacked) = unpacked {
+                let (before_runs, before_watches) = unpacked?;
+                runs.extend(before_runs);
+                watches.extend(before_watches);
+            }
+            dispatched?;
+            next = packed.transpose()?;
+            back = Some((chunk_runs, self.read_back_chunk(call)?));
         }
-        let mut runs = packed.runs;
-        let clock = std::time::Instant::now();
-        self.upload_chunk(call, packed.struck)?;
-        self.timings.upload += clock.elapsed().as_secs_f64();
-        let clock = std::time::Instant::now();
-        self.dispatch_chunk(call, mode)?;
-        self.timings.kernel += clock.elapsed().as_secs_f64();
-        let watched = self.read_back_chunk(call, &mut runs)?;
-        Ok((runs, watched))
+        if let Some((mut last_runs, readback)) = back {
+            let clock = Instant::now();
+            let last_watches = unpack_chunk(precision, readback, &mut last_runs)?;
+            self.timings.unpack += clock.elapsed().as_secs_f64();
+            runs.extend(last_runs);
+            watches.extend(last_watches);
+        }
+        Ok((runs, watches))
     }
 
     /// The buffers for the chunk (made or reused), with the table's geometry and the
@@ -618,235 +709,35 @@ impl GpuSimulator {
         Ok(())
     }
 
-    /// Every table of the chunk checked as the CPU loop checks it and its I/O block laid
-    /// out, then copied to the mapped upload buffers: the strikes' event records (with
-    /// their tables' places in the chunk) and the runs so far (none for a watched chunk).
-    fn pack_chunk(&mut self, call: &ChunkCall<'_>) -> Result<PackedChunk, Error> {
-        if let Some(packed) = self.pack_expanded(call)? {
-            self.expanded += 1;
-            return Ok(packed);
-        }
-        let (table, physics, limits, input, first) = (
-            call.table,
-            call.physics,
-            call.limits,
-            call.input,
-            call.first,
-        );
-        let l = &call.layout;
-        let (record, watch_cue) = (call.record, call.watch_cue);
-        let n_tables = input.len();
-        let precision = self.precision;
-        let real = precision.real_size();
-        let bufs = self.bufs.as_ref().expect("made by prepare_chunk");
-        // every table checked as the CPU loop checks it and laid out in the shader's
-        // precision in host arrays kept across calls, Rayon over blocks of tables; then
-        // copied to the mapped upload buffers in large blocks (mapped memory may be
-        // write-combining: large sequential copies suit it)
-        let len_r = (n_tables * l.io_reals * real) as u64;
-        let len_u = (n_tables * l.io_uints * 4) as u64;
-        let mut host_r = std::mem::take(&mut self.pack_r);
-        let mut host_u = std::mem::take(&mut self.pack_u);
-        host_r.resize(len_r as usize, 0);
-        host_u.resize(len_u as usize, 0);
-        // checked tables were checked by the caller
-        let layout_checked = matches!(input, Input::Checked { .. });
-        let make_runs = watch_cue == NO_WATCH;
-        // a block's strike records (with their tables' places in the chunk) and its runs
-        type Block = (Vec<(usize, EventRecord)>, Vec<GpuRun>);
-        let packed: Vec<Result<Block, Error>> = host_r
-            .par_chunks_mut(PACK_BLOCK * l.io_reals * real)
-            .zip(host_u.par_chunks_mut(PACK_BLOCK * l.io_uints * 4))
-            .enumerate()
-            .map(|(b, (dst_r, dst_u))| {
-                let start = b * PACK_BLOCK;
-                let end = n_tables.min(start + PACK_BLOCK);
-                let mut strikes = Vec::new();
-                // each run's ball array made (and first written) here, beside its table's
-                // layout: made in the unpack instead, the memory's first touch cost the
-                // H200's host twice as much
-                let mut runs = Vec::with_capacity(if make_runs { end - start } else { 0 });
-                let mut buf = Vec::new();
-                for (j, k) in (start..end).enumerate() {
-                    let (balls, strike) = input
-                        .shot(k, &mut buf)
-                        .map_err(|e| InputError::new(format!("table {}: {e}", first + k)))?;
-                    if make_runs {
-                        runs.push(unfinished_run(balls));
-                    }
-                    let mut sr = [0.0; MAX_LAYOUT.io_reals];
-                    let mut su = [0u32; MAX_LAYOUT.io_uints];
-                    let (sr, su) = (&mut sr[..l.io_reals], &mut su[..l.io_uints]);
-                    let shot = ShotRef {
-                        at: first + k,
-                        balls,
-                        strike,
-                        layout_checked,
-                    };
-                    let params = physics.of(k);
-                    let record = pack_table(table, &params, limits, l, shot, record, sr, su)?;
-                    if let Some(record) = record {
-                        strikes.push((k, record));
-                    }
-                    let at_r = j * l.io_reals * real;
-                    put_reals(precision, sr, &mut dst_r[at_r..at_r + l.io_reals * real]);
-                    let at_u = j * l.io_uints * 4;
-                    dst_u[at_u..at_u + l.io_uints * 4].copy_from_slice(bytemuck::cast_slice(su));
-                }
-                Ok((strikes, runs))
-            })
-            .collect();
-        let mut strikes: Vec<(usize, EventRecord)> = Vec::new();
-        let mut runs: Vec<GpuRun> = Vec::with_capacity(if make_runs { n_tables } else { 0 });
-        let mut failed = None;
-        for block in packed {
-            match block {
-                Ok((block_strikes, block_runs)) => {
-                    strikes.extend(block_strikes);
-                    runs.extend(block_runs);
-                }
-                Err(e) => {
-                    failed = Some(e);
-                    break;
-                }
-            }
-        }
-        let copied = match failed {
-            Some(e) => Err(e),
-            None => copy_to_mapped(
-                &self.device,
-                &[(&bufs.up_r, &host_r), (&bufs.up_u, &host_u)],
-            ),
-        };
-        self.pack_r = host_r;
-        self.pack_u = host_u;
-        copied?;
-        Ok(PackedChunk {
-            strikes,
-            runs,
-            struck: None,
-        })
-    }
-
-    /// A chunk of one position struck many ways ([`CheckedTables::one_position`], no
-    /// events recorded, every ball of the position stationary or pocketed, every table
-    /// striking the same ball) packed as the position's I/O block ([`start_table`] without
-    /// the strike) and each table's strike block ([`strike_block`]), for the shader's
-    /// `expand_tables` to lay the tables out on the device: 104 bytes a table cross the
-    /// bus instead of a whole block. `None` for any other chunk.
-    fn pack_expanded(&mut self, call: &ChunkCall<'_>) -> Result<Option<PackedChunk>, Error> {
-        let (physics, limits, input, first) = (call.physics, call.limits, call.input, call.first);
-        let Input::Checked { tables, .. } = input else {
-            return Ok(None);
-        };
-        if !tables.one_position || call.record || input.len() == 0 {
-            return Ok(None);
-        }
-        let l = &call.layout;
-        let mut buf = Vec::new();
-        let Ok((balls, Some((cue, _)))) = input.shot(0, &mut buf) else {
-            return Ok(None);
-        };
-        let at_rest =
-            |b: &BallState| matches!(b.s, MotionState::Stationary | MotionState::Pocketed);
-        if balls.len() > l.gpu_max_balls || !balls.iter().all(at_rest) {
-            return Ok(None);
-        }
-        let position: Vec<BallState> = balls.iter().map(|b| BallState { t: 0.0, ..*b }).collect();
-        let n_tables = input.len();
-        let precision = self.precision;
-        let real = precision.real_size();
-        // the position's block, then each table's strike block, in the shader's precision
-        let mut host_r = std::mem::take(&mut self.pack_r);
-        let mut host_u = std::mem::take(&mut self.pack_u);
-        host_r.resize((l.io_reals + n_tables * STRUCK_REALS) * real, 0);
-        host_u.resize((l.io_uints + n_tables * STRUCK_UINTS) * 4, 0);
-        let (head_r, blocks_r) = host_r.split_at_mut(l.io_reals * real);
-        let (head_u, blocks_u) = host_u.split_at_mut(l.io_uints * 4);
-        let mut sr = [0.0; MAX_LAYOUT.io_reals];
-        let mut su = [0u32; MAX_LAYOUT.io_uints];
-        let (sr, su) = (&mut sr[..l.io_reals], &mut su[..l.io_uints]);
-        start_table(&position, None, &physics.of(0), limits, false, l, sr, su);
-        put_reals(precision, sr, head_r);
-        head_u.copy_from_slice(bytemuck::cast_slice(su));
-        let make_runs = call.watch_cue == NO_WATCH;
-        // Rayon over blocks of tables: each table checked as pack_table checks it; a table
-        // that strikes another ball (or none) leaves the chunk to the whole blocks
-        let packed: Vec<Result<Option<Vec<GpuRun>>, Error>> = blocks_r
-            .par_chunks_mut(PACK_BLOCK * STRUCK_REALS * real)
-            .zip(blocks_u.par_chunks_mut(PACK_BLOCK * STRUCK_UINTS * 4))
-            .enumerate()
-            .map(|(b, (dst_r, dst_u))| {
-                let start = b * PACK_BLOCK;
-                let end = n_tables.min(start + PACK_BLOCK);
-                let mut runs = Vec::with_capacity(if make_runs { end - start } else { 0 });
-                let mut buf = Vec::new();
-                for (j, k) in (start..end).enumerate() {
-                    let bad = |e: SimError| InputError::new(format!("table {}: {e}", first + k));
-                    let (balls, strike) = input.shot(k, &mut buf).map_err(bad)?;
-                    let same = |(b, p): (&BallState, &BallState)| {
-                        (b.r, b.v, b.w, b.s) == (p.r, p.v, p.w, p.s)
-                    };
-                    let Some((c, s)) = strike.filter(|(c, _)| *c == cue) else {
-                        return Ok(None);
-                    };
-                    if balls.len() != position.len() || !balls.iter().zip(&position).all(same) {
-                        return Ok(None);
-                    }
-                    EventLoop::check_input(balls, strike).map_err(bad)?;
-                    let (mut r, mut u) = ([0.0; STRUCK_REALS], [0u32; STRUCK_UINTS]);
-                    strike_block(&position, (c, s), &physics.of(k), limits, &mut r, &mut u);
-                    let at_r = j * STRUCK_REALS * real;
-                    put_reals(precision, &r, &mut dst_r[at_r..at_r + STRUCK_REALS * real]);
-                    let at_u = j * STRUCK_UINTS * 4;
-                    dst_u[at_u..at_u + STRUCK_UINTS * 4].copy_from_slice(bytemuck::cast_slice(&u));
-                    if make_runs {
-                        runs.push(unfinished_run(balls));
-                    }
-                }
-                Ok(Some(runs))
-            })
-            .collect();
-        let mut runs = Vec::with_capacity(if make_runs { n_tables } else { 0 });
-        let mut whole = true;
-        let mut failed = None;
-        for block in packed {
-            match block {
-                Ok(Some(block_runs)) => runs.extend(block_runs),
-                Ok(None) => whole = false,
-                Err(e) => {
-                    failed = Some(e);
-                    break;
-                }
-            }
-        }
-        let bufs = self.bufs.as_ref().expect("made by prepare_chunk");
-        let copied = match failed {
-            Some(e) => Err(e),
-            None if !whole => Ok(false),
-            None => copy_to_mapped(
-                &self.device,
-                &[(&bufs.up_r, &host_r), (&bufs.up_u, &host_u)],
-            )
-            .map(|()| true),
-        };
-        self.pack_r = host_r;
-        self.pack_u = host_u;
-        Ok(copied?.then_some(PackedChunk {
-            strikes: Vec::new(),
-            runs,
-            struck: Some(cue as u32),
-        }))
-    }
-
-    /// The upload buffers copied to the state's I/O region, waited for; for a chunk packed
+    /// The packed host arrays copied to the mapped upload buffers, and these to the
+    /// state's I/O region, waited for; for a chunk packed
     /// as one position and its strikes (`struck`: the struck ball), copied to the events
     /// buffers and laid out into the I/O region by the shader's `expand_tables`.
-    fn upload_chunk(&mut self, call: &ChunkCall<'_>, struck: Option<u32>) -> Result<(), Error> {
+    fn upload_chunk(
+        &mut self,
+        call: &ChunkCall<'_>,
+        host: &HostBlocks,
+        struck: Option<u32>,
+    ) -> Result<(), Error> {
         let l = &call.layout;
         let n_tables = call.input.len();
         let real = self.precision.real_size();
         let bufs = self.bufs.as_ref().expect("made by prepare_chunk");
+        // the packed bytes (the host arrays may be longer: kept from a larger chunk)
+        let (len_r, len_u) = match struck {
+            Some(_) => (
+                (l.io_reals + n_tables * STRUCK_REALS) * real,
+                (l.io_uints + n_tables * STRUCK_UINTS) * 4,
+            ),
+            None => (n_tables * l.io_reals * real, n_tables * l.io_uints * 4),
+        };
+        copy_to_mapped(
+            &self.device,
+            &[
+                (&bufs.up_r, &host.r[..len_r]),
+                (&bufs.up_u, &host.u[..len_u]),
+            ],
+        )?;
         let scopes = Scopes::push(&self.device);
         let mut encoder = self
             .device
@@ -980,6 +871,9 @@ impl GpuSimulator {
                 });
                 (running, events)
             })?;
+            if let Some(timer) = &self.timer {
+                *self.timings.kernel_device.get_or_insert(0.0) += timer.seconds()?;
+            }
             if let (GpuOutput::Events(on_event), Some((eu, er))) = (&mut *mode, events) {
                 for k in 0..n_tables {
                     let base = k * (1 + per * EVENT_UINTS);
@@ -1000,19 +894,14 @@ impl GpuSimulator {
         Ok(())
     }
 
-    /// Only the I/O region (for a study, the watch region instead) read back and unpacked
-    /// into `runs` (or the watched runs).
-    fn read_back_chunk(
-        &mut self,
-        call: &ChunkCall<'_>,
-        runs: &mut [GpuRun],
-    ) -> Result<Vec<WatchedRun>, Error> {
-        let clock = std::time::Instant::now();
+    /// Only the I/O region (for a study, the watch region instead) copied to the readback
+    /// buffers and mapped, for [`unpack_chunk`].
+    fn read_back_chunk(&mut self, call: &ChunkCall<'_>) -> Result<ReadBack, Error> {
+        let clock = Instant::now();
         let l = &call.layout;
         let watch_cue = call.watch_cue;
         let n_tables = call.input.len();
-        let precision = self.precision;
-        let real = precision.real_size();
+        let real = self.precision.real_size();
         let bufs = self.bufs.as_ref().expect("made by buffers");
         let watching = watch_cue != NO_WATCH;
         let io_reals = (n_tables * l.io_reals * real) as u64;
@@ -1054,17 +943,19 @@ impl GpuSimulator {
         };
         self.submit_copies(&copies)?;
         self.timings.readback += clock.elapsed().as_secs_f64();
-        let clock = std::time::Instant::now();
-        let (len_r, len_u) = (copies[0].len, copies[1].len);
-        let watched = watching.then_some(call.watch_facts);
-        let out = read_mapped(&[(&bufs.back_r, len_r), (&bufs.back_u, len_u)], |views| {
-            unpack(precision, l, runs, views[0], views[1], watched)
-        })??;
-        self.timings.unpack += clock.elapsed().as_secs_f64();
-        Ok(out)
+        Ok(ReadBack {
+            back_r: bufs.back_r.clone(),
+            back_u: bufs.back_u.clone(),
+            len_r: copies[0].len,
+            len_u: copies[1].len,
+            layout: call.layout,
+            watched: watching.then_some(call.watch_facts),
+            unmapped: false,
+        })
     }
 
-    /// One submission: a dispatch of `groups` workgroups (none where `None`), then
+    /// One submission: a dispatch of `groups` workgroups (none where `None`; timed on the
+    /// device where the adapter has timestamps, the timer's readback mapped too), then
     /// `copies`; waits and maps each copy's destination. Any failure (validation, out of
     /// memory, a lost device, a failed map) is an error, and no buffer is left mapped then;
     /// on success the caller reads and unmaps them ([`read_mapped`]).
@@ -1079,10 +970,12 @@ impl GpuSimulator {
         let mut encoder = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("kisstime event loop"),
         });
+        // the event loop's pass timed on the device, where it can be
+        let timer = groups.and(self.timer.as_ref());
         if let Some([x, y]) = groups {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("kisstime event loop"),
-                timestamp_writes: None,
+                timestamp_writes: timer.map(PassTimer::writes),
             });
             let layout = self.bufs.as_ref().map(|b| b.layout);
             let pipeline = self
@@ -1111,6 +1004,9 @@ impl GpuSimulator {
             };
             encoder.copy_buffer_to_buffer(c.src, c.offset, c.dst, at, c.len);
         }
+        if let Some(timer) = timer {
+            filled.push(timer.resolve(&mut encoder));
+        }
         self.queue.submit([encoder.finish()]);
         map_and_wait(dev, scopes, &self.watch, &filled, "the GPU event loop")
     }
@@ -1119,6 +1015,270 @@ impl GpuSimulator {
     fn submit_copies(&self, copies: &[Copy<'_>]) -> Result<(), Error> {
         let bind = &self.bufs.as_ref().expect("made by buffers").bind;
         self.submit(None, bind, copies)
+    }
+}
+
+/// Every table of the chunk checked as the CPU loop checks it and its I/O block laid
+/// out, then copied to the mapped upload buffers: the strikes' event records (with
+/// their tables' places in the chunk) and the runs so far (none for a watched chunk).
+fn pack_chunk(
+    precision: Precision,
+    call: &ChunkCall<'_>,
+    host: &mut HostBlocks,
+) -> Result<PackedChunk, Error> {
+    if let Some(packed) = pack_expanded(precision, call, host)? {
+        return Ok(packed);
+    }
+    let (table, physics, limits, input, first) = (
+        call.table,
+        call.physics,
+        call.limits,
+        call.input,
+        call.first,
+    );
+    let l = &call.layout;
+    let (record, watch_cue) = (call.record, call.watch_cue);
+    let n_tables = input.len();
+    let real = precision.real_size();
+    // every table checked as the CPU loop checks it and laid out in the shader's
+    // precision in host arrays kept across calls, Rayon over blocks of tables (the upload
+    // copies them to the mapped upload buffers in large blocks: mapped memory may be
+    // write-combining, and large sequential copies suit it)
+    let len_r = (n_tables * l.io_reals * real) as u64;
+    let len_u = (n_tables * l.io_uints * 4) as u64;
+    let (host_r, host_u) = (&mut host.r, &mut host.u);
+    host_r.resize(len_r as usize, 0);
+    host_u.resize(len_u as usize, 0);
+    // checked tables were checked by the caller
+    let layout_checked = matches!(input, Input::Checked { .. });
+    let make_runs = watch_cue == NO_WATCH;
+    // a block's strike records (with their tables' places in the chunk) and its runs
+    type Block = (Vec<(usize, EventRecord)>, Vec<GpuRun>);
+    let packed: Vec<Result<Block, Error>> = host_r
+        .par_chunks_mut(PACK_BLOCK * l.io_reals * real)
+        .zip(host_u.par_chunks_mut(PACK_BLOCK * l.io_uints * 4))
+        .enumerate()
+        .map(|(b, (dst_r, dst_u))| {
+            let start = b * PACK_BLOCK;
+            let end = n_tables.min(start + PACK_BLOCK);
+            let mut strikes = Vec::new();
+            // each run's ball array made (and first written) here, beside its table's
+            // layout: made in the unpack instead, the memory's first touch cost the
+            // H200's host twice as much
+            let mut runs = Vec::with_capacity(if make_runs { end - start } else { 0 });
+            let mut buf = Vec::new();
+            for (j, k) in (start..end).enumerate() {
+                let (balls, strike) = input
+                    .shot(k, &mut buf)
+                    .map_err(|e| InputError::new(format!("table {}: {e}", first + k)))?;
+                if make_runs {
+                    runs.push(unfinished_run(balls));
+                }
+                let mut sr = [0.0; MAX_LAYOUT.io_reals];
+                let mut su = [0u32; MAX_LAYOUT.io_uints];
+                let (sr, su) = (&mut sr[..l.io_reals], &mut su[..l.io_uints]);
+                let shot = ShotRef {
+                    at: first + k,
+                    balls,
+                    strike,
+                    layout_checked,
+                };
+                let params = physics.of(k);
+                let record = pack_table(table, &params, limits, l, shot, record, sr, su)?;
+                if let Some(record) = record {
+                    strikes.push((k, record));
+                }
+                let at_r = j * l.io_reals * real;
+                put_reals(precision, sr, &mut dst_r[at_r..at_r + l.io_reals * real]);
+                let at_u = j * l.io_uints * 4;
+                dst_u[at_u..at_u + l.io_uints * 4].copy_from_slice(bytemuck::cast_slice(su));
+            }
+            Ok((strikes, runs))
+        })
+        .collect();
+    let mut strikes: Vec<(usize, EventRecord)> = Vec::new();
+    let mut runs: Vec<GpuRun> = Vec::with_capacity(if make_runs { n_tables } else { 0 });
+    let mut failed = None;
+    for block in packed {
+        match block {
+            Ok((block_strikes, block_runs)) => {
+                strikes.extend(block_strikes);
+                runs.extend(block_runs);
+            }
+            Err(e) => {
+                failed = Some(e);
+                break;
+            }
+        }
+    }
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    Ok(PackedChunk {
+        strikes,
+        runs,
+        struck: None,
+    })
+}
+
+/// A chunk of one position struck many ways ([`CheckedTables::one_position`], no
+/// events recorded, every ball of the position stationary or pocketed, every table
+/// striking the same ball) packed as the position's I/O block ([`start_table`] without
+/// the strike) and each table's strike block ([`strike_block`]), for the shader's
+/// `expand_tables` to lay the tables out on the device: 104 bytes a table cross the
+/// bus instead of a whole block. `None` for any other chunk.
+fn pack_expanded(
+    precision: Precision,
+    call: &ChunkCall<'_>,
+    host: &mut HostBlocks,
+) -> Result<Option<PackedChunk>, Error> {
+    let (physics, limits, input, first) = (call.physics, call.limits, call.input, call.first);
+    let Input::Checked { tables, .. } = input else {
+        return Ok(None);
+    };
+    if !tables.one_position || call.record || input.len() == 0 {
+        return Ok(None);
+    }
+    let l = &call.layout;
+    let mut buf = Vec::new();
+    let Ok((balls, Some((cue, _)))) = input.shot(0, &mut buf) else {
+        return Ok(None);
+    };
+    let at_rest = |b: &BallState| matches!(b.s, MotionState::Stationary | MotionState::Pocketed);
+    if balls.len() > l.gpu_max_balls || !balls.iter().all(at_rest) {
+        return Ok(None);
+    }
+    let position: Vec<BallState> = balls.iter().map(|b| BallState { t: 0.0, ..*b }).collect();
+    let n_tables = input.len();
+    let real = precision.real_size();
+    // the position's block, then each table's strike block, in the shader's precision
+    let (host_r, host_u) = (&mut host.r, &mut host.u);
+    host_r.resize((l.io_reals + n_tables * STRUCK_REALS) * real, 0);
+    host_u.resize((l.io_uints + n_tables * STRUCK_UINTS) * 4, 0);
+    let (head_r, blocks_r) = host_r.split_at_mut(l.io_reals * real);
+    let (head_u, blocks_u) = host_u.split_at_mut(l.io_uints * 4);
+    let mut sr = [0.0; MAX_LAYOUT.io_reals];
+    let mut su = [0u32; MAX_LAYOUT.io_uints];
+    let (sr, su) = (&mut sr[..l.io_reals], &mut su[..l.io_uints]);
+    start_table(&position, None, &physics.of(0), limits, false, l, sr, su);
+    put_reals(precision, sr, head_r);
+    head_u.copy_from_slice(bytemuck::cast_slice(su));
+    let make_runs = call.watch_cue == NO_WATCH;
+    // Rayon over blocks of tables: each table checked as pack_table checks it; a table
+    // that strikes another ball (or none) leaves the chunk to the whole blocks
+    let packed: Vec<Result<Option<Vec<GpuRun>>, Error>> = blocks_r
+        .par_chunks_mut(PACK_BLOCK * STRUCK_REALS * real)
+        .zip(blocks_u.par_chunks_mut(PACK_BLOCK * STRUCK_UINTS * 4))
+        .enumerate()
+        .map(|(b, (dst_r, dst_u))| {
+            let start = b * PACK_BLOCK;
+            let end = n_tables.min(start + PACK_BLOCK);
+            let mut runs = Vec::with_capacity(if make_runs { end - start } else { 0 });
+            let mut buf = Vec::new();
+            for (j, k) in (start..end).enumerate() {
+                let bad = |e: SimError| InputError::new(format!("table {}: {e}", first + k));
+                let (balls, strike) = input.shot(k, &mut buf).map_err(bad)?;
+                let same =
+                    |(b, p): (&BallState, &BallState)| (b.r, b.v, b.w, b.s) == (p.r, p.v, p.w, p.s);
+                let Some((c, s)) = strike.filter(|(c, _)| *c == cue) else {
+                    return Ok(None);
+                };
+                if balls.len() != position.len() || !balls.iter().zip(&position).all(same) {
+                    return Ok(None);
+                }
+                EventLoop::check_input(balls, strike).map_err(bad)?;
+                let (mut r, mut u) = ([0.0; STRUCK_REALS], [0u32; STRUCK_UINTS]);
+                strike_block(&position, (c, s), &physics.of(k), limits, &mut r, &mut u);
+                let at_r = j * STRUCK_REALS * real;
+                put_reals(precision, &r, &mut dst_r[at_r..at_r + STRUCK_REALS * real]);
+                let at_u = j * STRUCK_UINTS * 4;
+                dst_u[at_u..at_u + STRUCK_UINTS * 4].copy_from_slice(bytemuck::cast_slice(&u));
+                if make_runs {
+                    runs.push(unfinished_run(balls));
+                }
+            }
+            Ok(Some(runs))
+        })
+        .collect();
+    let mut runs = Vec::with_capacity(if make_runs { n_tables } else { 0 });
+    let mut whole = true;
+    let mut failed = None;
+    for block in packed {
+        match block {
+            Ok(Some(block_runs)) => runs.extend(block_runs),
+            Ok(None) => whole = false,
+            Err(e) => {
+                failed = Some(e);
+                break;
+            }
+        }
+    }
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    Ok(whole.then_some(PackedChunk {
+        strikes: Vec::new(),
+        runs,
+        struck: Some(cue as u32),
+    }))
+}
+
+/// A chunk's results copied to the readback buffers and mapped ([`GpuSimulator`]'s
+/// `read_back_chunk`), waiting for [`unpack_chunk`]: the buffers are unmapped then, or
+/// when this is dropped unread (a later failure).
+struct ReadBack {
+    back_r: wgpu::Buffer,
+    back_u: wgpu::Buffer,
+    len_r: u64,
+    len_u: u64,
+    layout: SimLayout,
+    /// `Some(facts)` for watched runs (with the rules' facts where `facts`).
+    watched: Option<bool>,
+    unmapped: bool,
+}
+
+impl Drop for ReadBack {
+    fn drop(&mut self) {
+        if !self.unmapped {
+            self.back_r.unmap();
+            self.back_u.unmap();
+        }
+    }
+}
+
+/// A chunk's readback unpacked into its `runs` (or into the watched runs), Rayon over
+/// tables; the readback buffers unmapped, whatever happened. Touches no device queue, so
+/// the host runs it while the device runs the next chunk.
+fn unpack_chunk(
+    precision: Precision,
+    mut back: ReadBack,
+    runs: &mut [GpuRun],
+) -> Result<Vec<WatchedRun>, Error> {
+    let mapped = [(&back.back_r, back.len_r), (&back.back_u, back.len_u)];
+    let out = read_mapped(&mapped, |views| {
+        unpack(
+            precision,
+            &back.layout,
+            runs,
+            views[0],
+            views[1],
+            back.watched,
+        )
+    });
+    back.unmapped = true;
+    out?
+}
+
+/// Tables per chunk for a batch of `n` tables, at most `most`: a large batch (at least
+/// twice [`PIPELINE_MIN_TABLES`]) in [`PIPELINE_CHUNKS`] chunks of at least
+/// [`PIPELINE_MIN_TABLES`], so that the host's packing and unpacking of one chunk overlap
+/// the device's run of another.
+fn chunk_tables(n: usize, most: usize) -> usize {
+    let most = most.max(1);
+    if n >= 2 * PIPELINE_MIN_TABLES {
+        most.min(n.div_ceil(PIPELINE_CHUNKS).max(PIPELINE_MIN_TABLES))
+    } else {
+        most
     }
 }
 
@@ -1373,4 +1533,45 @@ fn reals_of(precision: Precision, bytes: &[u8]) -> Vec<f64> {
     let mut out = vec![0.0; bytes.len() / precision.real_size()];
     reals_into(precision, bytes, &mut out);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_large_batch_is_cut_into_a_few_chunks_of_many_tables() {
+        let min = PIPELINE_MIN_TABLES;
+        // small batches: one chunk, or the limit's
+        assert_eq!(
+            chunk_tables(1000, MAX_TABLES_PER_CHUNK),
+            MAX_TABLES_PER_CHUNK
+        );
+        assert_eq!(
+            chunk_tables(2 * min - 1, MAX_TABLES_PER_CHUNK),
+            MAX_TABLES_PER_CHUNK
+        );
+        assert_eq!(chunk_tables(1000, 7), 7);
+        assert_eq!(chunk_tables(1000, 0), 1);
+        // large ones: PIPELINE_CHUNKS chunks, none smaller than the minimum
+        assert_eq!(chunk_tables(2 * min, MAX_TABLES_PER_CHUNK), min);
+        assert_eq!(chunk_tables(1_000_000, MAX_TABLES_PER_CHUNK), 250_000);
+        assert_eq!(chunk_tables(1 << 18, MAX_TABLES_PER_CHUNK), 1 << 16);
+        assert_eq!(chunk_tables(100_000, MAX_TABLES_PER_CHUNK), min);
+        // the bindings' limit still rules
+        assert_eq!(chunk_tables(1_000_000, 1000), 1000);
+        for n in [2 * min, 100_000, 1_000_000, 4 * MAX_TABLES_PER_CHUNK] {
+            let chunk = chunk_tables(n, MAX_TABLES_PER_CHUNK);
+            let chunks = n.div_ceil(chunk);
+            assert!(
+                chunk >= min && (2..=PIPELINE_CHUNKS).contains(&chunks),
+                "{n}: {chunk}"
+            );
+        }
+        // beyond that the chunks are the largest allowed
+        assert_eq!(
+            chunk_tables(10_000_000, MAX_TABLES_PER_CHUNK),
+            MAX_TABLES_PER_CHUNK
+        );
+    }
 }
