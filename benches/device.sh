@@ -12,7 +12,8 @@
 # - study: `kisstime shots` (the built-in study) on the GPU and on the CPU: samples/s end
 #   to end and the GPU's phases (`--verbose`).
 # PARTS (default "kernels sim study") chooses the parts; SIZES, KERNEL_SCENARIOS, KERNEL_PRECISIONS,
-# SIM_SIZES, BREAK_SIZES, SIM_PRECISIONS and STUDY_SAMPLES their sizes. Prints one table per part at
+# SIM_SIZES, BREAK_SIZES, SIM_PRECISIONS, ONE_CHUNK_SIZES (ordinary shots again in one chunk, with no
+# host work beside the device's; default the largest of SIM_SIZES) and STUDY_SAMPLES their sizes. Prints one table per part at
 # the end; the raw JSON goes to $OUT/bench.jsonl, $OUT/sim.jsonl and $OUT/study.jsonl.
 # Each run has its own timeout (150 s), so the whole stays within one 10-minute call.
 #
@@ -34,6 +35,7 @@ SIM_PRECISIONS="${SIM_PRECISIONS:-f64}"
 BREAK_SIZES="${BREAK_SIZES:-${SIM_SIZES%% *}}"
 SIM_CPU_MAX="${SIM_CPU_MAX:-100000}"
 STUDY_SAMPLES="${STUDY_SAMPLES:-1000000}"
+ONE_CHUNK_SIZES="${ONE_CHUNK_SIZES:-${SIM_SIZES##* }}"
 PARTS="${PARTS:-kernels sim study}"
 mkdir -p "$OUT"
 if compgen -G ".gl/*.deb" > /dev/null; then
@@ -47,6 +49,7 @@ command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,
 echo "binary: $BIN; cores: $(nproc); sizes: $SIZES"
 : > "$OUT/bench.jsonl"
 : > "$OUT/sim.jsonl"
+: > "$OUT/sim_one_chunk.jsonl"
 : > "$OUT/study.jsonl"
 run() { # output file, label, then kisstime bench arguments
   local file="$1" label="$2"; shift 2
@@ -80,6 +83,12 @@ if [[ " $PARTS " == *" sim "* ]]; then
       done
     done
   done
+  # the same ordinary shots in one chunk, with no host work beside the device's: what the
+  # overlap gains (KISSTIME_GPU_PIPELINE_CHUNKS=1)
+  for n in $ONE_CHUNK_SIZES; do
+    KISSTIME_GPU_PIPELINE_CHUNKS=1 run "$OUT/sim_one_chunk.jsonl" "sim gpu f64 ordinary $n, one chunk" \
+      --sim ordinary --tables "$n" --backend gpu --precision f64 --reps 1
+  done
 fi
 if [[ " $PARTS " == *" study "* ]]; then
   for n in $STUDY_SAMPLES; do
@@ -96,7 +105,7 @@ if [[ " $PARTS " == *" study "* ]]; then
   grep -h "GPU phases\|samples of" "$OUT/study_stderr.txt"
 fi
 # one table of everything that ran (the JSON objects follow one another in the file)
-python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" <<'PY' || cat "$OUT"/*.jsonl
+python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" "$OUT/sim_one_chunk.jsonl" <<'PY' || cat "$OUT"/*.jsonl
 import json, sys
 def objects(path):
     text, dec, at, out = open(path).read(), json.JSONDecoder(), 0, []
@@ -108,6 +117,10 @@ def objects(path):
         obj, at = dec.raw_decode(text, at)
         out.append(obj)
 rows, sims, studies = objects(sys.argv[1]), objects(sys.argv[2]), objects(sys.argv[3])
+one_chunk = objects(sys.argv[4])
+for r in one_chunk:
+    r["workload"] += " (1 chunk)"
+sims += one_chunk
 g = lambda v: "-" if v is None else f"{v / 1e6:,.0f} M"
 k = lambda s: "-" if not s else f"{s['kernel_s'] * 1e3:.2f}/{(s['upload_s'] + s['kernel_s'] + s['readback_s']) * 1e3:.2f} ms"
 print(f"{'scenario':<8} {'tables':>8} {'backend':<8} {'pairs/s':>10} {'next/s':>10} "

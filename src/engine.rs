@@ -501,7 +501,10 @@ impl ShotEngine {
     /// runs chunks of [`GPU_STREAM_TABLES`] tables ([`GPU_STREAM_TABLES_EVENTS`] when events
     /// are recorded; [`ShotEngine::set_gpu_chunk_tables`] changes it), each checked here
     /// (Rayon over tables) and then packed straight from `input` by
-    /// [`GpuSimulator::simulate_checked`]. `auto` decides for the whole call
+    /// [`GpuSimulator::simulate_checked`]; from the second chunk on, the device runs a chunk
+    /// while the host hands the chunk before it to `sink` and checks the chunk after it
+    /// (`sink` is called on the calling thread, chunk after chunk in order, as on the CPU;
+    /// a bad table is reported after the chunks before it reached the sink). `auto` decides for the whole call
     /// ([`auto_gpu_min_tables`]; a watched call by the study's rule,
     /// [`AUTO_STUDY_MAX_CPU_THREADS`]); a GPU failure redoes that chunk and the rest on the
     /// CPU, with a note. The results are the same on every backend (in f64 the same events,
@@ -513,7 +516,8 @@ impl ShotEngine {
     /// which tables ran where; [`ShotEngine::simulate_restartable`] instead starts the
     /// whole call over on the CPU, so that every result is the CPU's.
     ///
-    /// [`BatchStats::sim_seconds`] counts the simulation only, not the sink's time.
+    /// [`BatchStats::sim_seconds`] counts the simulation only (each chunk's check and
+    /// run), not the sink's time.
     #[allow(clippy::too_many_arguments)]
     pub fn simulate_with<'p, E: From<Error>>(
         &mut self,
@@ -589,12 +593,42 @@ impl ShotEngine {
         } else {
             GPU_STREAM_TABLES
         });
-        let mut stats = BatchStats::default();
-        for start in (0..n_tables).step_by(per) {
-            let end = n_tables.min(start + per);
+        let ranges: Vec<Range<usize>> = (0..n_tables)
+            .step_by(per)
+            .map(|start| start..n_tables.min(start + per))
+            .collect();
+        // a chunk's check, with its seconds
+        let check = |range: Range<usize>| {
             let started = Instant::now();
-            let max_balls = check_chunk(table, physics, options, start..end, &input)
-                .map_err(|(table, error)| BatchError::Table { table, error })?;
+            let most = check_chunk(table, physics, options, range, &input);
+            (most, started.elapsed().as_secs_f64())
+        };
+        let mut stats = BatchStats::default();
+        // a simulated chunk handed to the sink, counted in the stats
+        let mut sink_chunk = |chunk: &Chunk, seconds: f64, stats: &mut BatchStats| {
+            stats.sim_seconds += seconds;
+            stats.tables += chunk.len();
+            stats.events += chunk.n_events();
+            stats.cut += chunk.iter().filter(|r| r.outcome.cut.is_some()).count();
+            sink(chunk).map_err(BatchError::Sink)
+        };
+        let what = if study { "the study" } else { "the batch" };
+        // each chunk checked before its turn; a chunk simulated and not yet at the sink
+        let mut checked = ranges.first().map(|r| check(r.clone()));
+        let mut pending: Option<(Chunk, f64)> = None;
+        for (c, range) in ranges.iter().enumerate() {
+            let (start, end) = (range.start, range.end);
+            let (most, check_seconds) = checked.take().expect("checked before its turn");
+            let max_balls = match most {
+                Ok(most) => most,
+                Err((table, error)) => {
+                    // the chunks before it reach the sink first, as one after the other
+                    if let Some((chunk, seconds)) = pending.take() {
+                        sink_chunk(&chunk, seconds, &mut stats)?;
+                    }
+                    return Err(BatchError::Table { table, error });
+                }
+            };
             let fill = |k: usize, balls: &mut Vec<BallState>| input(start + k, balls);
             let tables = CheckedTables {
                 fill: &fill,
@@ -603,14 +637,37 @@ impl ShotEngine {
                 one_position: options.one_position,
             };
             let part = physics.part(start..end);
-            let what = if study { "the study" } else { "the batch" };
+            let after = ranges.get(c + 1).cloned();
             let chunk = match self.chosen.gpu.as_mut() {
-                // after chunks reached the sink: a GPU failure under `auto` is not redone
-                // for this chunk alone
-                Some(g) if start > 0 && self.chosen.backend == Backend::Auto => {
-                    match gpu_chunk(g, table, part, options, tables, start) {
-                        Ok(chunk) => chunk,
-                        Err(e @ (Error::Gpu(_) | Error::GpuUnavailable(_))) => {
+                // after the first chunk the device runs this chunk while the host hands the
+                // chunk before to the sink and checks the chunk after
+                Some(g) if start > 0 => {
+                    let (ran, sunk, next) = std::thread::scope(|s| {
+                        let device = s.spawn(|| {
+                            let started = Instant::now();
+                            let ran = gpu_chunk(g, table, part, options, tables, start);
+                            (ran, started.elapsed().as_secs_f64())
+                        });
+                        let sunk = match pending.take() {
+                            Some((chunk, seconds)) => sink_chunk(&chunk, seconds, &mut stats),
+                            None => Ok(()),
+                        };
+                        let next = after.filter(|_| sunk.is_ok()).map(check);
+                        let ran = device
+                            .join()
+                            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                        (ran, sunk, next)
+                    });
+                    sunk?;
+                    checked = next;
+                    let (ran, mut seconds) = ran;
+                    let ran = match ran {
+                        Ok(chunk) => Ok(chunk),
+                        // after chunks reached the sink: a GPU failure under `auto` is not
+                        // redone for this chunk alone
+                        Err(e @ (Error::Gpu(_) | Error::GpuUnavailable(_)))
+                            if self.chosen.backend == Backend::Auto =>
+                        {
                             self.chosen.gpu = None;
                             if let Some(restart) = restart {
                                 if let Err(stop) = restart() {
@@ -636,27 +693,41 @@ impl ShotEngine {
                                  used from now on",
                                 n_tables - 1
                             ));
-                            cpu_chunk(table, part, options, tables, start)
-                                .map_err(|e| BatchError::Sink(E::from(e)))?
+                            let started = Instant::now();
+                            let chunk = cpu_chunk(table, part, options, tables, start);
+                            // the failed run's time, and the CPU's
+                            seconds += started.elapsed().as_secs_f64();
+                            chunk
                         }
-                        Err(e) => return Err(BatchError::Sink(E::from(e))),
-                    }
+                        Err(e) => Err(e),
+                    };
+                    let chunk = ran.map_err(|e| BatchError::Sink(E::from(e)))?;
+                    // the chunk's check and run (the sink and the next check ran beside it)
+                    (chunk, check_seconds + seconds)
                 }
-                _ => self
-                    .run(
-                        what,
-                        n_tables,
-                        study,
-                        |g| gpu_chunk(g, table, part, options, tables, start),
-                        || cpu_chunk(table, part, options, tables, start),
-                    )
-                    .map_err(|e| BatchError::Sink(E::from(e)))?,
+                _ => {
+                    if let Some((chunk, seconds)) = pending.take() {
+                        sink_chunk(&chunk, seconds, &mut stats)?;
+                    }
+                    let started = Instant::now();
+                    let chunk = self
+                        .run(
+                            what,
+                            n_tables,
+                            study,
+                            |g| gpu_chunk(g, table, part, options, tables, start),
+                            || cpu_chunk(table, part, options, tables, start),
+                        )
+                        .map_err(|e| BatchError::Sink(E::from(e)))?;
+                    let seconds = started.elapsed().as_secs_f64();
+                    checked = after.map(check);
+                    (chunk, check_seconds + seconds)
+                }
             };
-            stats.sim_seconds += started.elapsed().as_secs_f64();
-            stats.tables += chunk.len();
-            stats.events += chunk.n_events();
-            stats.cut += chunk.iter().filter(|r| r.outcome.cut.is_some()).count();
-            sink(&chunk).map_err(BatchError::Sink)?;
+            pending = Some(chunk);
+        }
+        if let Some((chunk, seconds)) = pending.take() {
+            sink_chunk(&chunk, seconds, &mut stats)?;
         }
         Ok(stats)
     }

@@ -568,3 +568,45 @@ fn a_failure_in_a_later_chunk_while_the_host_works_on_its_neighbours() {
     let again = g.simulate(&table, params, limits, &inputs, false).unwrap();
     assert_eq!(again, want, "after the bad table");
 }
+
+/// From its second chunk on, `simulate_with` on the GPU runs a chunk while the host hands
+/// the chunk before to the sink and checks the chunk after: a sink that fails stops the
+/// stream there (it is not called again, and the error is the sink's), and the engine
+/// then streams the same batch again, the runs of the first time.
+#[test]
+fn a_failing_sink_stops_the_stream_while_the_device_runs_the_next_chunk() {
+    use kisstime::simulate::{BallState, BatchOptions, SimError};
+    let Some(mut gpu) = engine(Backend::Gpu, "the failing sink") else {
+        return;
+    };
+    gpu.set_gpu_chunk_tables(Some(6));
+    let (table, inputs) = shots();
+    let params = SimParams::default();
+    let options = BatchOptions::default();
+    let input = |k: usize, balls: &mut Vec<BallState>| -> Result<_, SimError> {
+        balls.clear();
+        balls.extend_from_slice(&inputs[k].balls);
+        Ok(inputs[k].strike)
+    };
+    let stream = |gpu: &mut ShotEngine, fail_at: Option<usize>| {
+        let mut seen = Vec::new();
+        let got = gpu.simulate_with(&table, params, &options, inputs.len(), input, |c| {
+            seen.push(c.tables().start);
+            if Some(c.tables().start) == fail_at {
+                return Err(Error::Unsupported("the sink is full".into()));
+            }
+            Ok(())
+        });
+        (got, seen)
+    };
+    let (got, seen) = stream(&mut gpu, Some(12));
+    match got {
+        Err(BatchError::Sink(Error::Unsupported(m))) => assert_eq!(m, "the sink is full"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(seen, [0, 6, 12], "the sink is not called after it failed");
+    let (got, seen) = stream(&mut gpu, None);
+    assert_eq!(got.unwrap().tables, 30);
+    assert_eq!(seen, [0, 6, 12, 18, 24]);
+    assert!(gpu.describe().starts_with("gpu"), "{}", gpu.describe());
+}

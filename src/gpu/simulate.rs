@@ -75,6 +75,21 @@ fn event_loop_threads() -> Result<usize, Error> {
     }
 }
 
+/// The chunks a large batch is cut into: `KISSTIME_GPU_PIPELINE_CHUNKS` (1 to 64; 1 keeps
+/// a batch in one chunk where the bindings allow, with no host work beside the device's:
+/// for measuring what the overlap gains) or [`PIPELINE_CHUNKS`].
+fn pipeline_chunks() -> Result<usize, Error> {
+    match std::env::var("KISSTIME_GPU_PIPELINE_CHUNKS") {
+        Err(_) => Ok(PIPELINE_CHUNKS),
+        Ok(v) => match v.trim().parse::<usize>() {
+            Ok(n @ 1..=64) => Ok(n),
+            _ => Err(Error::Unsupported(format!(
+                "KISSTIME_GPU_PIPELINE_CHUNKS={v:?}: expected a whole number from 1 to 64"
+            ))),
+        },
+    }
+}
+
 /// Tables per chunk, at most, by default.
 pub const MAX_TABLES_PER_CHUNK: usize = 1 << 20;
 
@@ -277,6 +292,9 @@ pub struct GpuSimulator {
     /// device's largest storage binding, and of at most this many tables (by default
     /// [`MAX_TABLES_PER_CHUNK`]), simulated one after the other.
     pub max_tables_per_chunk: usize,
+    /// The chunks a large batch is cut into ([`PIPELINE_CHUNKS`] by default; 1: one chunk,
+    /// no host work beside the device's), each of at least [`PIPELINE_MIN_TABLES`].
+    pub pipeline_chunks: usize,
 }
 
 impl GpuSimulator {
@@ -285,7 +303,9 @@ impl GpuSimulator {
     /// Errors: [`Error::GpuUnavailable`] without a usable adapter (or without
     /// `SHADER_F64` for f64); [`Error::Gpu`] when the device or the shader fails to build.
     pub fn new(precision: Precision) -> Result<GpuSimulator, Error> {
-        GpuSimulator::with_loop_threads(precision, event_loop_threads()?)
+        let mut sim = GpuSimulator::with_loop_threads(precision, event_loop_threads()?)?;
+        sim.pipeline_chunks = pipeline_chunks()?;
+        Ok(sim)
     }
 
     /// [`GpuSimulator::new`] with `threads` threads a table's workgroup (16, 32 or 64: the
@@ -329,6 +349,7 @@ impl GpuSimulator {
             expanded: 0,
             events_per_dispatch: EVENTS_PER_DISPATCH,
             max_tables_per_chunk: MAX_TABLES_PER_CHUNK,
+            pipeline_chunks: PIPELINE_CHUNKS,
         };
         // the 16-ball bucket now: a shader that does not build fails here
         sim.pipeline(&SimLayout::for_balls(16))?;
@@ -539,7 +560,7 @@ impl GpuSimulator {
             .max(per * EVENT_REALS * real)
             .max(4 * (1 + per * EVENT_UINTS));
         let fit = (self.max_binding / per_table as u64).max(1) as usize;
-        let chunk = chunk_tables(n, self.max_tables_per_chunk.min(fit));
+        let chunk = chunk_tables(n, self.max_tables_per_chunk.min(fit), self.pipeline_chunks);
         let (record, watch_cue, watch_stop, watch_facts) = match &mode {
             GpuOutput::Finals => (false, NO_WATCH, false, false),
             GpuOutput::Events(_) => (true, NO_WATCH, false, false),
@@ -1270,13 +1291,13 @@ fn unpack_chunk(
 }
 
 /// Tables per chunk for a batch of `n` tables, at most `most`: a large batch (at least
-/// twice [`PIPELINE_MIN_TABLES`]) in [`PIPELINE_CHUNKS`] chunks of at least
-/// [`PIPELINE_MIN_TABLES`], so that the host's packing and unpacking of one chunk overlap
-/// the device's run of another.
-fn chunk_tables(n: usize, most: usize) -> usize {
+/// twice [`PIPELINE_MIN_TABLES`]) in `chunks` chunks of at least [`PIPELINE_MIN_TABLES`],
+/// so that the host's packing and unpacking of one chunk overlap the device's run of
+/// another.
+fn chunk_tables(n: usize, most: usize, chunks: usize) -> usize {
     let most = most.max(1);
     if n >= 2 * PIPELINE_MIN_TABLES {
-        most.min(n.div_ceil(PIPELINE_CHUNKS).max(PIPELINE_MIN_TABLES))
+        most.min(n.div_ceil(chunks.max(1)).max(PIPELINE_MIN_TABLES))
     } else {
         most
     }
@@ -1542,36 +1563,38 @@ mod tests {
     #[test]
     fn a_large_batch_is_cut_into_a_few_chunks_of_many_tables() {
         let min = PIPELINE_MIN_TABLES;
+        let chunks = |n, most| chunk_tables(n, most, PIPELINE_CHUNKS);
         // small batches: one chunk, or the limit's
+        assert_eq!(chunks(1000, MAX_TABLES_PER_CHUNK), MAX_TABLES_PER_CHUNK);
         assert_eq!(
-            chunk_tables(1000, MAX_TABLES_PER_CHUNK),
+            chunks(2 * min - 1, MAX_TABLES_PER_CHUNK),
             MAX_TABLES_PER_CHUNK
         );
-        assert_eq!(
-            chunk_tables(2 * min - 1, MAX_TABLES_PER_CHUNK),
-            MAX_TABLES_PER_CHUNK
-        );
-        assert_eq!(chunk_tables(1000, 7), 7);
-        assert_eq!(chunk_tables(1000, 0), 1);
+        assert_eq!(chunks(1000, 7), 7);
+        assert_eq!(chunks(1000, 0), 1);
         // large ones: PIPELINE_CHUNKS chunks, none smaller than the minimum
-        assert_eq!(chunk_tables(2 * min, MAX_TABLES_PER_CHUNK), min);
-        assert_eq!(chunk_tables(1_000_000, MAX_TABLES_PER_CHUNK), 250_000);
-        assert_eq!(chunk_tables(1 << 18, MAX_TABLES_PER_CHUNK), 1 << 16);
-        assert_eq!(chunk_tables(100_000, MAX_TABLES_PER_CHUNK), min);
+        assert_eq!(chunks(2 * min, MAX_TABLES_PER_CHUNK), min);
+        assert_eq!(chunks(1_000_000, MAX_TABLES_PER_CHUNK), 250_000);
+        assert_eq!(chunks(1 << 18, MAX_TABLES_PER_CHUNK), 1 << 16);
+        assert_eq!(chunks(100_000, MAX_TABLES_PER_CHUNK), min);
         // the bindings' limit still rules
-        assert_eq!(chunk_tables(1_000_000, 1000), 1000);
+        assert_eq!(chunks(1_000_000, 1000), 1000);
         for n in [2 * min, 100_000, 1_000_000, 4 * MAX_TABLES_PER_CHUNK] {
-            let chunk = chunk_tables(n, MAX_TABLES_PER_CHUNK);
-            let chunks = n.div_ceil(chunk);
+            let chunk = chunks(n, MAX_TABLES_PER_CHUNK);
+            let count = n.div_ceil(chunk);
             assert!(
-                chunk >= min && (2..=PIPELINE_CHUNKS).contains(&chunks),
+                chunk >= min && (2..=PIPELINE_CHUNKS).contains(&count),
                 "{n}: {chunk}"
             );
         }
         // beyond that the chunks are the largest allowed
         assert_eq!(
-            chunk_tables(10_000_000, MAX_TABLES_PER_CHUNK),
+            chunks(10_000_000, MAX_TABLES_PER_CHUNK),
             MAX_TABLES_PER_CHUNK
         );
+        // KISSTIME_GPU_PIPELINE_CHUNKS: one chunk where the limit allows, or more
+        assert_eq!(chunk_tables(1_000_000, MAX_TABLES_PER_CHUNK, 1), 1_000_000);
+        assert_eq!(chunk_tables(1_000_000, MAX_TABLES_PER_CHUNK, 8), 125_000);
+        assert_eq!(chunk_tables(100_000, MAX_TABLES_PER_CHUNK, 0), 100_000);
     }
 }
