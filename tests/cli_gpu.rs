@@ -429,3 +429,37 @@ fn auto_never_picks_a_software_adapter_and_summaries_name_what_ran() {
     let summary = summary.lines().find(|l| l.contains(" tables/s, ")).unwrap();
     assert!(summary.contains("on gpu f64: "), "{summary}");
 }
+
+/// The measuring knobs of the GPU event loop (`KISSTIME_EVENT_LOOP_THREADS`,
+/// `KISSTIME_GPU_PIPELINE_CHUNKS`) with a bad value: `gpu` is a clear error naming the
+/// variable, with nothing on standard output; `auto` says why and runs on the CPU, its
+/// output the CPU's. Checked before any device is opened, so no GPU is needed.
+#[test]
+fn a_bad_gpu_knob_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let balls = dir.path().join("balls.csv");
+    std::fs::write(&balls, SIM_BALLS).unwrap();
+    let balls = balls.to_str().unwrap();
+    let cpu = kisstime(&["simulate", balls], &[]);
+    assert!(cpu.status.success(), "{}", stderr(&cpu));
+    for (var, value) in [
+        ("KISSTIME_EVENT_LOOP_THREADS", "12"),
+        ("KISSTIME_GPU_PIPELINE_CHUNKS", "0"),
+        ("KISSTIME_GPU_PIPELINE_CHUNKS", "many"),
+    ] {
+        let env = [(var, value)];
+        let gpu = kisstime(&["simulate", balls, "--backend", "gpu"], &env);
+        let err = stderr(&gpu);
+        assert!(!gpu.status.success(), "{var}={value}: {err}");
+        assert!(
+            err.contains(var) && err.contains(value) && !err.contains("panicked"),
+            "{var}={value}: {err}"
+        );
+        assert!(gpu.stdout.is_empty(), "{var}={value}");
+        let auto = kisstime(&["simulate", balls, "--backend", "auto"], &env);
+        let err = stderr(&auto);
+        assert!(auto.status.success(), "{var}={value}: {err}");
+        assert!(err.contains(var), "{var}={value}: {err}");
+        assert_eq!(auto.stdout, cpu.stdout, "{var}={value}: the CPU's output");
+    }
+}

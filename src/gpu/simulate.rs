@@ -303,8 +303,9 @@ impl GpuSimulator {
     /// Errors: [`Error::GpuUnavailable`] without a usable adapter (or without
     /// `SHADER_F64` for f64); [`Error::Gpu`] when the device or the shader fails to build.
     pub fn new(precision: Precision) -> Result<GpuSimulator, Error> {
-        let mut sim = GpuSimulator::with_loop_threads(precision, event_loop_threads()?)?;
-        sim.pipeline_chunks = pipeline_chunks()?;
+        let (threads, chunks) = (event_loop_threads()?, pipeline_chunks()?);
+        let mut sim = GpuSimulator::with_loop_threads(precision, threads)?;
+        sim.pipeline_chunks = chunks;
         Ok(sim)
     }
 
