@@ -893,6 +893,8 @@ impl GpuSimulator {
             }
             self.submit(Some([row, groups_y]), &bufs.bind, &copies)?;
             self.dispatches += 1;
+            // every mapped readback read and unmapped before any failure is returned
+            let device_seconds = self.timer.as_ref().map(PassTimer::seconds);
             let read: Vec<(&wgpu::Buffer, u64)> = copies.iter().map(|c| (c.dst, c.len)).collect();
             let (running, events) = read_mapped(&read, |views| {
                 let running: u32 = bytemuck::pod_read_unaligned(&views[0][..4]);
@@ -902,8 +904,8 @@ impl GpuSimulator {
                 });
                 (running, events)
             })?;
-            if let Some(timer) = &self.timer {
-                *self.timings.kernel_device.get_or_insert(0.0) += timer.seconds()?;
+            if let Some(seconds) = device_seconds {
+                *self.timings.kernel_device.get_or_insert(0.0) += seconds?;
             }
             if let (GpuOutput::Events(on_event), Some((eu, er))) = (&mut *mode, events) {
                 for k in 0..n_tables {
