@@ -144,6 +144,9 @@ pub(super) fn open(precision: Precision) -> Result<Opened, Error> {
     })
 }
 
+/// Bytes of a pass's two timestamps.
+const TIMESTAMP_BYTES: u64 = 2 * wgpu::QUERY_SIZE as u64;
+
 /// The device's own time of a compute pass: GPU timestamps written at the pass's start and
 /// end (`TIMESTAMP_QUERY`), resolved and read back with the pass's results.
 pub(super) struct PassTimer {
@@ -160,7 +163,7 @@ impl PassTimer {
         let buffer = |label, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: 2 * wgpu::QUERY_SIZE as u64,
+                size: TIMESTAMP_BYTES,
                 usage,
                 mapped_at_creation: false,
             })
@@ -195,10 +198,9 @@ impl PassTimer {
     /// After the pass: the timestamps resolved and copied to the readback buffer, which is
     /// returned with its length, to be mapped with the submission's other readbacks.
     pub(super) fn resolve(&self, encoder: &mut wgpu::CommandEncoder) -> (&wgpu::Buffer, u64) {
-        let len = 2 * wgpu::QUERY_SIZE as u64;
         encoder.resolve_query_set(&self.set, 0..2, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.back, 0, len);
-        (&self.back, len)
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.back, 0, TIMESTAMP_BYTES);
+        self.back()
     }
 
     /// The pass's seconds on the device, from the readback mapped after the submission
@@ -222,7 +224,7 @@ impl PassTimer {
 
     /// The readback buffer and its length (mapped after a submission that resolved).
     pub(super) fn back(&self) -> (&wgpu::Buffer, u64) {
-        (&self.back, 2 * wgpu::QUERY_SIZE as u64)
+        (&self.back, TIMESTAMP_BYTES)
     }
 }
 
