@@ -13,7 +13,10 @@
 #   to end and the GPU's phases (`--verbose`).
 # PARTS (default "kernels sim study") chooses the parts; SIZES, KERNEL_SCENARIOS, KERNEL_PRECISIONS,
 # SIM_SIZES, BREAK_SIZES, SIM_PRECISIONS, ONE_CHUNK_SIZES (ordinary shots again in one chunk, with no
-# host work beside the device's; default the largest of SIM_SIZES) and STUDY_SAMPLES their sizes. Prints one table per part at
+# host work beside the device's; default the largest of SIM_SIZES), ROW_SERIAL_SIZES (ordinary shots
+# and breaks again with each ball-table row filled on one thread, KISSTIME_GPU_ROW_THREADS=1: what
+# splitting a row's items over the threads gains; default the smallest of SIM_SIZES) and
+# STUDY_SAMPLES their sizes. Prints one table per part at
 # the end; the raw JSON goes to $OUT/bench.jsonl, $OUT/sim.jsonl and $OUT/study.jsonl.
 # Each run has its own timeout (150 s), so the whole stays within one 10-minute call.
 #
@@ -36,6 +39,7 @@ BREAK_SIZES="${BREAK_SIZES:-${SIM_SIZES%% *}}"
 SIM_CPU_MAX="${SIM_CPU_MAX:-100000}"
 STUDY_SAMPLES="${STUDY_SAMPLES:-1000000}"
 ONE_CHUNK_SIZES="${ONE_CHUNK_SIZES:-${SIM_SIZES##* }}"
+ROW_SERIAL_SIZES="${ROW_SERIAL_SIZES:-${SIM_SIZES%% *}}"
 PARTS="${PARTS:-kernels sim study}"
 mkdir -p "$OUT"
 if compgen -G ".gl/*.deb" > /dev/null; then
@@ -50,6 +54,7 @@ echo "binary: $BIN; cores: $(nproc); sizes: $SIZES"
 : > "$OUT/bench.jsonl"
 : > "$OUT/sim.jsonl"
 : > "$OUT/sim_one_chunk.jsonl"
+: > "$OUT/sim_row_serial.jsonl"
 : > "$OUT/study.jsonl"
 run() { # output file, label, then kisstime bench arguments
   local file="$1" label="$2"; shift 2
@@ -89,6 +94,14 @@ if [[ " $PARTS " == *" sim "* ]]; then
     KISSTIME_GPU_PIPELINE_CHUNKS=1 run "$OUT/sim_one_chunk.jsonl" "sim gpu f64 ordinary $n, one chunk" \
       --sim ordinary --tables "$n" --backend gpu --precision f64 --reps 1
   done
+  # ordinary shots and breaks with each ball-table row on one thread (as before the rows'
+  # items were split over the workgroup's threads): what the split gains
+  for n in $ROW_SERIAL_SIZES; do
+    for workload in ordinary breaks; do
+      KISSTIME_GPU_ROW_THREADS=1 run "$OUT/sim_row_serial.jsonl" "sim gpu f64 $workload $n, rows on one thread" \
+        --sim "$workload" --tables "$n" --backend gpu --precision f64 --reps 1
+    done
+  done
 fi
 if [[ " $PARTS " == *" study "* ]]; then
   for n in $STUDY_SAMPLES; do
@@ -105,7 +118,7 @@ if [[ " $PARTS " == *" study "* ]]; then
   grep -h "GPU phases\|samples of" "$OUT/study_stderr.txt"
 fi
 # one table of everything that ran (the JSON objects follow one another in the file)
-python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" "$OUT/sim_one_chunk.jsonl" <<'PY' || cat "$OUT"/*.jsonl
+python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" "$OUT/sim_one_chunk.jsonl" "$OUT/sim_row_serial.jsonl" <<'PY' || cat "$OUT"/*.jsonl
 import json, sys
 def objects(path):
     text, dec, at, out = open(path).read(), json.JSONDecoder(), 0, []
@@ -120,7 +133,10 @@ rows, sims, studies = objects(sys.argv[1]), objects(sys.argv[2]), objects(sys.ar
 one_chunk = objects(sys.argv[4])
 for r in one_chunk:
     r["workload"] += " (1 chunk)"
-sims += one_chunk
+row_serial = objects(sys.argv[5])
+for r in row_serial:
+    r["workload"] += " (rows on 1 thread)"
+sims += one_chunk + row_serial
 g = lambda v: "-" if v is None else f"{v / 1e6:,.0f} M"
 k = lambda s: "-" if not s else f"{s['kernel_s'] * 1e3:.2f}/{(s['upload_s'] + s['kernel_s'] + s['readback_s']) * 1e3:.2f} ms"
 print(f"{'scenario':<8} {'tables':>8} {'backend':<8} {'pairs/s':>10} {'next/s':>10} "
@@ -147,8 +163,9 @@ if sims:
             if sp:
                 print("          phases: " + ", ".join(
                     f"{name} {(sp.get(name + '_s') or 0) * 1e3:.1f} ms"
-                    for name in ("pack", "upload", "kernel", "kernel_device", "readback",
-                                 "unpack", "overlapped")))
+                    for name in ("pack", "upload", "kernel", "kernel_device", "kernel_tail",
+                                 "readback", "unpack", "overlapped"))
+                    + f" ({sp.get('tail_dispatches', 0)} tail dispatches of {b.get('dispatches')})")
 if studies:
     print()
     print(f"{'samples':>8} {'seconds':>8} {'samples/s':>12}  backend")

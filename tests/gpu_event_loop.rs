@@ -369,6 +369,36 @@ fn the_workgroups_thread_count_does_not_change_the_runs() {
     assert!(GpuSimulator::with_loop_threads(Precision::F64, 48).is_err());
 }
 
+/// How the missing rows of the ball–table categories are split over the threads changes
+/// nothing: one thread a row (item by item, as the Rust twin fills them), a row over at
+/// most 3 threads, and over as many as the workgroup has (the default, with 64 and with 16
+/// threads a table) give the same runs bit for bit (events, final states, outcomes); the
+/// default's are the CPU's (the reference shots' test above).
+#[test]
+fn splitting_a_rows_items_over_the_threads_does_not_change_the_runs() {
+    let Some(mut gpu) = open(Precision::F64, "gpu_event_loop row threads") else {
+        return;
+    };
+    let params = SimParams::default();
+    let (table, inputs) = reference_shots(160..220);
+    let split = gpu
+        .simulate(&table, params, Limits::default(), &inputs, true)
+        .unwrap();
+    for (threads, rows) in [(64, 1), (64, 3), (16, 64)] {
+        let mut other = GpuSimulator::with_loop_threads(Precision::F64, threads).unwrap();
+        other.set_row_threads(rows).unwrap();
+        let runs = other
+            .simulate(&table, params, Limits::default(), &inputs, true)
+            .unwrap();
+        assert_eq!(
+            runs, split,
+            "{threads} threads a table, rows over at most {rows}"
+        );
+    }
+    assert!(gpu.set_row_threads(0).is_err());
+    assert!(gpu.set_row_threads(65).is_err());
+}
+
 /// Tables of `n` balls on the 9-ft table, spread on a jittered grid (no overlap), the cue
 /// ball (ball 0) struck hard in a different direction on each table: many collisions.
 fn crowded_shots(n: usize, tables: usize) -> Vec<GpuShot> {
@@ -544,4 +574,18 @@ fn the_phases_are_timed_and_the_passes_on_the_devices_clock() {
         Some(device) => assert!(device > 0.0 && device <= t.kernel, "{t:?}"),
         None => println!("the adapter has no GPU timestamps: the passes are not timed on it"),
     }
+    // chunks of 9 tables: no dispatch runs under a sixteenth of its chunk
+    assert_eq!((t.kernel_tail, t.tail_dispatches), (0.0, 0), "{t:?}");
+    // one chunk of 40 in 8-event dispatches: the few shots with many events run on alone
+    gpu.max_tables_per_chunk = 64;
+    gpu.events_per_dispatch = 8;
+    gpu.simulate(&table, params, Limits::default(), &inputs, false)
+        .unwrap();
+    let t = gpu.timings();
+    println!("{} ({} dispatches)", t.describe(), gpu.dispatches());
+    assert!(
+        t.tail_dispatches > 0 && t.tail_dispatches < gpu.dispatches(),
+        "{t:?}"
+    );
+    assert!(t.kernel_tail > 0.0 && t.kernel_tail < t.kernel, "{t:?}");
 }

@@ -377,7 +377,7 @@ const TWINS: &[Twin] = &[
             ),
             (
                 "EventLoop<'_>::fill_items",
-                "fill_row, one thread per ball row",
+                "fill_rows and merge_rows, a row's items split over the threads",
             ),
             ("EventLoop<'_>::rows", "the rows are one workgroup array"),
             (
@@ -426,7 +426,21 @@ const TWINS: &[Twin] = &[
             ("store_table", "a table's state back to storage"),
             ("after_clock", "t + τ with NEVER kept (WGSL has no ∞)"),
             ("comes_before", "choose's comparison"),
-            ("fill_row", "one ball's row of fill_items"),
+            ("put_row", "a row filled, as fill_items stores it"),
+            (
+                "row_part",
+                "fill_items's scan of one row, over a part of its items",
+            ),
+            (
+                "earlier_part",
+                "fill_items's comparison, for merging a row's parts",
+            ),
+            ("row_lanes", "how many threads a row's items are split over"),
+            (
+                "fill_rows",
+                "fill_items, a row's items split over the threads",
+            ),
+            ("merge_rows", "fill_items, the parts of a row merged"),
             (
                 "earlier_pair",
                 "the candidates' comparison, for the threads' reduction",

@@ -3,9 +3,10 @@
 // in storage between dispatches.
 //
 // Each step: the threads fill the missing cache entries in parallel (ball pairs, then each
-// ball–table category row by row), each entry stamped with (step, position in its
-// category's fill order) as the Rust twin stamps it (simulate/cache.rs), so that the order
-// they are filled in does not matter; the threads reduce each category to its earliest
+// ball–table category's rows, a row's items split over several threads where few rows are
+// missing: see fill_rows), each entry stamped with (step, position in its category's fill
+// order) as the Rust twin stamps it (simulate/cache.rs), so that the order they are filled
+// in does not matter; the threads reduce each category to its earliest
 // entry together (reduce_entries) and thread 0 chooses the winner with the Rust twin's tie
 // rules (its choose, with comes_before as the comparison), the threads evolve every ball to
 // its time, thread 0 resolves it and invalidates the entries of the balls involved. At
@@ -36,6 +37,10 @@
 // least GPU_MAX_BALLS; LOOP_ROUNDS = ⌈GPU_MAX_PAIRS / LOOP_THREADS⌉).
 override LOOP_THREADS: u32 = 64u;
 override LOOP_ROUNDS: u32 = 2u;
+// The most threads one row's items are split over (see fill_rows): 1 fills each row on one
+// thread, item by item, as the Rust twin does. Pipeline-overridable (the host's
+// ROW_THREADS, for measuring the two on a device; the same answers either way).
+override ROW_THREADS: u32 = 64u;
 // The most threads a workgroup may have (the reduction's array).
 const MAX_LOOP_THREADS: u32 = 64u;
 
@@ -218,6 +223,12 @@ var<workgroup> win_other: u32;
 var<workgroup> red_pair: array<u32, MAX_LOOP_THREADS>;
 var<workgroup> red_row: array<u32, GPU_ROWS>;
 var<workgroup> red_trans: array<u32, GPU_MAX_BALLS>;
+// The translating balls whose rows are missing this step (in any order), and each thread's
+// part of a row split over several threads: its earliest time and item (see fill_rows).
+var<workgroup> row_balls: array<u32, GPU_MAX_BALLS>;
+var<workgroup> n_row_balls: atomic<u32>;
+var<workgroup> part_t: array<real, MAX_LOOP_THREADS>;
+var<workgroup> part_item: array<u32, MAX_LOOP_THREADS>;
 // The cue ball's state and the clock before this step's event, for the watch.
 var<workgroup> watch_before: BallState;
 var<workgroup> watch_t0: real;
@@ -231,6 +242,12 @@ struct Candidate {
     kind: u32,
     ball: u32,
     other: u32,
+}
+
+// A row's earliest entry so far: its time and item (NO_AGENT: none yet).
+struct RowPart {
+    t: real,
+    item: u32,
 }
 
 fn no_candidate() -> Candidate {
@@ -348,6 +365,7 @@ fn load_table(table: u32, lid: u32) {
         n_events = state_u[u0 + IO_U_N + 1u];
         status = state_u[u0 + IO_U_N + 2u];
         n_recorded = 0u;
+        atomicStore(&n_row_balls, 0u);
         if fresh && cfg.watch_cue != NO_AGENT {
             clear_watch(table);
         }
@@ -512,31 +530,90 @@ fn n_items(which: u32) -> u32 {
     }
 }
 
-// Fills ball i's missing row of one ball–table category: every item in table order gets
-// its time; the row keeps the earliest (of equal times the first). A ball that does not
-// translate meets nothing.
-fn fill_row(which: u32, i: u32, r: real) {
+// Ball i's row of one ball–table category, filled: its earliest time and item, stamped
+// with this step (no item: NEVER and item 0).
+fn put_row(which: u32, i: u32, t: real, item: u32) {
     let at = which * GPU_MAX_BALLS + i;
-    if row_step[at] != MISSING_STEP {
+    row_t[at] = t;
+    row_step[at] = n_events;
+    row_item[at] = select(item, 0u, item == NO_AGENT);
+}
+
+// The earliest of items lane, lane + lanes, lane + 2·lanes, … of one ball–table category
+// for translating ball i (of equal times the first), or item NO_AGENT where there is none.
+// With lane 0 and lanes 1, the whole row in table order, as the Rust twin's fill_items.
+fn row_part(which: u32, i: u32, lane: u32, lanes: u32, r: real) -> RowPart {
+    var best = RowPart(NEVER, NO_AGENT);
+    for (var m = lane; m < n_items(which); m += lanes) {
+        let t = after_clock(item_time(which, m, paths[i], boxes[i], r));
+        if best.item == NO_AGENT || t < best.t {
+            best = RowPart(t, m);
+        }
+    }
+    return best;
+}
+
+// Of two parts of one row (item NO_AGENT: none), the earlier (of equal times the lower
+// item): what the Rust twin's scan in table order keeps.
+fn earlier_part(a: RowPart, b: RowPart) -> RowPart {
+    if b.item == NO_AGENT {
+        return a;
+    }
+    if a.item == NO_AGENT || b.t < a.t || (b.t == a.t && b.item < a.item) {
+        return b;
+    }
+    return a;
+}
+
+// How many threads each missing row's items are split over this step: as many as the
+// workgroup has for each (at most ROW_THREADS), or one where rows outnumber threads.
+fn row_lanes(rows: u32) -> u32 {
+    return clamp(LOOP_THREADS / max(rows, 1u), 1u, ROW_THREADS);
+}
+
+// Fills the missing rows of the balls in row_balls (the Rust twin's fill_items: every
+// item of the ball in table order gets its time; the row keeps the earliest, of equal
+// times the first). A row's items are split over `lanes` threads, each keeping the
+// earliest of its part; with one lane a thread fills whole rows, else the parts are put
+// in part_t/part_item and merged by merge_rows after a barrier. Called by every thread.
+fn fill_rows(lid: u32, r: real) {
+    let rows = 3u * atomicLoad(&n_row_balls);
+    let lanes = row_lanes(rows);
+    for (var s = lid; s < rows * lanes; s += LOOP_THREADS) {
+        let row = s / lanes;
+        let which = row % 3u;
+        let i = row_balls[row / 3u];
+        if row_step[which * GPU_MAX_BALLS + i] == MISSING_STEP {
+            let part = row_part(which, i, s % lanes, lanes, r);
+            if lanes == 1u {
+                put_row(which, i, part.t, part.item);
+            } else {
+                part_t[s] = part.t;
+                part_item[s] = part.item;
+            }
+        }
+    }
+}
+
+// Merges the parts of each row that fill_rows split (rows · lanes ≤ LOOP_THREADS then),
+// in lane order. Called by every thread after a barrier that follows fill_rows.
+fn merge_rows(lid: u32) {
+    let rows = 3u * atomicLoad(&n_row_balls);
+    let lanes = row_lanes(rows);
+    if lanes == 1u || lid >= rows {
         return;
     }
-    let moving = ball_translating(balls[i]);
-    var best_t = NEVER;
-    var best_m = 0u;
-    for (var m = 0u; m < n_items(which); m++) {
-        var tau = NEVER;
-        if moving {
-            tau = item_time(which, m, paths[i], boxes[i], r);
-        }
-        let t = after_clock(tau);
-        if m == 0u || t < best_t {
-            best_t = t;
-            best_m = m;
-        }
+    let which = lid % 3u;
+    let i = row_balls[lid / 3u];
+    if row_step[which * GPU_MAX_BALLS + i] != MISSING_STEP {
+        return;
     }
-    row_t[at] = best_t;
-    row_step[at] = n_events;
-    row_item[at] = best_m;
+    var best = RowPart(NEVER, NO_AGENT);
+    for (var k = 0u; k < lanes; k++) {
+        let s = lid * lanes + k;
+        best = earlier_part(best, RowPart(part_t[s], part_item[s]));
+    }
+    put_row(which, i, best.t, best.item);
 }
 
 // The earliest event of one ball–table category.
@@ -934,13 +1011,28 @@ fn simulate_tables(
             break;
         }
         let n = n_balls;
-        // the paths and boxes of every ball at the current time
+        // the paths and boxes of every ball at the current time; the translating balls
+        // whose rows are missing listed for fill_rows, the others' missing rows filled now
+        // (a ball that does not translate meets nothing)
         for (var round = 0u; round < LOOP_ROUNDS; round++) {
             let i = lid + round * LOOP_THREADS;
             if i < n {
                 let path = trajectory(balls[i], p);
                 paths[i] = path;
                 boxes[i] = path_box(path);
+                var missing = false;
+                for (var which = 0u; which < 3u; which++) {
+                    missing = missing || row_step[which * GPU_MAX_BALLS + i] == MISSING_STEP;
+                }
+                if missing && ball_translating(balls[i]) {
+                    row_balls[atomicAdd(&n_row_balls, 1u)] = i;
+                } else if missing {
+                    for (var which = 0u; which < 3u; which++) {
+                        if row_step[which * GPU_MAX_BALLS + i] == MISSING_STEP {
+                            put_row(which, i, NEVER, 0u);
+                        }
+                    }
+                }
             }
         }
         workgroupBarrier();
@@ -956,16 +1048,15 @@ fn simulate_tables(
                 }
             }
         }
-        for (var round = 0u; round < LOOP_ROUNDS; round++) {
-            let q = lid + round * LOOP_THREADS;
-            if q < 3u * n {
-                fill_row(q / n, q % n, p.r);
-            }
-        }
+        fill_rows(lid, p.r);
+        workgroupBarrier();
+        merge_rows(lid);
         workgroupBarrier();
         // each category's earliest entry, by the threads together
         reduce_entries(lid, n);
         if lid == 0u {
+            // the list is read (fill_rows, merge_rows): empty for the next step
+            atomicStore(&n_row_balls, 0u);
             if n_events >= cfg.max_events {
                 status = STATUS_CUT_EVENTS;
             } else {

@@ -113,6 +113,11 @@ pub struct GpuSplit {
     /// The event loop's compute passes on the device's own clock (GPU timestamps), where
     /// the adapter has them (else null).
     pub kernel_device_s: Option<f64>,
+    /// The part of `kernel_s` in the event loop's dispatches that ran fewer than a
+    /// sixteenth of their chunk's tables (the long tail of the tables with many events).
+    pub kernel_tail_s: f64,
+    /// How many such dispatches ran.
+    pub tail_dispatches: u64,
 }
 
 impl From<GpuTimings> for GpuSplit {
@@ -125,6 +130,8 @@ impl From<GpuTimings> for GpuSplit {
             unpack_s: t.unpack,
             overlapped_s: t.overlapped,
             kernel_device_s: t.kernel_device,
+            kernel_tail_s: t.kernel_tail,
+            tail_dispatches: t.tail_dispatches,
         }
     }
 }
@@ -510,7 +517,7 @@ impl SimBenchReport {
             );
             if let (Some(s), Some(k)) = (&f.gpu_split, f.kernel_shots_per_s) {
                 out += &format!(
-                    "  device: {}\n  pack {:.1} ms, upload {:.1} ms, kernel {:.1} ms{} ({} dispatches; {k:.0} shots/s), readback {:.1} ms, unpack {:.1} ms ({:.1} ms of packing and unpacking while the kernel ran)\n",
+                    "  device: {}\n  pack {:.1} ms, upload {:.1} ms, kernel {:.1} ms{} ({} dispatches, {} of them of under a sixteenth of the tables: {:.1} ms; {k:.0} shots/s), readback {:.1} ms, unpack {:.1} ms ({:.1} ms of packing and unpacking while the kernel ran)\n",
                     f.device,
                     1e3 * s.pack_s,
                     1e3 * s.upload_s,
@@ -520,6 +527,8 @@ impl SimBenchReport {
                         None => String::new(),
                     },
                     f.dispatches.unwrap_or(0),
+                    s.tail_dispatches,
+                    1e3 * s.kernel_tail_s,
                     1e3 * s.readback_s,
                     1e3 * s.unpack_s,
                     1e3 * s.overlapped_s

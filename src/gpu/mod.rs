@@ -52,7 +52,7 @@ pub use shader::{GPU_MAX_BALLS_LINE, shader_source};
 pub use sim_layout::{GPU_BALL_BUCKETS, GPU_MAX_BALLS, GpuRun, GpuShot, SimLayout, WatchedRun};
 pub use simulate::{
     CheckedTables, EVENT_LOOP_THREADS, EVENTS_PER_DISPATCH, FillTable, GpuOutput, GpuSimulator,
-    MAX_TABLES_PER_CHUNK, OnEvent, PIPELINE_CHUNKS, PIPELINE_MIN_TABLES,
+    MAX_TABLES_PER_CHUNK, OnEvent, PIPELINE_CHUNKS, PIPELINE_MIN_TABLES, ROW_THREADS,
 };
 
 /// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the
@@ -93,6 +93,12 @@ pub struct GpuTimings {
     /// less this is the host's waiting, the launches and, in the event loop, the "tables
     /// still running" readbacks between dispatches.
     pub kernel_device: Option<f64>,
+    /// The part of `kernel` spent in the event loop's dispatches that ran fewer than a
+    /// sixteenth of their chunk's tables: the long tail of the few tables with many events,
+    /// while most of the device waits (what the next chunk's tables could fill).
+    pub kernel_tail: f64,
+    /// How many such dispatches ran (of the call's [`GpuSimulator::dispatches`]).
+    pub tail_dispatches: u64,
 }
 
 impl GpuTimings {
@@ -104,6 +110,8 @@ impl GpuTimings {
         self.readback += other.readback;
         self.unpack += other.unpack;
         self.overlapped += other.overlapped;
+        self.kernel_tail += other.kernel_tail;
+        self.tail_dispatches += other.tail_dispatches;
         if let Some(d) = other.kernel_device {
             *self.kernel_device.get_or_insert(0.0) += d;
         }
@@ -115,9 +123,17 @@ impl GpuTimings {
             Some(d) => format!(" ({d:.3} s on the device's clock)"),
             None => String::new(),
         };
+        let tail = match self.tail_dispatches {
+            0 => String::new(),
+            n => format!(
+                " ({:.3} s of it in {n} dispatch{} of under a sixteenth of the tables)",
+                self.kernel_tail,
+                if n == 1 { "" } else { "es" }
+            ),
+        };
         format!(
-            "pack {:.3} s, upload {:.3} s, kernel {:.3} s{device}, readback {:.3} s, unpack \
-             {:.3} s ({:.3} s of packing and unpacking while the kernel ran)",
+            "pack {:.3} s, upload {:.3} s, kernel {:.3} s{device}{tail}, readback {:.3} s, \
+             unpack {:.3} s ({:.3} s of packing and unpacking while the kernel ran)",
             self.pack, self.upload, self.kernel, self.readback, self.unpack, self.overlapped
         )
     }

@@ -36,8 +36,8 @@ use super::device::gpu_error;
 /// The ball counts the event loop is built for: a call runs on the smallest that holds its
 /// largest table (one pipeline each, built when first needed). Each is the shader's
 /// `GPU_MAX_BALLS` of its build; the workgroup keeps the table's state in workgroup memory,
-/// which grows with the square of it (about 6 KB at 16 balls, 16 KB at 32, 28 KB at 48,
-/// 42 KB at 64 in f64): an adapter whose workgroup memory is too small for a bucket
+/// which grows with the square of it (about 7 KB at 16 balls, 17 KB at 32, 29 KB at 48,
+/// 43 KB at 64 in f64): an adapter whose workgroup memory is too small for a bucket
 /// refuses it with [`Error::Unsupported`].
 pub const GPU_BALL_BUCKETS: [usize; 4] = [16, 32, 48, 64];
 

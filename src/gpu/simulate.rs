@@ -75,6 +75,28 @@ fn event_loop_threads() -> Result<usize, Error> {
     }
 }
 
+/// The most threads one missing row of a ball–table category is split over, by default
+/// (the shader's `ROW_THREADS`): after an event only the one or two balls involved have
+/// their rows to fill, each row a loop over the table's items (36 on a pool table); split
+/// over the workgroup's threads, a step waits for a couple of items' times instead of a
+/// whole row's.
+pub const ROW_THREADS: usize = 64;
+
+/// The threads a row is split over, at most: `KISSTIME_GPU_ROW_THREADS` (1 to 64; 1 fills
+/// each row on one thread, item by item, as before: for measuring the two on a device) or
+/// [`ROW_THREADS`].
+fn row_threads() -> Result<usize, Error> {
+    match std::env::var("KISSTIME_GPU_ROW_THREADS") {
+        Err(_) => Ok(ROW_THREADS),
+        Ok(v) => match v.trim().parse::<usize>() {
+            Ok(n @ 1..=64) => Ok(n),
+            _ => Err(Error::Unsupported(format!(
+                "KISSTIME_GPU_ROW_THREADS={v:?}: expected a whole number from 1 to 64"
+            ))),
+        },
+    }
+}
+
 /// The chunks a large batch is cut into: `KISSTIME_GPU_PIPELINE_CHUNKS` (1 to 64; 1 keeps
 /// a batch in one chunk where the bindings allow, with no host work beside the device's:
 /// for measuring what the overlap gains) or [`PIPELINE_CHUNKS`].
@@ -98,6 +120,10 @@ pub const MAX_TABLES_PER_CHUNK: usize = 1 << 20;
 /// packing and unpacking overlap the device's runs: enough tables a chunk to fill an H200
 /// (10⁴ tables ran at the rate of 10⁶ there, 2,000 did not).
 pub const PIPELINE_MIN_TABLES: usize = 1 << 15;
+
+/// A dispatch that runs fewer than one table in this many of its chunk's counts in
+/// [`GpuTimings::kernel_tail`].
+const TAIL_FRACTION: usize = 16;
 
 /// The chunks a large batch is cut into, at most (see [`PIPELINE_MIN_TABLES`]): the host
 /// packs the first and unpacks the last alone, the rest while the device runs.
@@ -259,6 +285,8 @@ pub struct GpuSimulator {
     pipelines: Vec<(SimLayout, LoopPipelines)>,
     /// Threads a table's workgroup (at least the bucket's ball count).
     threads: usize,
+    /// The most threads a missing row is split over (the shader's `ROW_THREADS`).
+    row_threads: usize,
     /// The largest workgroup memory the device allows, in bytes.
     max_workgroup_bytes: u32,
     pub(super) max_groups_per_dim: u32,
@@ -303,10 +331,31 @@ impl GpuSimulator {
     /// Errors: [`Error::GpuUnavailable`] without a usable adapter (or without
     /// `SHADER_F64` for f64); [`Error::Gpu`] when the device or the shader fails to build.
     pub fn new(precision: Precision) -> Result<GpuSimulator, Error> {
-        let (threads, chunks) = (event_loop_threads()?, pipeline_chunks()?);
+        let (threads, chunks, rows) = (event_loop_threads()?, pipeline_chunks()?, row_threads()?);
         let mut sim = GpuSimulator::with_loop_threads(precision, threads)?;
         sim.pipeline_chunks = chunks;
+        if rows != ROW_THREADS {
+            sim.set_row_threads(rows)?;
+        }
         Ok(sim)
+    }
+
+    /// Splits each missing row over at most `threads` threads from now on (1 to 64; 1:
+    /// one thread a row; [`ROW_THREADS`] by default): the same answers, another schedule.
+    /// The pipelines are built again.
+    ///
+    /// Errors: [`Error::Unsupported`] outside 1 to 64; [`Error::Gpu`] when the shader does
+    /// not build.
+    pub fn set_row_threads(&mut self, threads: usize) -> Result<(), Error> {
+        if !(1..=64).contains(&threads) {
+            return Err(Error::Unsupported(format!(
+                "a row split over {threads} threads: expected 1 to 64"
+            )));
+        }
+        self.row_threads = threads;
+        self.pipelines.clear();
+        self.pipeline(&SimLayout::for_balls(16))?;
+        Ok(())
     }
 
     /// [`GpuSimulator::new`] with `threads` threads a table's workgroup (16, 32 or 64: the
@@ -344,6 +393,7 @@ impl GpuSimulator {
             precision,
             pipelines: Vec::new(),
             threads,
+            row_threads: ROW_THREADS,
             timings: GpuTimings::default(),
             total: GpuTimings::default(),
             dispatches: 0,
@@ -375,6 +425,7 @@ impl GpuSimulator {
         let constants = [
             ("LOOP_THREADS", threads as f64),
             ("LOOP_ROUNDS", layout.gpu_max_pairs.div_ceil(threads) as f64),
+            ("ROW_THREADS", self.row_threads as f64),
         ];
         let entry = |name: &str| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -837,6 +888,8 @@ impl GpuSimulator {
         let mut n_active = n_tables as u32;
         let mut dispatch = 0u32;
         loop {
+            let started = Instant::now();
+            let tail = (n_active as usize) * TAIL_FRACTION < n_tables;
             let groups_x = n_active.min(self.max_groups_per_dim);
             let groups_y = n_active.div_ceil(groups_x);
             #[cfg_attr(not(feature = "testing"), allow(unused_mut))]
@@ -906,6 +959,10 @@ impl GpuSimulator {
             })?;
             if let Some(seconds) = device_seconds {
                 *self.timings.kernel_device.get_or_insert(0.0) += seconds?;
+            }
+            if tail {
+                self.timings.kernel_tail += started.elapsed().as_secs_f64();
+                self.timings.tail_dispatches += 1;
             }
             if let (GpuOutput::Events(on_event), Some((eu, er))) = (&mut *mode, events) {
                 for k in 0..n_tables {

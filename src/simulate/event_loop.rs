@@ -509,6 +509,8 @@ impl EventLoop<'_> {
     /// Fills the missing rows of one ball–table category: every item of the ball, in
     /// table order, gets its time `t + τ` and an insertion stamp; the row keeps the
     /// earliest (of equal times the first). A ball that does not translate meets nothing.
+    /// (The shader's `fill_rows` and `merge_rows` split a row's items over the workgroup's
+    /// threads and merge the parts, of equal times the lower item: the same rows.)
     fn fill_items(&mut self, which: Items) {
         let n_items = self.n_items(which);
         for i in 0..self.balls.len() {
