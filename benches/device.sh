@@ -10,7 +10,11 @@
 #   work hidden behind the device's), and (for ordinary shots up to SIM_CPU_MAX tables, where the CPU runs beside
 #   it) the tables whose events differ from the CPU's;
 # - study: `kisstime shots` (the built-in study) on the GPU and on the CPU: samples/s end
-#   to end and the GPU's phases (`--verbose`).
+#   to end and the GPU's phases (`--verbose`);
+# - first, where the binary's directory holds `pipeline_stats` (examples/pipeline_stats.rs),
+#   the driver's own statistics of the compiled event loop (registers, spills, workgroup
+#   memory, where it reports them) for each thread count and row split, to
+#   $OUT/pipeline_stats.txt and the output.
 # PARTS (default "kernels sim study") chooses the parts; SIZES, KERNEL_SCENARIOS, KERNEL_PRECISIONS,
 # SIM_SIZES, BREAK_SIZES, SIM_PRECISIONS, ONE_CHUNK_SIZES (ordinary shots again in one chunk, with no
 # host work beside the device's; default the largest of SIM_SIZES), ROW_SERIAL_SIZES (ordinary shots
@@ -22,6 +26,7 @@
 #
 # Here (x86-64, this checkout): build the binary and fetch the Vulkan loader, once:
 #   cargo build --release && mkdir -p .dev && cp target/release/kisstime .dev/
+#   cargo build --release --example pipeline_stats && cp target/release/examples/pipeline_stats .dev/
 #   echo /.dev/ >> .git/info/exclude; echo /.gl/ >> .git/info/exclude
 #   (the `device` tool's README gives the apt-get download line for .gl/)
 # Then, with the `device` tool: run `bash benches/device.sh .dev/kisstime`, carry [".dev", ".gl"].
@@ -51,6 +56,11 @@ if [ -z "${VK_DRIVER_FILES:-}" ] && [ -f "$ICD" ]; then export VK_DRIVER_FILES="
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
 command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
 echo "binary: $BIN; cores: $(nproc); sizes: $SIZES"
+STATS_BIN="$(dirname "$BIN")/pipeline_stats"
+if [ -x "$STATS_BIN" ]; then
+  timeout 120 "$STATS_BIN" > "$OUT/pipeline_stats.txt" 2>&1 || echo "FAIL pipeline_stats (exit $?)"
+  cat "$OUT/pipeline_stats.txt"
+fi
 : > "$OUT/bench.jsonl"
 : > "$OUT/sim.jsonl"
 : > "$OUT/sim_one_chunk.jsonl"
