@@ -61,18 +61,35 @@ pub const EVENTS_PER_DISPATCH: u32 = 32;
 /// Threads of a table's workgroup, by default (the shader's `LOOP_THREADS`).
 pub const EVENT_LOOP_THREADS: usize = 64;
 
+/// A measuring knob of the GPU event loop: environment variable `name`, a whole number
+/// that `allowed` accepts (`expected` says which), or `default` where it is unset. The
+/// knobs change no answer, only the schedule (for measuring the alternatives on a device).
+fn knob(
+    name: &str,
+    default: usize,
+    allowed: impl Fn(usize) -> bool,
+    expected: &str,
+) -> Result<usize, Error> {
+    let Ok(v) = std::env::var(name) else {
+        return Ok(default);
+    };
+    match v.trim().parse::<usize>() {
+        Ok(n) if allowed(n) => Ok(n),
+        _ => Err(Error::Unsupported(format!(
+            "{name}={v:?}: expected {expected}"
+        ))),
+    }
+}
+
 /// The workgroup's threads: `KISSTIME_EVENT_LOOP_THREADS` (16, 32 or 64; for measuring
 /// occupancy on a device) or [`EVENT_LOOP_THREADS`].
 fn event_loop_threads() -> Result<usize, Error> {
-    match std::env::var("KISSTIME_EVENT_LOOP_THREADS") {
-        Err(_) => Ok(EVENT_LOOP_THREADS),
-        Ok(v) => match v.trim().parse::<usize>() {
-            Ok(t @ (16 | 32 | 64)) => Ok(t),
-            _ => Err(Error::Unsupported(format!(
-                "KISSTIME_EVENT_LOOP_THREADS={v:?}: expected 16, 32 or 64"
-            ))),
-        },
-    }
+    knob(
+        "KISSTIME_EVENT_LOOP_THREADS",
+        EVENT_LOOP_THREADS,
+        |t| matches!(t, 16 | 32 | 64),
+        "16, 32 or 64",
+    )
 }
 
 /// The most threads one missing row of a ball–table category is split over, by default
@@ -86,30 +103,24 @@ pub const ROW_THREADS: usize = 64;
 /// each row on one thread, item by item, as before: for measuring the two on a device) or
 /// [`ROW_THREADS`].
 fn row_threads() -> Result<usize, Error> {
-    match std::env::var("KISSTIME_GPU_ROW_THREADS") {
-        Err(_) => Ok(ROW_THREADS),
-        Ok(v) => match v.trim().parse::<usize>() {
-            Ok(n @ 1..=64) => Ok(n),
-            _ => Err(Error::Unsupported(format!(
-                "KISSTIME_GPU_ROW_THREADS={v:?}: expected a whole number from 1 to 64"
-            ))),
-        },
-    }
+    knob(
+        "KISSTIME_GPU_ROW_THREADS",
+        ROW_THREADS,
+        |n| (1..=64).contains(&n),
+        "a whole number from 1 to 64",
+    )
 }
 
 /// The chunks a large batch is cut into: `KISSTIME_GPU_PIPELINE_CHUNKS` (1 to 64; 1 keeps
 /// a batch in one chunk where the bindings allow, with no host work beside the device's:
 /// for measuring what the overlap gains) or [`PIPELINE_CHUNKS`].
 fn pipeline_chunks() -> Result<usize, Error> {
-    match std::env::var("KISSTIME_GPU_PIPELINE_CHUNKS") {
-        Err(_) => Ok(PIPELINE_CHUNKS),
-        Ok(v) => match v.trim().parse::<usize>() {
-            Ok(n @ 1..=64) => Ok(n),
-            _ => Err(Error::Unsupported(format!(
-                "KISSTIME_GPU_PIPELINE_CHUNKS={v:?}: expected a whole number from 1 to 64"
-            ))),
-        },
-    }
+    knob(
+        "KISSTIME_GPU_PIPELINE_CHUNKS",
+        PIPELINE_CHUNKS,
+        |n| (1..=64).contains(&n),
+        "a whole number from 1 to 64",
+    )
 }
 
 /// Tables per chunk, at most, by default.
