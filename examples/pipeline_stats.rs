@@ -12,7 +12,11 @@
 //! ```
 //!
 //! Each argument is `BALLS:THREADS:ROW_THREADS` (the bucket, the workgroup's threads, the
-//! most threads a missing row is split over; see `kisstime::gpu::ROW_THREADS`).
+//! most threads a missing row is split over; see `kisstime::gpu::ROW_THREADS`), with
+//! `:unchecked` after it for the SPIR-V without wgpu's runtime checks (no index clamps, no
+//! loop bounding: what `wgpu::Device::create_shader_module_trusted` with
+//! `ShaderRuntimeChecks::unchecked()` compiles; kisstime does not run it), to see what the
+//! checks cost in registers and instructions.
 //! `benches/device.sh` runs it on a lent GPU. The SPIR-V is naga's, written with the options
 //! wgpu's Vulkan backend uses by default (index bounds checks clamped, loops bounded,
 //! buffer checks left to `robustBufferAccess2` where the device has it, workgroup memory
@@ -27,14 +31,15 @@ use kisstime::Precision;
 use kisstime::gpu::shader::simulate_source;
 
 /// The builds measured without arguments: the 16-ball bucket at each thread count, with
-/// rows split and on one thread, and the largest bucket.
-const DEFAULT_BUILDS: [(usize, usize, usize); 6] = [
-    (16, 64, 64),
-    (16, 64, 1),
-    (16, 32, 64),
-    (16, 16, 64),
-    (32, 64, 64),
-    (64, 64, 64),
+/// rows split and on one thread, and without wgpu's runtime checks; the larger buckets.
+const DEFAULT_BUILDS: [&str; 7] = [
+    "16:64:64",
+    "16:64:1",
+    "16:32:64",
+    "16:16:64",
+    "16:64:64:unchecked",
+    "32:64:64",
+    "64:64:64",
 ];
 
 fn main() {
@@ -53,41 +58,49 @@ struct Build {
     balls: usize,
     threads: usize,
     row_threads: usize,
+    /// Without wgpu's runtime checks (index clamps, loop bounding).
+    unchecked: bool,
 }
 
 fn builds() -> Result<Vec<Build>, String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    if args.is_empty() {
-        return Ok(DEFAULT_BUILDS
-            .iter()
-            .map(|&(balls, threads, row_threads)| Build {
-                balls,
-                threads,
-                row_threads,
-            })
-            .collect());
+    let specs: Vec<&str> = match args.is_empty() {
+        true => DEFAULT_BUILDS.to_vec(),
+        false => args.iter().map(String::as_str).collect(),
+    };
+    specs.into_iter().map(build).collect()
+}
+
+/// `BALLS:THREADS:ROW_THREADS[:unchecked]`.
+fn build(spec: &str) -> Result<Build, String> {
+    let (spec_nums, unchecked) = match spec.strip_suffix(":unchecked") {
+        Some(rest) => (rest, true),
+        None => (spec, false),
+    };
+    let expected = || {
+        format!(
+            "{spec:?}: expected BALLS (16, 32, 48 or 64):THREADS (16, 32 or 64):ROW_THREADS \
+             (1 to 64), then :unchecked or nothing"
+        )
+    };
+    let parts: Vec<usize> = spec_nums
+        .split(':')
+        .map(|p| p.parse::<usize>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| expected())?;
+    match parts[..] {
+        [
+            balls @ (16 | 32 | 48 | 64),
+            threads @ (16 | 32 | 64),
+            row_threads @ 1..=64,
+        ] => Ok(Build {
+            balls,
+            threads,
+            row_threads,
+            unchecked,
+        }),
+        _ => Err(expected()),
     }
-    args.iter()
-        .map(|a| {
-            let parts: Vec<usize> = a
-                .split(':')
-                .map(|p| p.parse::<usize>())
-                .collect::<Result<_, _>>()
-                .map_err(|_| format!("{a:?}: expected BALLS:THREADS:ROW_THREADS"))?;
-            match parts[..] {
-                [balls @ (16 | 32 | 48 | 64), threads @ (16 | 32 | 64), row_threads @ 1..=64] => {
-                    Ok(Build {
-                        balls,
-                        threads,
-                        row_threads,
-                    })
-                }
-                _ => Err(format!(
-                    "{a:?}: expected BALLS (16, 32, 48 or 64):THREADS (16, 32 or 64):ROW_THREADS (1 to 64)"
-                )),
-            }
-        })
-        .collect()
 }
 
 /// The device chosen (the first that is not a CPU, else the first) and what it offers.
@@ -263,13 +276,18 @@ fn spirv(chosen: &Chosen, b: Build) -> Result<Vec<u32>, String> {
         v if v >= vk::API_VERSION_1_2 => (1, 5),
         _ => (1, 3),
     };
+    // wgpu's flags for a compute shader outside its debug mode (no debug names)
     let mut options = naga::back::spv::Options {
         lang_version,
+        flags: naga::back::spv::WriterFlags::LABEL_VARYINGS,
         ..Default::default()
     };
     options.bounds_check_policies = naga::proc::BoundsCheckPolicies {
-        index: naga::proc::BoundsCheckPolicy::Restrict,
-        buffer: if chosen.robust2 {
+        index: match b.unchecked {
+            true => naga::proc::BoundsCheckPolicy::Unchecked,
+            false => naga::proc::BoundsCheckPolicy::Restrict,
+        },
+        buffer: if chosen.robust2 || b.unchecked {
             naga::proc::BoundsCheckPolicy::Unchecked
         } else {
             naga::proc::BoundsCheckPolicy::Restrict
@@ -282,7 +300,7 @@ fn spirv(chosen: &Chosen, b: Build) -> Result<Vec<u32>, String> {
     } else {
         naga::back::spv::ZeroInitializeWorkgroupMemoryMode::Polyfill
     };
-    options.force_loop_bounding = true;
+    options.force_loop_bounding = !b.unchecked;
     let pipeline = naga::back::spv::PipelineOptions {
         shader_stage: naga::ShaderStage::Compute,
         entry_point: entry.into(),
@@ -300,10 +318,15 @@ fn report(
 ) -> Result<(), String> {
     let code = spirv(chosen, b)?;
     let label = format!(
-        "event loop f64, {} balls, {} threads a table, a row over at most {}",
+        "event loop f64, {} balls, {} threads a table, a row over at most {}{}",
         b.balls,
         b.threads.max(b.balls.next_power_of_two()),
-        b.row_threads
+        b.row_threads,
+        if b.unchecked {
+            ", without wgpu's runtime checks"
+        } else {
+            ""
+        }
     );
     // the bindings of event_loop.wgsl: a uniform, then storage buffers
     let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..9)

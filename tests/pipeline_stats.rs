@@ -22,7 +22,7 @@ fn the_event_loops_pipelines_build_in_the_driver_with_their_statistics() {
         "{} is missing: `cargo build --example pipeline_stats`",
         exe.display()
     );
-    let builds = ["16:64:64", "16:16:1"];
+    let builds = ["16:64:64", "16:16:1:unchecked"];
     let out = Command::new(&exe).args(builds).output().unwrap();
     let (stdout, stderr) = (
         String::from_utf8_lossy(&out.stdout),
@@ -45,7 +45,7 @@ fn the_event_loops_pipelines_build_in_the_driver_with_their_statistics() {
     let without = stdout.contains("has no VK_KHR_pipeline_executable_properties");
     for label in [
         "event loop f64, 16 balls, 64 threads a table, a row over at most 64: ",
-        "event loop f64, 16 balls, 16 threads a table, a row over at most 1: ",
+        "event loop f64, 16 balls, 16 threads a table, a row over at most 1, without wgpu's runtime checks: ",
     ] {
         let line = stdout
             .lines()
@@ -57,7 +57,10 @@ fn the_event_loops_pipelines_build_in_the_driver_with_their_statistics() {
         }
     }
     // a build that is not one is refused, naming it
-    let bad = Command::new(&exe).arg("17:64:64").output().unwrap();
-    assert_eq!(bad.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("\"17:64:64\""));
+    for spec in ["17:64:64", "16:64:64:fast", "16:64"] {
+        let bad = Command::new(&exe).arg(spec).output().unwrap();
+        assert_eq!(bad.status.code(), Some(1), "{spec}");
+        let err = String::from_utf8_lossy(&bad.stderr);
+        assert!(err.contains(&format!("{spec:?}")), "{spec}: {err}");
+    }
 }
