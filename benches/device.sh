@@ -176,6 +176,23 @@ if sims:
                     for name in ("pack", "upload", "kernel", "kernel_device", "kernel_tail",
                                  "readback", "unpack", "overlapped"))
                     + f" ({sp.get('tail_dispatches', 0)} tail dispatches of {b.get('dispatches')})")
+# each change against its predecessor, where both ran: the row split (rows on one thread),
+# the host work beside the device's (one chunk)
+def gpu_of(r):
+    return next((b for b in r["backends"] if b["backend"] == "gpu"), None)
+base = {(r["workload"], r["tables"]): gpu_of(r) for r in sims if "(" not in r["workload"]}
+for tag, what in ((" (rows on 1 thread)", "row split"), (" (1 chunk)", "four chunks")):
+    for r in sims:
+        if not r["workload"].endswith(tag):
+            continue
+        new, old = base.get((r["workload"][: -len(tag)], r["tables"])), gpu_of(r)
+        if not (new and old and new.get("gpu_split") and old.get("gpu_split")):
+            continue
+        kn, ko = new["gpu_split"]["kernel_s"], old["gpu_split"]["kernel_s"]
+        print(f"{what}, {r['workload'][: -len(tag)]} {r['tables']}: kernel {ko * 1e3:,.0f} -> "
+              f"{kn * 1e3:,.0f} ms (x{ko / kn if kn else 0:.2f}), end to end "
+              f"{old['shots_per_s']:,.0f} -> {new['shots_per_s']:,.0f} shots/s "
+              f"(x{new['shots_per_s'] / old['shots_per_s'] if old['shots_per_s'] else 0:.2f})")
 if studies:
     print()
     print(f"{'samples':>8} {'seconds':>8} {'samples/s':>12}  backend")
