@@ -29,6 +29,7 @@ use std::ffi::{CStr, c_char};
 use ash::vk;
 use kisstime::Precision;
 use kisstime::gpu::shader::simulate_source;
+use kisstime::gpu::{SimLayout, event_loop_constants};
 
 /// The builds measured without arguments: the 16-ball bucket at each thread count, with
 /// rows split and on one thread, and without wgpu's runtime checks; the larger buckets.
@@ -111,6 +112,8 @@ struct Chosen {
     robust2: bool,
     zero_init: bool,
     api: u32,
+    /// Whether it has `VK_KHR_pipeline_executable_properties`.
+    stats: bool,
 }
 
 fn run() -> Result<(), String> {
@@ -136,13 +139,6 @@ fn run() -> Result<(), String> {
 fn with_instance(instance: &ash::Instance, builds: &[Build]) -> Result<(), String> {
     let chosen = choose(instance)?;
     println!("device: {}", chosen.name);
-    let has = |name: &CStr| -> Result<bool, String> {
-        let exts = unsafe { instance.enumerate_device_extension_properties(chosen.physical) }
-            .map_err(|e| e.to_string())?;
-        Ok(exts
-            .iter()
-            .any(|x| x.extension_name_as_c_str().is_ok_and(|n| n == name)))
-    };
     let float64 = unsafe { instance.get_physical_device_features(chosen.physical) }.shader_float64;
     if float64 != vk::TRUE {
         println!("pipeline statistics: {} has no f64 in shaders", chosen.name);
@@ -150,7 +146,7 @@ fn with_instance(instance: &ash::Instance, builds: &[Build]) -> Result<(), Strin
     }
     // without the extension each pipeline is still built (the driver compiles it), with no
     // statistics to report
-    let stats = has(ash::khr::pipeline_executable_properties::NAME)?;
+    let stats = chosen.stats;
     if !stats {
         println!(
             "pipeline statistics: {} has no VK_KHR_pipeline_executable_properties: \
@@ -191,7 +187,7 @@ fn with_instance(instance: &ash::Instance, builds: &[Build]) -> Result<(), Strin
         .map_err(|e| format!("{}: no device: {e}", chosen.name))?;
     let result = builds
         .iter()
-        .try_for_each(|b| report(instance, &device, &chosen, stats, *b));
+        .try_for_each(|b| report(instance, &device, &chosen, *b));
     unsafe { device.destroy_device(None) };
     result
 }
@@ -244,13 +240,14 @@ fn choose(instance: &ash::Instance) -> Result<Chosen, String> {
         robust2,
         zero_init,
         api: p.api_version,
+        stats: has(ash::khr::pipeline_executable_properties::NAME),
     })
 }
 
-/// The event loop's SPIR-V for one build, as wgpu's Vulkan backend writes it.
-fn spirv(chosen: &Chosen, b: Build) -> Result<Vec<u32>, String> {
-    let threads = b.threads.max(b.balls.next_power_of_two());
-    let pairs = b.balls * (b.balls - 1) / 2;
+/// The event loop's SPIR-V for one build, as wgpu's Vulkan backend writes it, and its
+/// threads a table.
+fn spirv(chosen: &Chosen, b: Build) -> Result<(Vec<u32>, usize), String> {
+    let constants = event_loop_constants(&SimLayout::for_balls(b.balls), b.threads, b.row_threads);
     let source = simulate_source(Precision::F64, b.balls);
     let module = naga::front::wgsl::parse_str(&source).map_err(|e| e.emit_to_string(&source))?;
     let info = naga::valid::Validator::new(
@@ -259,10 +256,12 @@ fn spirv(chosen: &Chosen, b: Build) -> Result<Vec<u32>, String> {
     )
     .validate(&module)
     .map_err(|e| e.emit_to_string(&source))?;
-    let mut constants = naga::back::PipelineConstants::default();
-    constants.insert("LOOP_THREADS".into(), threads as f64);
-    constants.insert("LOOP_ROUNDS".into(), pairs.div_ceil(threads) as f64);
-    constants.insert("ROW_THREADS".into(), b.row_threads as f64);
+    let threads = constants
+        .iter()
+        .find(|(name, _)| *name == "LOOP_THREADS")
+        .map_or(b.threads, |&(_, v)| v as usize);
+    let constants: naga::back::PipelineConstants =
+        constants.iter().map(|&(k, v)| (k.to_string(), v)).collect();
     let entry = "simulate_tables";
     let (module, info) = naga::back::pipeline_constants::process_overrides(
         &module,
@@ -305,7 +304,8 @@ fn spirv(chosen: &Chosen, b: Build) -> Result<Vec<u32>, String> {
         shader_stage: naga::ShaderStage::Compute,
         entry_point: entry.into(),
     };
-    naga::back::spv::write_vec(&module, &info, &options, Some(&pipeline)).map_err(|e| e.to_string())
+    let words = naga::back::spv::write_vec(&module, &info, &options, Some(&pipeline));
+    Ok((words.map_err(|e| e.to_string())?, threads))
 }
 
 /// Builds one pipeline with its statistics captured and prints them.
@@ -313,14 +313,13 @@ fn report(
     instance: &ash::Instance,
     device: &ash::Device,
     chosen: &Chosen,
-    stats: bool,
     b: Build,
 ) -> Result<(), String> {
-    let code = spirv(chosen, b)?;
+    let stats = chosen.stats;
+    let (code, threads) = spirv(chosen, b)?;
     let label = format!(
-        "event loop f64, {} balls, {} threads a table, a row over at most {}{}",
+        "event loop f64, {} balls, {threads} threads a table, a row over at most {}{}",
         b.balls,
-        b.threads.max(b.balls.next_power_of_two()),
         b.row_threads,
         if b.unchecked {
             ", without wgpu's runtime checks"

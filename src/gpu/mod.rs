@@ -50,6 +50,8 @@ pub use fault::{Fault, adapter as test_adapter};
 pub use shader::{GPU_MAX_BALLS_LINE, shader_source};
 #[doc(hidden)]
 pub use sim_layout::{GPU_BALL_BUCKETS, GPU_MAX_BALLS, GpuRun, GpuShot, SimLayout, WatchedRun};
+#[doc(hidden)]
+pub use simulate::event_loop_constants;
 pub use simulate::{
     CheckedTables, EVENT_LOOP_THREADS, EVENTS_PER_DISPATCH, FillTable, GpuOutput, GpuSimulator,
     MAX_TABLES_PER_CHUNK, OnEvent, PIPELINE_CHUNKS, PIPELINE_MIN_TABLES, ROW_THREADS,

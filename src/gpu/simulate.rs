@@ -132,13 +132,30 @@ pub const MAX_TABLES_PER_CHUNK: usize = 1 << 20;
 /// (10⁴ tables ran at the rate of 10⁶ there, 2,000 did not).
 pub const PIPELINE_MIN_TABLES: usize = 1 << 15;
 
+/// The chunks a large batch is cut into, at most (see [`PIPELINE_MIN_TABLES`]): the host
+/// packs the first and unpacks the last alone, the rest while the device runs.
+pub const PIPELINE_CHUNKS: usize = 4;
+
 /// A dispatch that runs fewer than one table in this many of its chunk's counts in
 /// [`GpuTimings::kernel_tail`].
 const TAIL_FRACTION: usize = 16;
 
-/// The chunks a large batch is cut into, at most (see [`PIPELINE_MIN_TABLES`]): the host
-/// packs the first and unpacks the last alone, the rest while the device runs.
-pub const PIPELINE_CHUNKS: usize = 4;
+/// The event loop's pipeline constants for `layout`'s bucket: `LOOP_THREADS` (`threads`,
+/// or the bucket's ball count if larger), `LOOP_ROUNDS` to match, `ROW_THREADS`
+/// (`row_threads`). What [`GpuSimulator`] builds with, and `examples/pipeline_stats.rs`.
+#[doc(hidden)]
+pub fn event_loop_constants(
+    layout: &SimLayout,
+    threads: usize,
+    row_threads: usize,
+) -> [(&'static str, f64); 3] {
+    let threads = threads.max(layout.gpu_max_balls.next_power_of_two());
+    [
+        ("LOOP_THREADS", threads as f64),
+        ("LOOP_ROUNDS", layout.gpu_max_pairs.div_ceil(threads) as f64),
+        ("ROW_THREADS", row_threads as f64),
+    ]
+}
 
 /// What [`GpuSimulator::simulate_with`] hands each event to: `(table, record)`.
 pub type OnEvent<'a> = &'a mut dyn FnMut(usize, &EventRecord);
@@ -274,6 +291,7 @@ struct PackedChunk {
 
 /// The host arrays a chunk's I/O blocks (or its position and strike blocks) are packed
 /// in, kept across chunks and calls.
+#[derive(Default)]
 struct HostBlocks {
     r: Vec<u8>,
     u: Vec<u8>,
@@ -308,8 +326,7 @@ pub struct GpuSimulator {
     timer: Option<PassTimer>,
     bufs: Option<LoopBuffers>,
     /// A chunk's I/O blocks packed on the host, kept across calls.
-    pack_r: Vec<u8>,
-    pack_u: Vec<u8>,
+    host: HostBlocks,
     /// A fault waiting for its dispatch: the fault, and how many dispatches run first.
     #[cfg(feature = "testing")]
     pub(super) pending_fault: Option<(super::Fault, u32)>,
@@ -395,8 +412,7 @@ impl GpuSimulator {
             adapter: opened.adapter,
             watch: opened.watch,
             bufs: None,
-            pack_r: Vec::new(),
-            pack_u: Vec::new(),
+            host: HostBlocks::default(),
             #[cfg(feature = "testing")]
             pending_fault: None,
             #[cfg(feature = "testing")]
@@ -426,18 +442,13 @@ impl GpuSimulator {
             return Ok(&self.pipelines[k].1);
         }
         let n = layout.gpu_max_balls;
-        let threads = self.threads.max(n.next_power_of_two());
+        let constants = event_loop_constants(layout, self.threads, self.row_threads);
         let device = &self.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("kisstime event loop"),
             source: wgpu::ShaderSource::Wgsl(simulate_source(self.precision, n).into()),
         });
-        let constants = [
-            ("LOOP_THREADS", threads as f64),
-            ("LOOP_ROUNDS", layout.gpu_max_pairs.div_ceil(threads) as f64),
-            ("ROW_THREADS", self.row_threads as f64),
-        ];
         let entry = |name: &str| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(name),
@@ -649,13 +660,10 @@ impl GpuSimulator {
             .collect();
         // the buffers fit the largest chunk of this call (they grow for a larger one)
         let capacity = chunk.min(n);
-        let mut host = HostBlocks {
-            r: std::mem::take(&mut self.pack_r),
-            u: std::mem::take(&mut self.pack_u),
-        };
+        // out of `self` while the chunks run: a host worker packs into it beside the device
+        let mut host = std::mem::take(&mut self.host);
         let done = self.run_chunks(&calls, capacity, &mut host, &mut mode);
-        self.pack_r = host.r;
-        self.pack_u = host.u;
+        self.host = host;
         self.total.add(&self.timings);
         done
     }
