@@ -19,8 +19,12 @@
 # SIM_SIZES, BREAK_SIZES, SIM_PRECISIONS, ONE_CHUNK_SIZES (ordinary shots again in one chunk, with no
 # host work beside the device's; default the largest of SIM_SIZES), ROW_SERIAL_SIZES (ordinary shots
 # and breaks again with each ball-table row filled on one thread, KISSTIME_GPU_ROW_THREADS=1: what
-# splitting a row's items over the threads gains; default the smallest of SIM_SIZES) and
-# STUDY_SAMPLES their sizes. Prints one table per part at
+# splitting a row's items over the threads gains; default the smallest of SIM_SIZES),
+# EXACT_OFF_SIZES (ordinary shots again with the CPU beside, the event loop compiled from
+# the WGSL as wgpu does, which the driver may contract, KISSTIME_GPU_EXACT=0: what the
+# exact SPIR-V costs, and how many tables part from the CPU's bits without it; default the
+# smallest of SIM_SIZES) and STUDY_SAMPLES their sizes. The sim table's `differ` column is
+# events/moved/not-identical against the CPU (the last 0 on a device with IEEE f64). Prints one table per part at
 # the end; the raw JSON goes to $OUT/bench.jsonl, $OUT/sim.jsonl and $OUT/study.jsonl.
 # Each run has its own timeout (150 s), so the whole stays within one 10-minute call.
 #
@@ -45,6 +49,7 @@ SIM_CPU_MAX="${SIM_CPU_MAX:-100000}"
 STUDY_SAMPLES="${STUDY_SAMPLES:-1000000}"
 ONE_CHUNK_SIZES="${ONE_CHUNK_SIZES:-${SIM_SIZES##* }}"
 ROW_SERIAL_SIZES="${ROW_SERIAL_SIZES:-${SIM_SIZES%% *}}"
+EXACT_OFF_SIZES="${EXACT_OFF_SIZES:-${SIM_SIZES%% *}}"
 PARTS="${PARTS:-kernels sim study}"
 mkdir -p "$OUT"
 if compgen -G ".gl/*.deb" > /dev/null; then
@@ -65,6 +70,7 @@ fi
 : > "$OUT/sim.jsonl"
 : > "$OUT/sim_one_chunk.jsonl"
 : > "$OUT/sim_row_serial.jsonl"
+: > "$OUT/sim_exact_off.jsonl"
 : > "$OUT/study.jsonl"
 run() { # output file, label, then kisstime bench arguments
   local file="$1" label="$2"; shift 2
@@ -112,6 +118,12 @@ if [[ " $PARTS " == *" sim "* ]]; then
         --sim "$workload" --tables "$n" --backend gpu --precision f64 --reps 1
     done
   done
+  # ordinary shots from the WGSL as wgpu compiles it (the driver may contract), the CPU
+  # beside: what the exact SPIR-V costs, and the tables that part from the CPU's bits
+  for n in $EXACT_OFF_SIZES; do
+    KISSTIME_GPU_EXACT=0 run "$OUT/sim_exact_off.jsonl" "sim all f64 ordinary $n, contraction allowed" \
+      --sim ordinary --tables "$n" --backend all --precision f64 --reps 1
+  done
 fi
 if [[ " $PARTS " == *" study "* ]]; then
   for n in $STUDY_SAMPLES; do
@@ -128,7 +140,7 @@ if [[ " $PARTS " == *" study "* ]]; then
   grep -h "GPU phases\|samples of" "$OUT/study_stderr.txt"
 fi
 # one table of everything that ran (the JSON objects follow one another in the file)
-python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" "$OUT/sim_one_chunk.jsonl" "$OUT/sim_row_serial.jsonl" <<'PY' || cat "$OUT"/*.jsonl
+python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" "$OUT/sim_one_chunk.jsonl" "$OUT/sim_row_serial.jsonl" "$OUT/sim_exact_off.jsonl" <<'PY' || cat "$OUT"/*.jsonl
 import json, sys
 def objects(path):
     text, dec, at, out = open(path).read(), json.JSONDecoder(), 0, []
@@ -146,7 +158,10 @@ for r in one_chunk:
 row_serial = objects(sys.argv[5])
 for r in row_serial:
     r["workload"] += " (rows on 1 thread)"
-sims += one_chunk + row_serial
+exact_off = objects(sys.argv[6])
+for r in exact_off:
+    r["workload"] += " (contraction allowed)"
+sims += one_chunk + row_serial + exact_off
 g = lambda v: "-" if v is None else f"{v / 1e6:,.0f} M"
 k = lambda s: "-" if not s else f"{s['kernel_s'] * 1e3:.2f}/{(s['upload_s'] + s['kernel_s'] + s['readback_s']) * 1e3:.2f} ms"
 print(f"{'scenario':<8} {'tables':>8} {'backend':<8} {'pairs/s':>10} {'next/s':>10} "
@@ -165,10 +180,13 @@ if sims:
     for r in sims:
         for b in r["backends"]:
             d = b.get("tables_differ")
+            if d is not None:
+                d = list(d) + [b.get("tables_not_identical")]
             print(f"{r['workload']:<9} {r['tables']:>8} {b['backend'] + ' ' + b['precision']:<8} "
                   f"{b['shots_per_s']:>12,.0f} {b['events_per_s']:>12,.0f} "
                   f"{b.get('kernel_shots_per_s') or 0:>15,.0f} {b['events_per_shot']:>8.1f} "
-                  f"{b['cut']:>4} {'-' if d is None else f'{d[0]}/{d[1]}':>10} {b['device']}")
+                  f"{b['cut']:>4} {'-' if d is None else f'{d[0]}/{d[1]}/{d[2]}':>10} {b['device']}"
+                  f"{' (exact)' if b.get('exact') else ''}")
             sp = b.get("gpu_split")
             if sp:
                 print("          phases: " + ", ".join(
@@ -181,7 +199,8 @@ if sims:
 def gpu_of(r):
     return next((b for b in r["backends"] if b["backend"] == "gpu"), None)
 base = {(r["workload"], r["tables"]): gpu_of(r) for r in sims if "(" not in r["workload"]}
-for tag, what in ((" (rows on 1 thread)", "row split"), (" (1 chunk)", "four chunks")):
+for tag, what in ((" (rows on 1 thread)", "row split"), (" (1 chunk)", "four chunks"),
+                  (" (contraction allowed)", "exact SPIR-V")):
     for r in sims:
         if not r["workload"].endswith(tag):
             continue

@@ -17,11 +17,10 @@
 //! loop bounding: what `wgpu::Device::create_shader_module_trusted` with
 //! `ShaderRuntimeChecks::unchecked()` compiles; kisstime does not run it), to see what the
 //! checks cost in registers and instructions.
-//! `benches/device.sh` runs it on a lent GPU. The SPIR-V is naga's, written with the options
-//! wgpu's Vulkan backend uses by default (index bounds checks clamped, loops bounded,
-//! buffer checks left to `robustBufferAccess2` where the device has it, workgroup memory
-//! zeroed natively where it can be); so a driver compiles what `kisstime` runs, up to
-//! wgpu's own choices of SPIR-V version and debug flags. Exit status 0 with a line saying
+//! `benches/device.sh` runs it on a lent GPU. The SPIR-V is the module kisstime runs on
+//! Vulkan (`kisstime::gpu::spirv::event_loop_spirv`: naga's, with indices and buffer
+//! accesses clamped, loops bounded, workgroup memory zeroed by the shader, every float
+//! operation `NoContraction`). Exit status 0 with a line saying
 //! so where the device has no such statistics; 1 on any other failure.
 
 use std::ffi::{CStr, c_char};
@@ -29,6 +28,7 @@ use std::ffi::{CStr, c_char};
 use ash::vk;
 use kisstime::Precision;
 use kisstime::gpu::shader::simulate_source;
+use kisstime::gpu::spirv::event_loop_spirv;
 use kisstime::gpu::{SimLayout, event_loop_constants};
 
 /// The builds measured without arguments: the 16-ball bucket at each thread count, with
@@ -111,7 +111,6 @@ struct Chosen {
     queue_family: u32,
     robust2: bool,
     zero_init: bool,
-    api: u32,
     /// Whether it has `VK_KHR_pipeline_executable_properties`.
     stats: bool,
 }
@@ -239,73 +238,21 @@ fn choose(instance: &ash::Instance) -> Result<Chosen, String> {
         queue_family,
         robust2,
         zero_init,
-        api: p.api_version,
         stats: has(ash::khr::pipeline_executable_properties::NAME),
     })
 }
 
-/// The event loop's SPIR-V for one build, as wgpu's Vulkan backend writes it, and its
-/// threads a table.
-fn spirv(chosen: &Chosen, b: Build) -> Result<(Vec<u32>, usize), String> {
+/// The SPIR-V kisstime runs for build `b` (`kisstime::gpu::spirv`: naga's, every float
+/// operation `NoContraction`), and its workgroup's threads.
+fn spirv(b: Build) -> Result<(Vec<u32>, usize), String> {
     let constants = event_loop_constants(&SimLayout::for_balls(b.balls), b.threads, b.row_threads);
     let source = simulate_source(Precision::F64, b.balls);
-    let module = naga::front::wgsl::parse_str(&source).map_err(|e| e.emit_to_string(&source))?;
-    let info = naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .map_err(|e| e.emit_to_string(&source))?;
     let threads = constants
         .iter()
         .find(|(name, _)| *name == "LOOP_THREADS")
         .map_or(b.threads, |&(_, v)| v as usize);
-    let constants: naga::back::PipelineConstants =
-        constants.iter().map(|&(k, v)| (k.to_string(), v)).collect();
-    let entry = "simulate_tables";
-    let (module, info) = naga::back::pipeline_constants::process_overrides(
-        &module,
-        &info,
-        Some((naga::ShaderStage::Compute, entry)),
-        &constants,
-    )
-    .map_err(|e| e.to_string())?;
-    let lang_version = match chosen.api {
-        v if v >= vk::API_VERSION_1_3 => (1, 6),
-        v if v >= vk::API_VERSION_1_2 => (1, 5),
-        _ => (1, 3),
-    };
-    // wgpu's flags for a compute shader outside its debug mode (no debug names)
-    let mut options = naga::back::spv::Options {
-        lang_version,
-        flags: naga::back::spv::WriterFlags::LABEL_VARYINGS,
-        ..Default::default()
-    };
-    options.bounds_check_policies = naga::proc::BoundsCheckPolicies {
-        index: match b.unchecked {
-            true => naga::proc::BoundsCheckPolicy::Unchecked,
-            false => naga::proc::BoundsCheckPolicy::Restrict,
-        },
-        buffer: if chosen.robust2 || b.unchecked {
-            naga::proc::BoundsCheckPolicy::Unchecked
-        } else {
-            naga::proc::BoundsCheckPolicy::Restrict
-        },
-        image_load: naga::proc::BoundsCheckPolicy::Restrict,
-        binding_array: naga::proc::BoundsCheckPolicy::Unchecked,
-    };
-    options.zero_initialize_workgroup_memory = if chosen.zero_init {
-        naga::back::spv::ZeroInitializeWorkgroupMemoryMode::Native
-    } else {
-        naga::back::spv::ZeroInitializeWorkgroupMemoryMode::Polyfill
-    };
-    options.force_loop_bounding = !b.unchecked;
-    let pipeline = naga::back::spv::PipelineOptions {
-        shader_stage: naga::ShaderStage::Compute,
-        entry_point: entry.into(),
-    };
-    let words = naga::back::spv::write_vec(&module, &info, &options, Some(&pipeline));
-    Ok((words.map_err(|e| e.to_string())?, threads))
+    let words = event_loop_spirv(&source, "simulate_tables", &constants, !b.unchecked)?;
+    Ok((words, threads))
 }
 
 /// Builds one pipeline with its statistics captured and prints them.
@@ -316,7 +263,7 @@ fn report(
     b: Build,
 ) -> Result<(), String> {
     let stats = chosen.stats;
-    let (code, threads) = spirv(chosen, b)?;
+    let (code, threads) = spirv(b)?;
     let label = format!(
         "event loop f64, {} balls, {threads} threads a table, a row over at most {}{}",
         b.balls,

@@ -6,8 +6,11 @@
 //!   within 1e-9 s) and final states (within 1e-6 m);
 //! - the set's judge, `check_fullshots.py`, passes all 300 shots of the GPU's replay (it
 //!   allows what pooltool's own sensitivity to a 1e-9 m nudge allows: breaks are chaotic,
-//!   and lavapipe's f64, which rounds `fma` twice and re-associates sums, differs from the
-//!   CPU's in the last bits, so breaks part from the CPU's sequence late).
+//!   and a device that contracts or re-associates differs from the CPU in the last bits,
+//!   so breaks part from the CPU's sequence late);
+//! - where the event loop runs as exact SPIR-V (`GpuSimulator::exact`: on Vulkan, so on
+//!   CI's lavapipe), all 300 shots, breaks included, are the CPU's bit for bit: every
+//!   event's time and states, and the final states.
 //!
 //! The physics set (`data/physics`, 120 shots under non-default ball parameters) the
 //! same way, with the parameters of its `physics.toml`: all 120 pass the judge.
@@ -138,17 +141,32 @@ fn gpu_event_loop_replays_the_reference_set_as_the_cpu_does() {
                 Some(w) => problems.push(format!("shot {}: {w}", shots[k].shot)),
             }
         }
+        // with exact SPIR-V (gpu::spirv) every run is the CPU's, bit for bit: the same
+        // events with the same times and states, the same final states
+        let identical = runs
+            .iter()
+            .zip(&cpu)
+            .filter(|(run, (events, last))| run.events == *events && run.balls == *last)
+            .count();
         let judged = judge(&shots, &table, &runs, &dir);
         let (passed, failed) = judged.unwrap_or((0, 0));
         let events: usize = runs.iter().map(|r| r.events.len()).sum();
         println!(
             "{name}: {same} of 200 ordinary shots and {same_breaks} of 100 breaks as on the CPU; \
              check_fullshots.py: {passed} passed, {failed} failed; {cut} cut by the limits \
-             ({events} events in {secs:.2} s on {})",
-            gpu.adapter().name
+             ({events} events in {secs:.2} s on {}); {identical} of 300 bit for bit \
+             (exact SPIR-V: {})",
+            gpu.adapter().name,
+            gpu.exact()
         );
         for p in problems.iter().take(10).chain(&breaks) {
             println!("  {p}");
+        }
+        if precision == Precision::F64 && gpu.exact() {
+            assert_eq!(
+                identical, 300,
+                "shots whose GPU run is the CPU's bit for bit"
+            );
         }
         if precision == Precision::F64 {
             assert!(

@@ -5,18 +5,14 @@
 //! and a small entry point of this test; the same text is also built with the f32
 //! prelude, to check that it compiles there too.
 //!
-//! # Fused or not
-//! The twins use `fma` wherever a product feeds a sum, so that a compiler that contracts
-//! `a * b + c` cannot change a bit. That gives the Rust twin's bits where the device's f64
-//! `fma` is fused, as on GPUs with a hardware f64 FMA. Vulkan does not promise it (its
-//! `fma` may round the product and the sum separately), and Mesa's lavapipe (22.3) does
-//! exactly that; its compiler also rewrites sums as if they were exact (naga asks for no
-//! float controls), so compensation terms such as TwoSum's errors do not survive there.
-//! So a probe asks the device first, and:
-//! - with a fused `fma`, the polyfills must give the Rust bits exactly;
-//! - with a separately rounded one, they must stay within [`UNFUSED_ULPS`] of them (what
-//!   that costs, measured on lavapipe: exp and acos 1 ulp, sin and cos 2).
-//!
+//! # Exact SPIR-V
+//! The twins compute `a·b + c` as a product and a sum (`mad`), never fused. On Vulkan the
+//! kernels are built as the event loop is, SPIR-V with every float operation marked
+//! `NoContraction` (`kisstime::gpu::spirv`), so the driver may neither fuse nor
+//! re-associate: there the polyfills must give the Rust bits exactly, and a probe checks
+//! that `a * b + c` is not contracted. Elsewhere (WGSL as wgpu compiles it, which a driver
+//! may contract) they must stay within [`CONTRACTED_ULPS`] of them.
+
 //! Without a GPU this test prints why it skips (`common::kernel`): with
 //! `KISSTIME_REQUIRE_GPU=1` (CI, on Mesa's lavapipe) a missing adapter is a failure; an
 //! adapter without `SHADER_F64` is a skip either way.
@@ -39,7 +35,7 @@ const FMATH: &str = include_str!("../shaders/model/fmath.wgsl");
 
 /// The test's entry points: `fmath_main` reads the arguments of the four functions
 /// interleaved in `xs` (exp, sin, cos, acos) and writes their results in the same places;
-/// `fma_probe` tells a fused `fma` and a contracted `a * b + c` from rounded ones.
+/// `fma_probe` tells a fused `fma` builtin and a contracted `a * b + c` from rounded ones.
 const ENTRY: &str = r#"
 @group(0) @binding(0) var<storage, read> xs: array<real>;
 @group(0) @binding(1) var<storage, read_write> ys: array<real>;
@@ -63,9 +59,9 @@ fn fma_probe() {
 }
 "#;
 
-/// How far from the Rust twin (in ulps) the polyfills may land where `fma` rounds the
-/// product and the sum separately (lavapipe: exp and acos 1, sin and cos 2).
-const UNFUSED_ULPS: u64 = 2;
+/// How far from the Rust twin (in ulps) the polyfills may land where the driver may
+/// contract and re-associate (not on Vulkan: there they must be exact).
+const CONTRACTED_ULPS: u64 = 2;
 
 const NAMES: [&str; 4] = ["exp", "sin", "cos", "acos"];
 
@@ -214,31 +210,46 @@ fn wgsl_polyfills_match_their_rust_twins() {
     let source = shader(PRELUDE_F64);
     let main = k.pipeline(&source, "fmath_main", "f64 polyfill");
 
-    // does the device fuse fma, and does it contract a * b + c? (a² − (1 + 2⁻²⁹) is
-    // 2⁻⁶⁰ exactly, and 0 when a² is rounded first)
+    // does the device fuse the fma builtin, and does it contract a * b + c? (a² − (1 + 2⁻²⁹)
+    // is 2⁻⁶⁰ exactly, and 0 when a² is rounded first)
     let probe = k.pipeline(&source, "fma_probe", "fma probe");
     let a = 1.0 + 2f64.powi(-30);
     let p = run_f64(&k, &probe, &[a, a, -(1.0 + 2f64.powi(-29)), 0.0]);
-    let fused = p[0] != 0.0;
+    let contracted = p[1] != 0.0;
     println!(
-        "{name}: fma is {}; a * b + c is {}",
-        if fused { "fused" } else { "rounded twice" },
-        if p[1] != 0.0 {
+        "{name}: the fma builtin is {}; a * b + c is {} ({})",
+        if p[0] != 0.0 {
+            "fused"
+        } else {
+            "rounded twice"
+        },
+        if contracted {
             "contracted"
         } else {
             "not contracted"
+        },
+        if k.exact {
+            "exact SPIR-V"
+        } else {
+            "WGSL as wgpu compiles it"
         }
     );
+    if k.exact {
+        assert!(
+            !contracted,
+            "{name}: NoContraction did not hold on the device"
+        );
+    }
 
     let mut problems = Vec::new();
     let worst = compare((&k, &main), &arguments(16384), &mut problems);
-    if !fused {
-        // separately rounded: within the bound, not bit for bit
+    if !k.exact {
+        // a driver free to contract: within the bound, not bit for bit
         problems.clear();
         for (which, w) in worst.iter().enumerate() {
-            if *w > UNFUSED_ULPS {
+            if *w > CONTRACTED_ULPS {
                 problems.push(format!(
-                    "{}: {w} ulp from the Rust twin with an fma rounded twice (> {UNFUSED_ULPS})",
+                    "{}: {w} ulp from the Rust twin (> {CONTRACTED_ULPS})",
                     NAMES[which]
                 ));
             }

@@ -3,7 +3,8 @@
 //! - every outcome fraction (the intended ball potted, the scratch, each first-contact
 //!   class) lies within the 95 % Wilson interval of the CPU's fraction;
 //! - every sample has the CPU's first contact and potted balls and ends within 1e-6 m of
-//!   it (its printed counts say how many agree exactly);
+//!   it; where the event loop runs as exact SPIR-V (Vulkan: CI's lavapipe), every sample
+//!   is the CPU's bit for bit;
 //! - the first-contact study ends each sample at its first contact as the CPU's does.
 //!
 //! Without a GPU the tests print why they skip (`common::gpu_or_skip`'s convention: with
@@ -112,12 +113,18 @@ fn gpu_studies_lie_within_the_cpu_f64_studys_wilson_intervals() {
             near += usize::from(d <= 1e-6);
         }
         let events: usize = got.iter().map(|s| s.n_events).sum();
+        let identical = got.iter().zip(&cpu).filter(|(g, c)| g == c).count();
+        let exact = gpu.gpu().is_some_and(|g| g.exact());
         println!(
             "{}: {n} samples, {events} events in {secs:.2} s; the CPU's first contact {first}, \
-             potted balls {potted}, cue ball within 1e-6 m {near} (farthest {worst:.2e} m)",
+             potted balls {potted}, cue ball within 1e-6 m {near} (farthest {worst:.2e} m); \
+             {identical} bit for bit (exact SPIR-V: {exact})",
             precision.name()
         );
         assert_eq!((first, potted, near), (n, n, n), "f64 samples differ");
+        if exact {
+            assert_eq!(identical, n, "samples the CPU's bit for bit");
+        }
     }
 }
 

@@ -28,5 +28,5 @@ fn rel_velocity(v: real3, w: real3, radius: real) -> real3 {
 // spec §0), used for the stick check and the tie rule (§3).
 fn ball_energy(b: BallState, p: BallParams) -> real {
     let inertia = 0.4 * p.m * p.r * p.r;
-    return 0.5 * p.m * dot(b.v, b.v) + 0.5 * inertia * dot(b.w, b.w);
+    return 0.5 * p.m * dot3(b.v, b.v) + 0.5 * inertia * dot3(b.w, b.w);
 }

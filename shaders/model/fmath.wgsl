@@ -3,13 +3,11 @@
 // the module documentation there has the why, the accuracy and the sources).
 //
 // WGSL's f64 has no safe transcendental builtins: on Vulkan exp, sin, cos, acos, atan2,
-// pow, log compile for f64 and return garbage. These use only + - * /, sqrt, fma, abs,
-// select, comparisons and int/float conversions. Every product that feeds a sum is exact
-// or an fma, so a compiler that contracts a * b + c cannot change a bit; where + - * are
-// IEEE and fma is fused (and / and sqrt correctly rounded, for acos_poly), the results
-// are the Rust twin's bits. Where fma rounds twice and sums are rewritten as if exact
-// (Mesa's lavapipe 22.3: the compensation terms do not survive), they are within 1 ulp
-// (exp, acos) or 2 ulp (sin, cos) of them.
+// pow, log compile for f64 and return garbage. These use only + - * /, sqrt, abs, select,
+// comparisons and int/float conversions; mad(a, b, c) is a * b + c rounded twice. Built
+// as SPIR-V whose float operations are marked NoContraction (src/gpu/spirv.rs), nothing
+// is fused or re-associated, so where + - * / sqrt are IEEE the results are the Rust
+// twin's bits.
 //
 // Special values come from arithmetic on the argument (WGSL has no NaN or infinity
 // literals): a compiler that assumes there are none may not keep them. Written in `real`
@@ -125,6 +123,11 @@ const ASIN_Q3: real = -0.6882839716054533;
 // 0x3FB3B8C5_B12E9282
 const ASIN_Q4: real = 0.07703815055590194;
 
+// a·b + c rounded twice, the product then the sum, never fused (Rust: mad).
+fn mad(a: real, b: real, c: real) -> real {
+    return a * b + c;
+}
+
 // 2ⁿ exactly, for |n| ≤ 1023 (below 2⁻¹⁰²² the result is subnormal, still exact).
 //
 // Method: the product of the powers 2^(±2ⁱ) for the bits i of |n|, each power the square
@@ -151,29 +154,29 @@ fn pow2i(n: i32) -> real {
 // Method: k = round(x/ln 2) (halves away from zero) and r = x − k·ln 2 with a two-constant
 // Cody–Waite split of ln 2 (k·LN2_HI and x − k·LN2_HI are exact), so |r| ≤ ln 2/2 +
 // rounding; eʳ by its Taylor polynomial to r¹³ (truncation < 2⁻⁵⁸ relative) in Horner form
-// with fma; then 2ᵏ as 2^(k − 2h)·2ʰ·2ʰ with h = k/2, so each factor is a normal power of
+// with mad; then 2ᵏ as 2^(k − 2h)·2ʰ·2ʰ with h = k/2, so each factor is a normal power of
 // two, the first two products are exact and only the last one rounds (into the subnormals,
 // or overflowing to +∞).
 fn exp_poly(x: real) -> real {
     let xc = select(select(-EXP_CLAMP, EXP_CLAMP, x > 0.0), x, abs(x) <= EXP_CLAMP);
     let half = select(real(0.5), real(-0.5), xc < 0.0);
-    let k = i32(fma(xc, INV_LN2, half));
+    let k = i32(mad(xc, INV_LN2, half));
     let kf = real(k);
-    let hi = fma(-kf, LN2_HI, x);
-    let r = fma(-kf, LN2_LO, hi);
-    var p = fma(r, EXP_C13, EXP_C12);
-    p = fma(r, p, EXP_C11);
-    p = fma(r, p, EXP_C10);
-    p = fma(r, p, EXP_C9);
-    p = fma(r, p, EXP_C8);
-    p = fma(r, p, EXP_C7);
-    p = fma(r, p, EXP_C6);
-    p = fma(r, p, EXP_C5);
-    p = fma(r, p, EXP_C4);
-    p = fma(r, p, EXP_C3);
-    p = fma(r, p, 0.5);
-    p = fma(r, p, 1.0);
-    p = fma(r, p, 1.0);
+    let hi = mad(-kf, LN2_HI, x);
+    let r = mad(-kf, LN2_LO, hi);
+    var p = mad(r, EXP_C13, EXP_C12);
+    p = mad(r, p, EXP_C11);
+    p = mad(r, p, EXP_C10);
+    p = mad(r, p, EXP_C9);
+    p = mad(r, p, EXP_C8);
+    p = mad(r, p, EXP_C7);
+    p = mad(r, p, EXP_C6);
+    p = mad(r, p, EXP_C5);
+    p = mad(r, p, EXP_C4);
+    p = mad(r, p, EXP_C3);
+    p = mad(r, p, 0.5);
+    p = mad(r, p, 1.0);
+    p = mad(r, p, 1.0);
     let h = k / 2;
     let s = pow2i(h);
     let y = p * pow2i(k - 2 * h) * s * s;
@@ -197,16 +200,16 @@ struct HalfPiRem {
 //
 // Method: Cody–Waite with fdlibm's three 33-bit pieces of π/2 and the tail PIO2_3T:
 // n·PIO2_1, n·PIO2_2, n·PIO2_3 are exact (|n| < 2¹⁹) and so is x − n·PIO2_1 (Sterbenz); the
-// next two subtractions are error-free (TwoSum), their errors and −n·PIO2_3T (an fma) are
+// next two subtractions are error-free (TwoSum), their errors and −n·PIO2_3T (a mad) are
 // summed into the tail, and a last TwoSum normalises hi + lo. Branch-free (fdlibm decides
 // how many pieces it needs from the exponents; TwoSum needs no such decision).
 fn reduce_half_pi(x: real) -> HalfPiRem {
     let inside = abs(x) <= TRIG_BOUND;
     let xr = select(0.0, x, inside);
     let half = select(real(0.5), real(-0.5), xr < 0.0);
-    let n = i32(fma(xr, INV_PIO2, half));
+    let n = i32(mad(xr, INV_PIO2, half));
     let f = real(n);
-    let a = fma(-f, PIO2_1, xr);
+    let a = mad(-f, PIO2_1, xr);
     let b = f * PIO2_2;
     let s1 = a - b;
     let z1 = s1 - a;
@@ -215,7 +218,7 @@ fn reduce_half_pi(x: real) -> HalfPiRem {
     let s2 = s1 - c;
     let z2 = s2 - s1;
     let e2 = (s1 - (s2 - z2)) + (-c - z2);
-    let low = fma(-f, PIO2_3T, e1 + e2);
+    let low = mad(-f, PIO2_3T, e1 + e2);
     let hi = s2 + low;
     let z3 = hi - s2;
     let lo = (s2 - (hi - z3)) + (low - z3);
@@ -228,15 +231,15 @@ fn reduce_half_pi(x: real) -> HalfPiRem {
 // __kernel_sin(x, y, 1)).
 //
 // Method: x + x³·(SIN_S1 + x²·r(x²)) with fdlibm's minimax coefficients, arranged so that
-// the tail enters as sin(x + y) ≈ sin(x) + y·(1 − x²/2); products that feed sums are fmas.
+// the tail enters as sin(x + y) ≈ sin(x) + y·(1 − x²/2); products that feed sums are mads.
 fn sin_kernel(x: real, y: real) -> real {
     let z = x * x;
     let w = z * z;
-    let r = fma(z * w, fma(z, SIN_S6, SIN_S5), fma(z, fma(z, SIN_S4, SIN_S3), SIN_S2));
+    let r = mad(z * w, mad(z, SIN_S6, SIN_S5), mad(z, mad(z, SIN_S4, SIN_S3), SIN_S2));
     let v = z * x;
-    let t = fma(-v, r, 0.5 * y);
-    let u = fma(z, t, -y);
-    return x - fma(-v, SIN_S1, u);
+    let t = mad(-v, r, 0.5 * y);
+    let u = mad(z, t, -y);
+    return x - mad(-v, SIN_S1, u);
 }
 
 // cos(x + y) for |x| ≤ π/4 + a little and a tail |y| ≤ ulp(x)/2 (fdlibm's
@@ -244,18 +247,18 @@ fn sin_kernel(x: real, y: real) -> real {
 //
 // Method: 1 − x²/2 + x⁴·r(x²) with fdlibm's minimax coefficients; w = 1 − x²/2 is
 // rounded and its rounding error (1 − w) − x²/2 (exact) added back with the tail's
-// −x·y; products that feed sums are fmas.
+// −x·y; products that feed sums are mads.
 fn cos_kernel(x: real, y: real) -> real {
     let z = x * x;
     let w = z * z;
-    let r = fma(
+    let r = mad(
         z,
-        fma(z, fma(z, COS_C3, COS_C2), COS_C1),
-        (w * w) * fma(z, fma(z, COS_C6, COS_C5), COS_C4),
+        mad(z, mad(z, COS_C3, COS_C2), COS_C1),
+        (w * w) * mad(z, mad(z, COS_C6, COS_C5), COS_C4),
     );
     let hz = 0.5 * z;
     let one_minus = 1.0 - hz;
-    return one_minus + (((1.0 - one_minus) - hz) + fma(z, r, -(x * y)));
+    return one_minus + (((1.0 - one_minus) - hz) + mad(z, r, -(x * y)));
 }
 
 // sin x.
@@ -296,10 +299,10 @@ fn cos_poly(x: real) -> real {
 // acos 1 = +0, acos(−1) = π rounded, acos 0 = π/2 rounded; NaN outside [−1, 1] and for
 // NaN.
 //
-// Method (fdlibm e_acos.c, with an fma where fdlibm splits a square root by its bits):
+// Method (fdlibm e_acos.c, with a mad where fdlibm splits a square root by its bits):
 // - |x| < 1/2: acos x = π/2 − (x + x·R(x²)), π/2 as PIO2_HI + PIO2_LO;
 // - x ≥ 1/2: acos x = 2·asin √z with z = (1 − x)/2 (exact): 2·(s + s·R(z) + c) with
-//   s = √z rounded and c = (z − s²)/(2s) (z − s² exact by fma), so s + c ≈ √z to ~2⁻¹⁰⁶;
+//   s = √z rounded and c = (z − s²)/(2s) (z − s² by mad, to about an ulp of z), so s + c ≈ √z to about an ulp;
 // - x ≤ −1/2: acos x = π − 2·asin √z with z = (1 + x)/2: π − 2·(s + s·R(z)).
 //
 // All three are computed and one is selected.
@@ -307,17 +310,17 @@ fn acos_poly(x: real) -> real {
     let ax = abs(x);
     let outer = ax >= 0.5;
     let z = select(x * x, (1.0 - ax) * 0.5, outer);
-    let p = z * fma(
+    let p = z * mad(
         z,
-        fma(z, fma(z, fma(z, fma(z, ASIN_P5, ASIN_P4), ASIN_P3), ASIN_P2), ASIN_P1),
+        mad(z, mad(z, mad(z, mad(z, ASIN_P5, ASIN_P4), ASIN_P3), ASIN_P2), ASIN_P1),
         ASIN_P0,
     );
-    let q = fma(z, fma(z, fma(z, fma(z, ASIN_Q4, ASIN_Q3), ASIN_Q2), ASIN_Q1), 1.0);
+    let q = mad(z, mad(z, mad(z, mad(z, ASIN_Q4, ASIN_Q3), ASIN_Q2), ASIN_Q1), 1.0);
     let r = p / q;
     let s = sqrt(z);
-    let mid = PIO2_HI - (x - fma(-x, r, PIO2_LO));
-    let c = fma(-s, s, z) / select(1.0, s + s, s > 0.0);
-    let right = 2.0 * (s + fma(r, s, c));
-    let left = PI_HI - 2.0 * (s + fma(r, s, -PIO2_LO));
+    let mid = PIO2_HI - (x - mad(-x, r, PIO2_LO));
+    let c = mad(-s, s, z) / select(1.0, s + s, s > 0.0);
+    let right = 2.0 * (s + mad(r, s, c));
+    let left = PI_HI - 2.0 * (s + mad(r, s, -PIO2_LO));
     return select(select(left, right, x > 0.0), mid, !outer);
 }

@@ -4,11 +4,19 @@
 // Frame (spec §0): x along the table's short side, y along the long side, z up; the cloth
 // is z = 0.
 
-// Dot and cross products: the WGSL builtins `dot` and `cross`.
+// Dot product v·o, written out (the builtin's order of operations is the driver's).
+fn dot3(v: real3, o: real3) -> real {
+    return v.x * o.x + v.y * o.y + v.z * o.z;
+}
+
+// Cross product v × o, written out (as the builtin's, whose operations are the driver's).
+fn cross3(v: real3, o: real3) -> real3 {
+    return real3(v.y * o.z - v.z * o.y, v.z * o.x - v.x * o.z, v.x * o.y - v.y * o.x);
+}
 
 // Euclidean length sqrt(v·v) (not the `length` builtin).
 fn norm3(v: real3) -> real {
-    return sqrt(dot(v, v));
+    return sqrt(dot3(v, v));
 }
 
 // v/|v|; the zero vector stays zero.
@@ -30,10 +38,7 @@ fn rotate_z(v: real3, angle: real) -> real3 {
     return rotate_z_cs(v, real_cos(angle), real_sin(angle));
 }
 
-// Rotated about z by the angle whose cosine and sine are `c` and `s`. WGSL only: the
-// resolutions rotate by the angle of a vector, which here comes as the vector's unit
-// components instead of from an atan2 (WGSL's f64 has none); the Rust twin computes the
-// angle, as pooltool does, and rotates by it: the same to rounding.
+// Rotated counter-clockwise about z by the angle whose cosine and sine are `c`, `s`.
 fn rotate_z_cs(v: real3, c: real, s: real) -> real3 {
     return real3(c * v.x - s * v.y, s * v.x + c * v.y, v.z);
 }

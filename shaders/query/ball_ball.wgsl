@@ -65,13 +65,13 @@ fn contact_overlap(horizon: real) -> Contact {
 fn contact_fn(rel: RelPath, four_r2: real, t: real, k: u32) -> vec3<real> {
     let ct = rel_at(rel, t);
     let vt = rel_velocity_at(rel, t);
-    let f1 = 2.0 * dot(ct, vt);
-    let f2 = 2.0 * (dot(vt, vt) + 2.0 * dot(rel.a, ct));
+    let f1 = 2.0 * dot2(ct, vt);
+    let f2 = 2.0 * (dot2(vt, vt) + 2.0 * dot2(rel.a, ct));
     if k == 0u {
-        let f0 = dot(ct, ct) - four_r2;
+        let f0 = dot2(ct, ct) - four_r2;
         return vec3<real>(f0, f1, f2);
     }
-    let f3 = 12.0 * dot(rel.a, vt);
+    let f3 = 12.0 * dot2(rel.a, vt);
     return vec3<real>(f1, f2, f3);
 }
 
@@ -184,7 +184,7 @@ fn inflection_knots(rel: RelPath, h: real) -> Knots {
     let a = rel.a;
     let b = rel.b;
     let c = rel.c;
-    let s = quadratic_roots(6.0 * dot(a, a), 6.0 * dot(a, b), dot(b, b) + 2.0 * dot(a, c));
+    let s = quadratic_roots(6.0 * dot2(a, a), 6.0 * dot2(a, b), dot2(b, b) + 2.0 * dot2(a, c));
     var knots = array<real, 3>(h, h, h);
     var n_knots = 0u;
     if s.n >= 1u && s.r0 > 0.0 && s.r0 < h {
@@ -336,19 +336,19 @@ fn approach_sign(rel: RelPath) -> real {
     let a = rel.a;
     let b = rel.b;
     let c = rel.c;
-    let d1 = dot(b, c);
+    let d1 = dot2(b, c);
     if abs(d1) > APPROACH_BAND * norm(b) * norm(c) {
         return d1;
     }
-    let d2 = dot(b, b) + 2.0 * dot(a, c);
-    if abs(d2) > APPROACH_BAND * (dot(b, b) + 2.0 * norm(a) * norm(c)) {
+    let d2 = dot2(b, b) + 2.0 * dot2(a, c);
+    if abs(d2) > APPROACH_BAND * (dot2(b, b) + 2.0 * norm(a) * norm(c)) {
         return d2;
     }
-    let d3 = dot(a, b);
+    let d3 = dot2(a, b);
     if abs(d3) > APPROACH_BAND * norm(a) * norm(b) {
         return d3;
     }
-    return dot(a, a);
+    return dot2(a, a);
 }
 
 // Whether C(t) provably stays farther than 2R from the origin for t in [0, h], by a
@@ -378,9 +378,9 @@ fn path_scale(rel: RelPath, h: real) -> real {
 // Whether the projections of P0, P1, P2 on the initial centre line u = C/|C| all exceed
 // reach: C·Pi > reach·|C|, compared as squares of the positive sides.
 fn wide_along_centres(rel: RelPath, h: real, reach: real) -> bool {
-    let cc = dot(rel.c, rel.c);
-    let q1 = dot(rel.c, rel.c + (0.5 * h) * rel.b);
-    let q2 = dot(rel.c, rel.c + h * rel.b + (h * h) * rel.a);
+    let cc = dot2(rel.c, rel.c);
+    let q1 = dot2(rel.c, rel.c + (0.5 * h) * rel.b);
+    let q2 = dot2(rel.c, rel.c + h * rel.b + (h * h) * rel.a);
     let bound = reach * reach * cc;
     return cc > reach * reach && q1 > 0.0 && q2 > 0.0 && q1 * q1 > bound && q2 * q2 > bound;
 }
@@ -391,7 +391,7 @@ fn wide_along_centres(rel: RelPath, h: real, reach: real) -> bool {
 fn wide_sideways(rel: RelPath, h: real, reach: real) -> bool {
     let w0 = perp_dot(rel.b, rel.c);
     let w_h = w0 + (h * h) * perp_dot(rel.b, rel.a);
-    let bound = reach * reach * dot(rel.b, rel.b);
+    let bound = reach * reach * dot2(rel.b, rel.b);
     return w0 * w_h > 0.0 && w0 * w0 > bound && w_h * w_h > bound;
 }
 

@@ -4,8 +4,8 @@
 // `.../frictional_inelastic/__init__.py: _resolve_ball_ball`, `.../friction.py`). WGSL twin
 // of src/resolve/ball_ball.rs: the same functions in the same order with the same
 // comments. Differences, all forced by WGSL: structs instead of tuples and Option, a
-// pointer pair instead of `&mut`, the rotation by θ = angle(r2 − r1) from the unit
-// components of r2 − r1 (no atan2 on f64), exp from the precision prelude (real_exp).
+// pointer pair instead of `&mut`, exp from the precision prelude (real_exp: in f64 the
+// Rust twin's exp_poly).
 //
 // Needs (before it): the precision prelude, model/ball.wgsl, model/vec3.wgsl,
 // model/sim_params.wgsl, model/ball_state.wgsl, query/roots.wgsl (smallest_kiss_root).
@@ -28,7 +28,7 @@ fn make_kiss_ball_ball(b1: BallState, b2: BallState, p: BallParams, s: real) -> 
         let dr = b2.r - b1.r;
         let dv = b2.v - b1.v;
         let d = 2.0 * p.r + s;
-        let root = smallest_kiss_root(dot(dv, dv), 2.0 * dot(dr, dv), dot(dr, dr) - d * d);
+        let root = smallest_kiss_root(dot3(dv, dv), 2.0 * dot3(dr, dv), dot3(dr, dr) - d * d);
         if root.found {
             let tau = root.tau;
             let r1 = b1.r + tau * b1.v;
@@ -49,8 +49,8 @@ fn make_kiss_ball_ball(b1: BallState, b2: BallState, p: BallParams, s: real) -> 
 // points' tangential velocities, `vic = vi − (vi·n)n ± ωi × (R n)` (§5.2 step 1).
 fn alciatore_friction(b1: BallState, b2: BallState, p: BallParams, rp: ResolverParams) -> real {
     let n = unit3(b2.r - b1.r);
-    let v1c = b1.v - dot(b1.v, n) * n + cross(b1.w, p.r * n);
-    let v2c = b2.v - dot(b2.v, n) * n + cross(b2.w, -p.r * n);
+    let v1c = b1.v - dot3(b1.v, n) * n + cross3(b1.w, p.r * n);
+    let v2c = b2.v - dot3(b2.v, n) * n + cross3(b2.w, -p.r * n);
     return rp.alciatore_a + rp.alciatore_b * real_exp(-rp.alciatore_c * norm3(v1c - v2c));
 }
 
@@ -65,7 +65,7 @@ struct Pair {
 // The contact slip `w12 = (v1 + ω1 × R x̂) − (v2 + ω2 × (−R x̂))`.
 fn contact_slip(q: Pair, r: real) -> real3 {
     let rx = real3(r, 0.0, 0.0);
-    return (q.v1 + cross(q.w1, rx)) - (q.v2 + cross(q.w2, -rx));
+    return (q.v1 + cross3(q.w1, rx)) - (q.v2 + cross3(q.w2, -rx));
 }
 
 // `q` with the impulse Δv on ball 1 (−Δv on ball 2) and Δω on both.
@@ -80,15 +80,15 @@ fn tangential_impulse(q: Pair, mu: real, dv_normal: real, r: real) -> Pair {
     let w12 = contact_slip(q, r);
     if norm3(w12) > SIM_EPS {
         let dv = (-mu * dv_normal) * unit3(w12);
-        let dw = (5.0 / (2.0 * r)) * cross(x_hat, dv);
+        let dw = (5.0 / (2.0 * r)) * cross3(x_hat, dv);
         let slipped = apply(q, dv, dw);
-        if dot(w12, contact_slip(slipped, r)) > 0.0 {
+        if dot3(w12, contact_slip(slipped, r)) > 0.0 {
             return slipped;
         }
     }
     let rel = q.v1 - q.v2;
-    let dv = (-1.0 / 7.0) * (rel + r * cross(q.w1 + q.w2, x_hat));
-    let dw = (-5.0 / 14.0) * ((1.0 / r) * cross(x_hat, rel) + q.w1 + q.w2);
+    let dv = (-1.0 / 7.0) * (rel + r * cross3(q.w1 + q.w2, x_hat));
+    let dw = (-5.0 / 14.0) * ((1.0 / r) * cross3(x_hat, rel) + q.w1 + q.w2);
     return apply(q, dv, dw);
 }
 
@@ -104,9 +104,9 @@ struct BallPair {
 // (Q9), x components restored, rotated back, v_z = 0, both labelled sliding (Q10).
 //
 // The rotations by ∓θ, θ = angle(r2 − r1), take θ's cosine and sine as the unit
-// components of the horizontal r2 − r1 (rotate_z_cs) instead of from an atan2 (WGSL's
-// f64 has none): the same to rounding. Coincident centres (no horizontal offset) give
-// θ = 0, as atan2(0, 0) does.
+// components of the horizontal r2 − r1 (rotate_z_cs), as the Rust twin does (WGSL's f64
+// has no atan2; pooltool's atan2, cosine and sine give the same to rounding). Coincident
+// centres (no horizontal offset) give θ = 0, as atan2(0, 0) does.
 fn frictional_inelastic(b1: BallState, b2: BallState, mu: real, p: BallParams) -> BallPair {
     let e = 0.5 * (p.e_b + p.e_b);
     let d = b2.r - b1.r;
@@ -150,9 +150,9 @@ fn continually_touching(b1: ptr<function, BallState>, b2: ptr<function, BallStat
         return;
     }
     let n = unit3((*b2).r - (*b1).r);
-    let l1 = dot((*b1).v, n);
-    let l2 = dot((*b2).v, n);
-    let cosine = dot((*b1).v, (*b2).v) / (s1 * s2);
+    let l1 = dot3((*b1).v, n);
+    let l2 = dot3((*b2).v, n);
+    let cosine = dot3((*b1).v, (*b2).v) / (s1 * s2);
     if abs(l2 - l1) < 0.01 && cosine > 0.9 {
         // the chaser, the other and ℓ (WGSL cannot choose between pointers: two arms)
         if l1 > l2 {

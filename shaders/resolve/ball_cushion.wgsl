@@ -21,11 +21,11 @@
 fn make_kiss_linear(b: BallState, seg: LinearCushion, p: BallParams, s: real) -> real3 {
     if ball_translating(b) {
         var n = unit3(real3(seg.lx, seg.ly, 0.0));
-        if dot(n, b.v) < 0.0 {
+        if dot3(n, b.v) < 0.0 {
             n = -n;
         }
-        let d0 = dot(b.r - seg.p1, n);
-        let vn = dot(b.v, n);
+        let d0 = dot3(b.r - seg.p1, n);
+        let vn = dot3(b.v, n);
         if vn != 0.0 {
             let t1 = (p.r + s - d0) / vn;
             let t2 = (-(p.r + s) - d0) / vn;
@@ -37,7 +37,7 @@ fn make_kiss_linear(b: BallState, seg: LinearCushion, p: BallParams, s: real) ->
         }
     }
     let e = unit3(seg.p2 - seg.p1);
-    let foot = seg.p1 + dot(b.r - seg.p1, e) * e;
+    let foot = seg.p1 + dot3(b.r - seg.p1, e) * e;
     let c = real3(foot.x, foot.y, b.r.z);
     return c + (p.r + s) * unit3(b.r - c);
 }
@@ -50,7 +50,7 @@ fn make_kiss_circular(b: BallState, seg: CircularCushion, p: BallParams, s: real
     if ball_translating(b) {
         let dr = xy3(b.r - q);
         let v = xy3(b.v);
-        let root = smallest_kiss_root(dot(v, v), 2.0 * dot(dr, v), dot(dr, dr) - d * d);
+        let root = smallest_kiss_root(dot3(v, v), 2.0 * dot3(dr, v), dot3(dr, dr) - d * d);
         if root.found {
             let step = root.tau * b.v;
             if norm3(step) <= 5.0 * s {
@@ -66,7 +66,7 @@ fn make_kiss_circular(b: BallState, seg: CircularCushion, p: BallParams, s: real
 fn linear_normal(r: real3, seg: LinearCushion) -> real3 {
     let e = unit3(seg.p2 - seg.p1);
     let rho = r - seg.p1;
-    return unit3(rho - dot(rho, e) * e);
+    return unit3(rho - dot3(rho, e) * e);
 }
 
 // The contact normal of a circular segment: `unit(r − (a_c, b_c, h))` (3D, tilted).
@@ -87,17 +87,17 @@ fn cushion_consts(p: BallParams, rp: ResolverParams) -> StrongeConsts {
 // (`v_n0 < 0`); a ball that reaches the checked line moving away (it started behind
 // it) gets no impulse here, only the sliding label.
 fn stronge_cushion(b: BallState, n: real3, p: BallParams, rp: ResolverParams) -> BallState {
-    let vc = b.v + cross(b.w, -p.r * n);
-    let v_n0 = dot(n, vc);
+    let vc = b.v + cross3(b.w, -p.r * n);
+    let v_n0 = dot3(n, vc);
     // not approaching (the Rust twin also tests for NaN, which WGSL cannot see)
     if !(v_n0 < 0.0) {
         return BallState(b.r, b.v, b.w, STATE_SLIDING, b.t);
     }
-    let m_t = cross(n, vc);
+    let m_t = cross3(n, vc);
     let v_t0 = -norm3(m_t);
     var t_hat = real3(0.0, 0.0, 0.0);
     if v_t0 != 0.0 {
-        t_hat = (1.0 / v_t0) * cross(m_t, n);
+        t_hat = (1.0 / v_t0) * cross3(m_t, n);
     }
     let f = stronge_compliant(v_t0, v_n0, cushion_consts(p, rp));
     let v_tf = f.x;
@@ -105,7 +105,7 @@ fn stronge_cushion(b: BallState, n: real3, p: BallParams, rp: ResolverParams) ->
     let dvn = (v_nf - v_n0) / rp.beta_n;
     let dvt = (v_tf - v_t0) / rp.beta_t;
     let v = b.v + dvn * n + dvt * t_hat;
-    let w = b.w + (2.5 / p.r) * cross(-n, dvt * t_hat);
+    let w = b.w + (2.5 / p.r) * cross3(-n, dvt * t_hat);
     return BallState(b.r, real3(v.x, v.y, 0.0), w, STATE_SLIDING, b.t);
 }
 

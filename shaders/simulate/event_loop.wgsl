@@ -486,7 +486,7 @@ fn ball_ball_candidate() -> Candidate {
     let best = red_pair[0];
     let ij = pair_at(best, n);
     let dv = balls[ij.x].v - balls[ij.y].v;
-    return Candidate(true, pair_t[best], 3u, dot(dv, dv), EVENT_BALL_BALL, ij.x, ij.y);
+    return Candidate(true, pair_t[best], 3u, dot3(dv, dv), EVENT_BALL_BALL, ij.x, ij.y);
 }
 
 // τ until a translating ball on `path` (box `bx`) meets item m of a category, or NEVER;

@@ -352,6 +352,12 @@ pub struct SimFigures {
     /// GPU, when the CPU ran too: tables whose event count differs from the CPU's, and
     /// tables with a ball more than 1e-6 m from the CPU's final position.
     pub tables_differ: Option<(usize, usize)>,
+    /// GPU, when the CPU ran too: tables whose run is not the CPU's to the last bit (another
+    /// event count, or a final state that differs in any number).
+    pub tables_not_identical: Option<usize>,
+    /// GPU: whether the event loop ran as exact SPIR-V (docs/gpu.md, "Bit for bit with the
+    /// CPU").
+    pub exact: Option<bool>,
 }
 
 /// What the sim bench measures: the CPU, and the GPU in a precision.
@@ -410,6 +416,8 @@ pub fn run_sim_bench(config: &SimBenchConfig) -> Result<SimBenchReport, Error> {
             dispatches: None,
             kernel_shots_per_s: None,
             tables_differ: None,
+            tables_not_identical: None,
+            exact: None,
         }
     };
     let mut cpu_runs = None;
@@ -490,6 +498,15 @@ pub fn run_sim_bench(config: &SimBenchConfig) -> Result<SimBenchReport, Error> {
                         .count();
                     (events, moved)
                 });
+                f.tables_not_identical = cpu_runs.as_ref().map(|cpu| {
+                    cpu.iter()
+                        .zip(&runs)
+                        .filter(|(c, g)| {
+                            c.outcome.n_events != g.outcome.n_events || c.balls != g.balls
+                        })
+                        .count()
+                });
+                f.exact = Some(gpu.exact());
                 report.backends.push(f);
             }
         }
@@ -535,8 +552,9 @@ impl SimBenchReport {
                 );
             }
             if let Some((events, moved)) = f.tables_differ {
+                let exact = f.tables_not_identical.unwrap_or(0);
                 out += &format!(
-                    "  against the CPU: {events} tables with another event count, {moved} with a ball > 1e-6 m away\n"
+                    "  against the CPU: {events} tables with another event count, {moved} with a ball > 1e-6 m away, {exact} not identical to the last bit\n"
                 );
             }
         }

@@ -92,6 +92,9 @@ pub(super) struct Opened {
     pub(super) watch: DeviceWatch,
     /// Whether the device was opened with `TIMESTAMP_QUERY` (where the adapter offers it).
     pub(super) timestamps: bool,
+    /// Whether the device takes SPIR-V as it is (`PASSTHROUGH_SHADERS` on Vulkan): the
+    /// event loop's exact build ([`super::spirv`]).
+    pub(super) spirv: bool,
 }
 
 /// Opens the adapter (see [`pick_adapter`]) and a device on it with the features that
@@ -125,6 +128,14 @@ pub(super) fn open(precision: Precision) -> Result<Opened, Error> {
     if timestamps {
         features |= wgpu::Features::TIMESTAMP_QUERY;
     }
+    // the event loop as SPIR-V without contraction (gpu::spirv), where the device is Vulkan
+    let spirv = info.backend == wgpu::Backend::Vulkan
+        && adapter
+            .features()
+            .contains(wgpu::Features::PASSTHROUGH_SHADERS);
+    if spirv {
+        features |= wgpu::Features::PASSTHROUGH_SHADERS;
+    }
     let adapter_limits = adapter.limits();
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("kisstime"),
@@ -141,6 +152,7 @@ pub(super) fn open(precision: Precision) -> Result<Opened, Error> {
         limits: adapter_limits,
         watch,
         timestamps,
+        spirv,
     })
 }
 

@@ -42,6 +42,7 @@ mod pipelines;
 pub mod shader;
 mod sim_layout;
 mod simulate;
+pub mod spirv;
 
 pub use device::AdapterSummary;
 pub use dispatch::Kernel;

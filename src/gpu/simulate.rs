@@ -123,6 +123,13 @@ fn pipeline_chunks() -> Result<usize, Error> {
     )
 }
 
+/// Whether the event loop is built exact where the device allows: `KISSTIME_GPU_EXACT`
+/// (1, the default, or 0: the WGSL as wgpu compiles it, which a driver may contract —
+/// for measuring what exactness costs on a device).
+fn exact_wanted() -> Result<bool, Error> {
+    knob("KISSTIME_GPU_EXACT", 1, |n| n <= 1, "0 or 1").map(|n| n == 1)
+}
+
 /// Tables per chunk, at most, by default.
 pub const MAX_TABLES_PER_CHUNK: usize = 1 << 20;
 
@@ -316,6 +323,8 @@ pub struct GpuSimulator {
     threads: usize,
     /// The most threads a missing row is split over (the shader's `ROW_THREADS`).
     row_threads: usize,
+    /// Whether the event loop is built as SPIR-V without contraction ([`super::spirv`]).
+    exact: bool,
     /// The largest workgroup memory the device allows, in bytes.
     max_workgroup_bytes: u32,
     pub(super) max_groups_per_dim: u32,
@@ -421,6 +430,7 @@ impl GpuSimulator {
             pipelines: Vec::new(),
             threads,
             row_threads: ROW_THREADS,
+            exact: opened.spirv && exact_wanted()?,
             timings: GpuTimings::default(),
             total: GpuTimings::default(),
             dispatches: 0,
@@ -443,13 +453,14 @@ impl GpuSimulator {
         }
         let n = layout.gpu_max_balls;
         let constants = event_loop_constants(layout, self.threads, self.row_threads);
+        let source = simulate_source(self.precision, n);
         let device = &self.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("kisstime event loop"),
-            source: wgpu::ShaderSource::Wgsl(simulate_source(self.precision, n).into()),
+            source: wgpu::ShaderSource::Wgsl(source.as_str().into()),
         });
-        let entry = |name: &str| {
+        let wgsl_entry = |name: &str| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(name),
                 layout: None,
@@ -462,9 +473,20 @@ impl GpuSimulator {
                 cache: None,
             })
         };
+        // the event loop as exact SPIR-V where the device takes it (super::spirv);
+        // expand_tables only copies blocks (no float arithmetic to keep exact) and stays
+        // with wgpu's own compilation: built through the passthrough it left the tables
+        // empty on lavapipe (tests/gpu_study.rs: every sample "nothing"), for a reason not
+        // yet found (not the bounds checks, the workgroup zeroing, the SPIR-V version or
+        // the decorations: each was ruled out)
+        let simulate = match self.exact {
+            true => super::spirv::exact_pipeline(device, &source, "simulate_tables", &constants)
+                .map_err(|e| gpu_error(format!("the event loop's SPIR-V: {e}")))?,
+            false => wgsl_entry("simulate_tables"),
+        };
         let pipeline = LoopPipelines {
-            simulate: entry("simulate_tables"),
-            expand: entry("expand_tables"),
+            simulate,
+            expand: wgsl_entry("expand_tables"),
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
             let text = e.to_string();
@@ -487,6 +509,13 @@ impl GpuSimulator {
     /// The adapter in use.
     pub fn adapter(&self) -> &AdapterSummary {
         &self.adapter
+    }
+
+    /// Whether the event loop runs as SPIR-V whose float operations the driver may not
+    /// contract or reorder ([`super::spirv`]): on Vulkan unless `KISSTIME_GPU_EXACT=0`.
+    /// Then, on a device with IEEE f64 arithmetic, the f64 runs are the CPU's bit for bit.
+    pub fn exact(&self) -> bool {
+        self.exact
     }
 
     /// The precision the event loop computes in.

@@ -9,28 +9,25 @@
 //! need some: the Alciatore ball–ball friction `exp(−c·|slip|)` (`src/resolve/ball_ball.rs`)
 //! and the Stronge compliant cushion model's `sin`, `cos` of phases `ω·t` and `acos(x)`,
 //! `x` in [−1, 1] (`src/resolve/stronge.rs`). These functions use only what WGSL f64 has
-//! safely: `+ − × ÷`, `sqrt`, `fma`, `abs`, `select`, comparisons and int/float
-//! conversions.
+//! safely: `+ − × ÷`, `sqrt`, `abs`, `select`, comparisons and int/float conversions.
 //!
 //! # The twins give the same bits
-//! Here `f64::mul_add` is WGSL's `fma`, `if c { t } else { f }` is `select(f, t, c)`,
-//! `as i32` / `as f64` are `i32(…)` / `real(…)`. Every product that feeds a sum is either
-//! exact or written as an `fma`, so a GPU compiler that contracts `a * b + c` into an fma
-//! (Vulkan allows it unless told otherwise) cannot change a bit. Where the device's f64
-//! `+ − ×` are IEEE (round to nearest even, subnormals kept) and its `fma` is fused, as on
-//! GPUs with a hardware f64 FMA, [`exp_poly`], [`sin_poly`] and [`cos_poly`] give the same
-//! bits as these Rust twins; [`acos_poly`] also needs correctly rounded `/` and `sqrt`.
-//! Vulkan promises neither a fused `fma` nor sums evaluated as written, and Mesa's lavapipe
-//! (22.3) gives neither: its f64 `fma` rounds the product and the sum separately, and its
-//! compiler rewrites sums as if they were exact (naga asks for no float controls): there
-//! [`exp_poly`], which has no compensated sums, equals the Rust twin evaluated with
-//! separately rounded fmas bit for bit, while sin, cos and acos, whose compensation terms
-//! (`(1 − w) − h`, TwoSum's errors, `z − s²`) do not survive, do not, and an exact-fma
-//! emulation from Dekker's product and TwoSum comes out wrong. There the GPU lands within
-//! 1 ulp (exp, acos) or 2 ulp (sin, cos) of these twins, and within the same of the
-//! correctly rounded value. `tests/gpu_fmath.rs` checks whichever applies on the adapter
-//! it finds.
+//! Here `if c { t } else { f }` is `select(f, t, c)`, `as i32` / `as f64` are `i32(…)` /
+//! `real(…)`, and [`mad`]`(a, b, c)` is `a * b + c` on both sides: rounded twice, never a
+//! fused multiply-add. The GPU runs the shader as SPIR-V whose every float operation is
+//! marked `NoContraction` ([`crate::gpu::spirv`]), so its compiler may neither fuse a
+//! product into a sum nor re-associate sums, and Rust never does either: on a device whose
+//! f64 `+ − × ÷` and `sqrt` are IEEE's (round to nearest even, subnormals kept), as on
+//! NVIDIA's and AMD's GPUs and on Mesa's lavapipe, the twins give the same bits.
+//! `tests/gpu_fmath.rs` checks that on the adapter it finds.
 //!
+//! Before that decoration the twins were written with fused `fma`s wherever a product fed
+//! a sum, so that contraction could not change a bit; but Vulkan promises no fused `fma`
+//! (lavapipe's rounds twice), and the compensated sums (`(1 − w) − h`, TwoSum's errors,
+//! `z − s²`) did not survive lavapipe's re-association. With the decoration, separately
+//! rounded products cost nothing measurable in accuracy (the bounds below hold as
+//! before) and make one twin right everywhere.
+
 //! # Accuracy
 //! Measured against the standard library (glibc's, itself within 1 ulp) by
 //! `tests/fmath.rs` over a few million points each, dense where it is hard:
@@ -176,6 +173,16 @@ const ASIN_Q3: f64 = -0.6882839716054533;
 /// 0x3FB3B8C5_B12E9282
 const ASIN_Q4: f64 = 0.07703815055590194;
 
+/// `a·b + c` rounded twice, the product then the sum, never fused (WGSL: `mad`, the same
+/// function). Where fdlibm and the earlier twins used a fused multiply-add, these use
+/// this: a fused `fma` is what a GPU has and a CPU may emulate slowly, and Mesa's lavapipe
+/// rounds its "fused" f64 `fma` twice anyway; written as a product and a sum, in SPIR-V
+/// marked `NoContraction` ([`crate::gpu::spirv`]), every device rounds it the same.
+#[inline]
+pub fn mad(a: f64, b: f64, c: f64) -> f64 {
+    a * b + c
+}
+
 /// 2ⁿ exactly, for |n| ≤ 1023 (below 2⁻¹⁰²² the result is subnormal, still exact).
 ///
 /// Method: the product of the powers 2^(±2ⁱ) for the bits i of |n|, each power the square
@@ -202,7 +209,7 @@ pub fn pow2i(n: i32) -> f64 {
 /// Method: k = round(x/ln 2) (halves away from zero) and r = x − k·ln 2 with a two-constant
 /// Cody–Waite split of ln 2 (k·LN2_HI and x − k·LN2_HI are exact), so |r| ≤ ln 2/2 +
 /// rounding; eʳ by its Taylor polynomial to r¹³ (truncation < 2⁻⁵⁸ relative) in Horner form
-/// with fma; then 2ᵏ as 2^(k − 2h)·2ʰ·2ʰ with h = k/2, so each factor is a normal power of
+/// with mad; then 2ᵏ as 2^(k − 2h)·2ʰ·2ʰ with h = k/2, so each factor is a normal power of
 /// two, the first two products are exact and only the last one rounds (into the subnormals,
 /// or overflowing to +∞).
 pub fn exp_poly(x: f64) -> f64 {
@@ -214,23 +221,23 @@ pub fn exp_poly(x: f64) -> f64 {
         -EXP_CLAMP
     };
     let half = if xc < 0.0 { -0.5 } else { 0.5 };
-    let k = xc.mul_add(INV_LN2, half) as i32;
+    let k = mad(xc, INV_LN2, half) as i32;
     let kf = k as f64;
-    let hi = (-kf).mul_add(LN2_HI, x);
-    let r = (-kf).mul_add(LN2_LO, hi);
-    let mut p = r.mul_add(EXP_C13, EXP_C12);
-    p = r.mul_add(p, EXP_C11);
-    p = r.mul_add(p, EXP_C10);
-    p = r.mul_add(p, EXP_C9);
-    p = r.mul_add(p, EXP_C8);
-    p = r.mul_add(p, EXP_C7);
-    p = r.mul_add(p, EXP_C6);
-    p = r.mul_add(p, EXP_C5);
-    p = r.mul_add(p, EXP_C4);
-    p = r.mul_add(p, EXP_C3);
-    p = r.mul_add(p, 0.5);
-    p = r.mul_add(p, 1.0);
-    p = r.mul_add(p, 1.0);
+    let hi = mad(-kf, LN2_HI, x);
+    let r = mad(-kf, LN2_LO, hi);
+    let mut p = mad(r, EXP_C13, EXP_C12);
+    p = mad(r, p, EXP_C11);
+    p = mad(r, p, EXP_C10);
+    p = mad(r, p, EXP_C9);
+    p = mad(r, p, EXP_C8);
+    p = mad(r, p, EXP_C7);
+    p = mad(r, p, EXP_C6);
+    p = mad(r, p, EXP_C5);
+    p = mad(r, p, EXP_C4);
+    p = mad(r, p, EXP_C3);
+    p = mad(r, p, 0.5);
+    p = mad(r, p, 1.0);
+    p = mad(r, p, 1.0);
     let h = k / 2;
     let s = pow2i(h);
     let y = p * pow2i(k - 2 * h) * s * s;
@@ -255,16 +262,16 @@ pub struct HalfPiRem {
 ///
 /// Method: Cody–Waite with fdlibm's three 33-bit pieces of π/2 and the tail PIO2_3T:
 /// n·PIO2_1, n·PIO2_2, n·PIO2_3 are exact (|n| < 2¹⁹) and so is x − n·PIO2_1 (Sterbenz); the
-/// next two subtractions are error-free (TwoSum), their errors and −n·PIO2_3T (an fma) are
+/// next two subtractions are error-free (TwoSum), their errors and −n·PIO2_3T (a mad) are
 /// summed into the tail, and a last TwoSum normalises hi + lo. Branch-free (fdlibm decides
 /// how many pieces it needs from the exponents; TwoSum needs no such decision).
 pub fn reduce_half_pi(x: f64) -> HalfPiRem {
     let inside = x.abs() <= TRIG_BOUND;
     let xr = if inside { x } else { 0.0 };
     let half = if xr < 0.0 { -0.5 } else { 0.5 };
-    let n = xr.mul_add(INV_PIO2, half) as i32;
+    let n = mad(xr, INV_PIO2, half) as i32;
     let f = n as f64;
-    let a = (-f).mul_add(PIO2_1, xr);
+    let a = mad(-f, PIO2_1, xr);
     let b = f * PIO2_2;
     let s1 = a - b;
     let z1 = s1 - a;
@@ -273,7 +280,7 @@ pub fn reduce_half_pi(x: f64) -> HalfPiRem {
     let s2 = s1 - c;
     let z2 = s2 - s1;
     let e2 = (s1 - (s2 - z2)) + (-c - z2);
-    let low = (-f).mul_add(PIO2_3T, e1 + e2);
+    let low = mad(-f, PIO2_3T, e1 + e2);
     let hi = s2 + low;
     let z3 = hi - s2;
     let lo = (s2 - (hi - z3)) + (low - z3);
@@ -290,18 +297,19 @@ pub fn reduce_half_pi(x: f64) -> HalfPiRem {
 /// `__kernel_sin(x, y, 1)`).
 ///
 /// Method: x + x³·(SIN_S1 + x²·r(x²)) with fdlibm's minimax coefficients, arranged so that the
-/// tail enters as sin(x + y) ≈ sin(x) + y·(1 − x²/2); products that feed sums are fmas.
+/// tail enters as sin(x + y) ≈ sin(x) + y·(1 − x²/2); products that feed sums are mads.
 pub fn sin_kernel(x: f64, y: f64) -> f64 {
     let z = x * x;
     let w = z * z;
-    let r = (z * w).mul_add(
-        z.mul_add(SIN_S6, SIN_S5),
-        z.mul_add(z.mul_add(SIN_S4, SIN_S3), SIN_S2),
+    let r = mad(
+        z * w,
+        mad(z, SIN_S6, SIN_S5),
+        mad(z, mad(z, SIN_S4, SIN_S3), SIN_S2),
     );
     let v = z * x;
-    let t = (-v).mul_add(r, 0.5 * y);
-    let u = z.mul_add(t, -y);
-    x - (-v).mul_add(SIN_S1, u)
+    let t = mad(-v, r, 0.5 * y);
+    let u = mad(z, t, -y);
+    x - mad(-v, SIN_S1, u)
 }
 
 /// cos(x + y) for |x| ≤ π/4 + a little and a tail |y| ≤ ulp(x)/2 (fdlibm's
@@ -309,17 +317,18 @@ pub fn sin_kernel(x: f64, y: f64) -> f64 {
 ///
 /// Method: 1 − x²/2 + x⁴·r(x²) with fdlibm's minimax coefficients; `w = 1 − x²/2` is
 /// rounded and its rounding error `(1 − w) − x²/2` (exact) added back with the tail's
-/// −x·y; products that feed sums are fmas.
+/// −x·y; products that feed sums are mads.
 pub fn cos_kernel(x: f64, y: f64) -> f64 {
     let z = x * x;
     let w = z * z;
-    let r = z.mul_add(
-        z.mul_add(z.mul_add(COS_C3, COS_C2), COS_C1),
-        (w * w) * z.mul_add(z.mul_add(COS_C6, COS_C5), COS_C4),
+    let r = mad(
+        z,
+        mad(z, mad(z, COS_C3, COS_C2), COS_C1),
+        (w * w) * mad(z, mad(z, COS_C6, COS_C5), COS_C4),
     );
     let hz = 0.5 * z;
     let one_minus = 1.0 - hz;
-    one_minus + (((1.0 - one_minus) - hz) + z.mul_add(r, -(x * y)))
+    one_minus + (((1.0 - one_minus) - hz) + mad(z, r, -(x * y)))
 }
 
 /// sin x.
@@ -360,10 +369,10 @@ pub fn cos_poly(x: f64) -> f64 {
 /// acos 1 = +0, acos(−1) = π rounded, acos 0 = π/2 rounded; NaN outside [−1, 1] and for
 /// NaN.
 ///
-/// Method (fdlibm e_acos.c, with an fma where fdlibm splits a square root by its bits):
+/// Method (fdlibm e_acos.c, with a mad where fdlibm splits a square root by its bits):
 /// - |x| < 1/2: acos x = π/2 − (x + x·R(x²)), π/2 as PIO2_HI + PIO2_LO;
 /// - x ≥ 1/2: acos x = 2·asin √z with z = (1 − x)/2 (exact): 2·(s + s·R(z) + c) with
-///   s = √z rounded and c = (z − s²)/(2s) (z − s² exact by fma), so s + c ≈ √z to ~2⁻¹⁰⁶;
+///   s = √z rounded and c = (z − s²)/(2s) (z − s² by mad, to about an ulp of z), so s + c ≈ √z to about an ulp;
 /// - x ≤ −1/2: acos x = π − 2·asin √z with z = (1 + x)/2: π − 2·(s + s·R(z)).
 ///
 /// All three are computed and one is selected, as on the GPU.
@@ -371,23 +380,26 @@ pub fn acos_poly(x: f64) -> f64 {
     let ax = x.abs();
     let outer = ax >= 0.5;
     let z = if outer { (1.0 - ax) * 0.5 } else { x * x };
-    let p = z * z.mul_add(
-        z.mul_add(
-            z.mul_add(z.mul_add(z.mul_add(ASIN_P5, ASIN_P4), ASIN_P3), ASIN_P2),
+    let p = z * mad(
+        z,
+        mad(
+            z,
+            mad(z, mad(z, mad(z, ASIN_P5, ASIN_P4), ASIN_P3), ASIN_P2),
             ASIN_P1,
         ),
         ASIN_P0,
     );
-    let q = z.mul_add(
-        z.mul_add(z.mul_add(z.mul_add(ASIN_Q4, ASIN_Q3), ASIN_Q2), ASIN_Q1),
+    let q = mad(
+        z,
+        mad(z, mad(z, mad(z, ASIN_Q4, ASIN_Q3), ASIN_Q2), ASIN_Q1),
         1.0,
     );
     let r = p / q;
     let s = z.sqrt();
-    let mid = PIO2_HI - (x - (-x).mul_add(r, PIO2_LO));
-    let c = (-s).mul_add(s, z) / if s > 0.0 { s + s } else { 1.0 };
-    let right = 2.0 * (s + r.mul_add(s, c));
-    let left = PI_HI - 2.0 * (s + r.mul_add(s, -PIO2_LO));
+    let mid = PIO2_HI - (x - mad(-x, r, PIO2_LO));
+    let c = mad(-s, s, z) / if s > 0.0 { s + s } else { 1.0 };
+    let right = 2.0 * (s + mad(r, s, c));
+    let left = PI_HI - 2.0 * (s + mad(r, s, -PIO2_LO));
     if !outer {
         mid
     } else if x > 0.0 {

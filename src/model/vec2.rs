@@ -24,7 +24,8 @@ impl Vec2 {
     }
 }
 
-/// Dot product (WGSL `dot`).
+/// Dot product (WGSL `dot2`: written out the same way, not the builtin, whose order of
+/// operations is the driver's).
 pub fn dot(a: Vec2, b: Vec2) -> f64 {
     a.x * b.x + a.y * b.y
 }

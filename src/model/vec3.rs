@@ -72,6 +72,11 @@ impl Vec3 {
         Vec3::new(c * self.x - s * self.y, s * self.x + c * self.y, self.z)
     }
 
+    /// Rotated counter-clockwise about z by the angle whose cosine and sine are `c`, `s`.
+    pub fn rotate_z_cs(self, c: f64, s: f64) -> Vec3 {
+        Vec3::new(c * self.x - s * self.y, s * self.x + c * self.y, self.z)
+    }
+
     /// Whether every component is finite.
     pub fn is_finite(self) -> bool {
         self.x.is_finite() && self.y.is_finite() && self.z.is_finite()

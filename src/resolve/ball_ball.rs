@@ -5,8 +5,9 @@
 
 use crate::model::MotionState;
 use crate::model::ball_state::BallState;
+use crate::model::fmath::exp_poly;
 use crate::model::sim_params::{BallParams, EPS, ResolverParams};
-use crate::model::vec3::{Vec3, angle};
+use crate::model::vec3::Vec3;
 use crate::query::roots::smallest_kiss_root;
 
 /// The kissed positions `(r1, r2)`: both balls moved back along their velocities until
@@ -37,7 +38,8 @@ pub fn make_kiss_ball_ball(b1: &BallState, b2: &BallState, p: &BallParams, s: f6
 }
 
 /// Alciatore's ball–ball friction `μ_b = a + b·exp(−c·|v1c − v2c|)` from the contact
-/// points' tangential velocities, `vic = vi − (vi·n)n ± ωi × (R n)` (§5.2 step 1).
+/// points' tangential velocities, `vic = vi − (vi·n)n ± ωi × (R n)` (§5.2 step 1); exp
+/// is [`exp_poly`], the shader's (≤ 1 ulp).
 pub fn alciatore_friction(
     b1: &BallState,
     b2: &BallState,
@@ -47,7 +49,7 @@ pub fn alciatore_friction(
     let n = (b2.r - b1.r).unit();
     let v1c = b1.v - b1.v.dot(n) * n + b1.w.cross(p.r * n);
     let v2c = b2.v - b2.v.dot(n) * n + b2.w.cross(-p.r * n);
-    rp.alciatore_a + rp.alciatore_b * (-rp.alciatore_c * (v1c - v2c).norm()).exp()
+    rp.alciatore_a + rp.alciatore_b * exp_poly(-rp.alciatore_c * (v1c - v2c).norm())
 }
 
 /// Velocities and spins of a pair in the line-of-centres frame.
@@ -97,6 +99,11 @@ fn tangential_impulse(q: &Pair, mu: f64, dv_normal: f64, r: f64) -> Pair {
 /// `b1`, `b2` with friction `mu`: normal components by restitution
 /// `e = (e_b1 + e_b2)/2`, the tangential impulse with the post-collision normal speed
 /// (Q9), x components restored, rotated back, v_z = 0, both labelled sliding (Q10).
+///
+/// The rotations by ∓θ, θ = angle(r2 − r1), take θ's cosine and sine as the unit
+/// components of the horizontal r2 − r1, as the shader does (WGSL's f64 has no atan2);
+/// pooltool computes θ with atan2 and rotates by its cosine and sine: the same to
+/// rounding. Coincident centres give θ = 0, as atan2(0, 0) does.
 pub fn frictional_inelastic(
     b1: &BallState,
     b2: &BallState,
@@ -104,8 +111,14 @@ pub fn frictional_inelastic(
     p: &BallParams,
 ) -> (BallState, BallState) {
     let e = 0.5 * (p.e_b + p.e_b);
-    let theta = angle(b2.r - b1.r);
-    let rot = |v: Vec3| v.rotate_z(-theta);
+    let d = b2.r - b1.r;
+    let d_xy = d.xy().norm();
+    let (c, s) = if d_xy > 0.0 {
+        (d.x / d_xy, d.y / d_xy)
+    } else {
+        (1.0, 0.0)
+    };
+    let rot = |v: Vec3| v.rotate_z_cs(c, -s);
     let (v1, w1, v2, w2) = (rot(b1.v), rot(b1.w), rot(b2.v), rot(b2.w));
     let v1x = 0.5 * ((1.0 - e) * v1.x + (1.0 + e) * v2.x);
     let v2x = 0.5 * ((1.0 + e) * v1.x + (1.0 - e) * v2.x);
@@ -118,7 +131,7 @@ pub fn frictional_inelastic(
         w2: zero_x(w2),
     };
     let out = tangential_impulse(&q, mu, dv_normal, p.r);
-    let back = |v: Vec3, x: f64| Vec3::new(x, v.y, v.z).rotate_z(theta);
+    let back = |v: Vec3, x: f64| Vec3::new(x, v.y, v.z).rotate_z_cs(c, s);
     let flat = |v: Vec3| Vec3::new(v.x, v.y, 0.0);
     let n1 = BallState {
         v: flat(back(out.v1, v1x)),

@@ -9,12 +9,17 @@
 //! L = μη², M = μρ, H = μ[(1+e)ρ − η²/e]: gross slip (r > H), stick–slip (r < L),
 //! slip–stick–slip (L ≤ r ≤ H).
 //!
+//! sin, cos and acos are [`crate::model::fmath`]'s (≤ 1 ulp), the shader's, so that the
+//! CPU and the GPU give the same bits.
+//!
 //! Method note: pooltool finds the slip-resumption time with scipy's `toms748`
 //! (xtol 2e-12); here bisection runs to adjacent floats, which is at least as close to
 //! the exact root ([`bracketed_root`]). Deviation (Q8): pooltool asserts the stick-onset
 //! cosine lies in [−1, 1] (it fails at r = H exactly); here it is clamped.
 
 use std::f64::consts::PI;
+
+use crate::model::fmath::{acos_poly, cos_poly, sin_poly};
 
 /// The constants of one Stronge solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,11 +124,12 @@ fn stick_slip(r: f64, v_t0: f64, v_n0: f64, k: &StrongeConsts, c: &Clock) -> f64
         c.t_c
     } else {
         let f = |t: f64| {
-            (r * (c.w_t * t).sin()).abs() - k.mu * k.eta2 * (c.w_t / c.w_n) * c.phase(t, k.e).sin()
+            (r * sin_poly(c.w_t * t)).abs()
+                - k.mu * k.eta2 * (c.w_t / c.w_n) * sin_poly(c.phase(t, k.e))
         };
         bracketed_root(f, c.t_c, c.t_f)
     };
-    v_t0 * (c.w_t * t_s).cos() + k.mu * v_n0 * c.rho * k.e * (1.0 + c.phase(t_s, k.e).cos())
+    v_t0 * cos_poly(c.w_t * t_s) + k.mu * v_n0 * c.rho * k.e * (1.0 + cos_poly(c.phase(t_s, k.e)))
 }
 
 /// (C) slip–stick–slip, L ≤ r ≤ H: stick onset t_st, the state there, slip again at t_s.
@@ -131,21 +137,21 @@ fn slip_stick_slip(r: f64, v_t0: f64, v_n0: f64, k: &StrongeConsts, c: &Clock) -
     let (mu, e, eta2, rho) = (k.mu, k.e, k.eta2, c.rho);
     let tau_star = if r <= mu * rho {
         let x = ((r / mu - rho) / (eta2 - rho)).clamp(-1.0, 1.0);
-        (2.0 / PI) * x.acos()
+        (2.0 / PI) * acos_poly(x)
     } else {
         let x = ((r / mu - rho) / (eta2 / e - e * rho)).clamp(-1.0, 1.0);
-        (2.0 / PI) * (x.acos() - c.sigma) * e
+        (2.0 / PI) * (acos_poly(x) - c.sigma) * e
     };
     let t_st = c.t_c * tau_star;
     let (u_st, v_st) = if t_st <= c.t_c {
         (
-            -mu * v_n0 * eta2 / c.w_n * (c.w_n * t_st).sin(),
-            v_t0 - mu * rho * v_n0 * (1.0 - (c.w_n * t_st).cos()),
+            -mu * v_n0 * eta2 / c.w_n * sin_poly(c.w_n * t_st),
+            v_t0 - mu * rho * v_n0 * (1.0 - cos_poly(c.w_n * t_st)),
         )
     } else {
         (
-            -mu * v_n0 * eta2 / c.w_n * c.phase(t_st, e).sin(),
-            v_t0 - mu * rho * v_n0 * (1.0 - e * c.phase(t_st, e).cos()),
+            -mu * v_n0 * eta2 / c.w_n * sin_poly(c.phase(t_st, e)),
+            v_t0 - mu * rho * v_n0 * (1.0 - e * cos_poly(c.phase(t_st, e))),
         )
     };
     let big_h = mu * ((1.0 + e) * rho - eta2 / e);
@@ -156,13 +162,15 @@ fn slip_stick_slip(r: f64, v_t0: f64, v_n0: f64, k: &StrongeConsts, c: &Clock) -
     } else {
         let g = |t: f64| {
             let d = c.w_t * (t - t_st);
-            let inner = u_st * d.cos() - (v_st / c.w_t) * d.sin();
-            ((c.w_n / (mu * v_n0)) * inner).abs() - eta2 * c.phase(t, e).sin()
+            let inner = u_st * cos_poly(d) - (v_st / c.w_t) * sin_poly(d);
+            ((c.w_n / (mu * v_n0)) * inner).abs() - eta2 * sin_poly(c.phase(t, e))
         };
         bracketed_root(g, c.t_c, c.t_f)
     };
     let d = c.w_t * (t_s - t_st);
-    c.w_t * u_st * d.sin() + v_st * d.cos() + rho * mu * v_n0 * e * (1.0 + c.phase(t_s, e).cos())
+    c.w_t * u_st * sin_poly(d)
+        + v_st * cos_poly(d)
+        + rho * mu * v_n0 * e * (1.0 + cos_poly(c.phase(t_s, e)))
 }
 
 /// The final contact-point velocities `(v_t,f, v_n,f)` from `(v_t0, v_n0)` (module
@@ -179,7 +187,7 @@ pub fn stronge_compliant(v_t0: f64, v_n0: f64, k: &StrongeConsts) -> (f64, f64) 
     } else {
         slip_stick_slip(r, v_t0, v_n0, k, &c)
     };
-    let v_nf = k.e * v_n0 * c.phase(c.t_f, k.e).cos();
+    let v_nf = k.e * v_n0 * cos_poly(c.phase(c.t_f, k.e));
     (v_tf, v_nf)
 }
 

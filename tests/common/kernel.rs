@@ -21,6 +21,8 @@ pub const BINDINGS: &str = "
 pub struct F64Kernels {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
+    /// Whether pipelines are built as exact SPIR-V (`kisstime::gpu::spirv::exact_pipeline`).
+    pub exact: bool,
 }
 
 /// The text of `shaders/<file>`.
@@ -68,9 +70,19 @@ impl F64Kernels {
             skip(format!("the adapter {} has no SHADER_F64", info.name));
             return None;
         }
+        // the kernels as exact SPIR-V (kisstime::gpu::spirv), as the event loop runs, where
+        // the device takes SPIR-V (Vulkan)
+        let exact = info.backend == wgpu::Backend::Vulkan
+            && adapter
+                .features()
+                .contains(wgpu::Features::PASSTHROUGH_SHADERS);
+        let mut features = wgpu::Features::SHADER_F64;
+        if exact {
+            features |= wgpu::Features::PASSTHROUGH_SHADERS;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some(test),
-            required_features: wgpu::Features::SHADER_F64,
+            required_features: features,
             required_limits: adapter.limits(),
             ..Default::default()
         }))
@@ -79,13 +91,25 @@ impl F64Kernels {
             "{test}: on {} ({:?}, driver {} {})",
             info.name, info.backend, info.driver, info.driver_info
         );
-        Some(F64Kernels { device, queue })
+        Some(F64Kernels {
+            device,
+            queue,
+            exact,
+        })
     }
 
     /// The compute pipeline of `entry` in `source`; panics with the validation error if
     /// the text does not build.
     pub fn pipeline(&self, source: &str, entry: &str, what: &str) -> wgpu::ComputePipeline {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        if self.exact {
+            let pipeline = kisstime::gpu::spirv::exact_pipeline(&self.device, source, entry, &[])
+                .unwrap_or_else(|e| panic!("the {what} shader does not build: {e}"));
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                panic!("the {what} shader does not build: {e}");
+            }
+            return pipeline;
+        }
         let module = self
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
