@@ -8,6 +8,10 @@
 //! - `pipelines`: the bind-group layout and the two compute pipelines;
 //! - `buffers`: the device buffers and the host arrays laid out as the shader reads them;
 //! - `dispatch`: chunking, one chunk's upload, dispatch and readback, kernel timing;
+//! - `simulate`, `sim_layout`: the event loop's host ([`GpuSimulator`]) and its storage
+//!   layout;
+//! - [`spirv`]: the event loop as SPIR-V the driver may not contract (the GPU's f64 bit
+//!   for bit the CPU's);
 //! - here: [`GpuEngine`]'s public calls, which turn the raw results into answers.
 //!
 //! # Accuracy care on the host
