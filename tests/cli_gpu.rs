@@ -448,6 +448,7 @@ fn a_bad_gpu_knob_is_named() {
         ("KISSTIME_GPU_PIPELINE_CHUNKS", "many"),
         ("KISSTIME_GPU_ROW_THREADS", "0"),
         ("KISSTIME_GPU_ROW_THREADS", "65"),
+        ("KISSTIME_GPU_EXACT", "2"),
     ] {
         let env = [(var, value)];
         let gpu = kisstime(&["simulate", balls, "--backend", "gpu"], &env);

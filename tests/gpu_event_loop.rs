@@ -387,6 +387,54 @@ fn the_workgroups_thread_count_does_not_change_the_runs() {
     assert!(GpuSimulator::with_loop_threads(Precision::F64, 48).is_err());
 }
 
+/// The event loop compiled from the WGSL as wgpu does (which a driver may contract and
+/// re-associate: `set_exact(false)`, `KISSTIME_GPU_EXACT=0`) agrees with the exact SPIR-V
+/// build to rounding: on 60 ordinary reference shots the same events in the same order,
+/// times within 1e-9 s, final positions within 1e-6 m; the exact build is the CPU's bit
+/// for bit (the reference shots' test above).
+#[test]
+fn the_wgsl_build_agrees_with_the_exact_one_to_rounding() {
+    let Some(mut gpu) = open(Precision::F64, "gpu_event_loop exact and not") else {
+        return;
+    };
+    if !gpu.exact() {
+        println!("gpu_event_loop exact and not: the adapter takes no SPIR-V; nothing to compare");
+        return;
+    }
+    let params = SimParams::default();
+    let (table, inputs) = reference_shots(160..220);
+    let exact = gpu
+        .simulate(&table, params, Limits::default(), &inputs, true)
+        .unwrap();
+    gpu.set_exact(false).unwrap();
+    assert!(!gpu.exact());
+    let wgsl = gpu
+        .simulate(&table, params, Limits::default(), &inputs, true)
+        .unwrap();
+    let same = exact.iter().zip(&wgsl).filter(|(a, b)| a == b).count();
+    println!("gpu_event_loop exact and not: {same} of 60 shots identical");
+    for (k, (a, b)) in exact.iter().zip(&wgsl).enumerate() {
+        assert_eq!(
+            first_difference(&b.events, &a.events, 1e-9),
+            None,
+            "shot {k}"
+        );
+        for (x, y) in a.balls.iter().zip(&b.balls) {
+            assert!(
+                (x.r - y.r).norm() <= 1e-6,
+                "shot {k}: {:?} against {:?}",
+                x.r,
+                y.r
+            );
+        }
+    }
+    gpu.set_exact(true).unwrap();
+    let again = gpu
+        .simulate(&table, params, Limits::default(), &inputs, true)
+        .unwrap();
+    assert_eq!(again, exact, "exact again: the same runs");
+}
+
 /// How the missing rows of the ball–table categories are split over the threads changes
 /// nothing: one thread a row (item by item, as the Rust twin fills them), a row over at
 /// most 3 threads, and over as many as the workgroup has (the default, with 64 and with 16

@@ -325,6 +325,8 @@ pub struct GpuSimulator {
     row_threads: usize,
     /// Whether the event loop is built as SPIR-V without contraction ([`super::spirv`]).
     exact: bool,
+    /// Whether the device takes SPIR-V as it is (Vulkan, `PASSTHROUGH_SHADERS`).
+    spirv: bool,
     /// The largest workgroup memory the device allows, in bytes.
     max_workgroup_bytes: u32,
     pub(super) max_groups_per_dim: u32,
@@ -395,6 +397,27 @@ impl GpuSimulator {
         Ok(())
     }
 
+    /// Builds the event loop as exact SPIR-V (`true`, the default on Vulkan) or from the
+    /// WGSL as wgpu compiles it (`false`) from now on; see [`GpuSimulator::exact`]. The
+    /// pipelines are built again.
+    ///
+    /// Errors: [`Error::Unsupported`] asking for exact SPIR-V where the device takes none
+    /// (not Vulkan); [`Error::Gpu`] when the shader does not build.
+    pub fn set_exact(&mut self, exact: bool) -> Result<(), Error> {
+        if exact && !self.spirv {
+            return Err(Error::Unsupported(format!(
+                "{} takes no SPIR-V (not Vulkan): the event loop runs as wgpu compiles it",
+                self.adapter.name
+            )));
+        }
+        self.exact = exact;
+        self.pipelines.clear();
+        // the buffers' bind groups were made for the other build's layouts
+        self.bufs = None;
+        self.pipeline(&SimLayout::for_balls(16))?;
+        Ok(())
+    }
+
     /// [`GpuSimulator::new`] with `threads` threads a table's workgroup (16, 32 or 64: the
     /// same answers, another occupancy; [`EVENT_LOOP_THREADS`] by default).
     pub fn with_loop_threads(precision: Precision, threads: usize) -> Result<GpuSimulator, Error> {
@@ -431,6 +454,7 @@ impl GpuSimulator {
             threads,
             row_threads: ROW_THREADS,
             exact: opened.spirv && exact_wanted()?,
+            spirv: opened.spirv,
             timings: GpuTimings::default(),
             total: GpuTimings::default(),
             dispatches: 0,
@@ -480,8 +504,16 @@ impl GpuSimulator {
         // yet found (not the bounds checks, the workgroup zeroing, the SPIR-V version or
         // the decorations: each was ruled out)
         let simulate = match self.exact {
-            true => super::spirv::exact_pipeline(device, &source, "simulate_tables", &constants)
-                .map_err(|e| gpu_error(format!("the event loop's SPIR-V: {e}")))?,
+            true => {
+                match super::spirv::exact_pipeline(device, &source, "simulate_tables", &constants) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        // the scope is the device's: closed before the error goes up
+                        let _ = pollster::block_on(scope.pop());
+                        return Err(gpu_error(format!("the event loop's SPIR-V: {e}")));
+                    }
+                }
+            }
             false => wgsl_entry("simulate_tables"),
         };
         let pipeline = LoopPipelines {
