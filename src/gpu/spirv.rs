@@ -92,8 +92,8 @@ pub fn forbid_contraction(words: &mut Vec<u32>) -> Result<usize, String> {
         }
         at += count;
     }
-    // no annotations at all: before the first type (after the debug section), which is
-    // where naga's first declaration stands; naga always writes bindings' decorations
+    // naga always writes decorations (bindings, block layouts); a module without any is
+    // not one of its, and is refused rather than guessed at
     let Some(insert_at) = insert_at else {
         return Err("no annotation section to add the decorations to".into());
     };
@@ -292,7 +292,7 @@ pub fn exact_pipeline(
 mod tests {
     use super::*;
 
-    /// `fn f(a: f32, b: f32, c: f32) -> f32 { return a * b + c; }` as naga writes it.
+    /// A one-line kernel with a multiply, an add and a subtract, as naga writes it.
     fn module() -> Vec<u32> {
         let source = "@group(0) @binding(0) var<storage, read_write> x: array<f32>;\n\
                       @compute @workgroup_size(1) fn main() { x[0] = x[1] * x[2] + x[3] - x[4]; }";

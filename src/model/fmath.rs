@@ -27,7 +27,7 @@
 //! `z − s²`) did not survive lavapipe's re-association. With the decoration, separately
 //! rounded products cost nothing measurable in accuracy (the bounds below hold as
 //! before) and make one twin right everywhere.
-
+//!
 //! # Accuracy
 //! Measured against the standard library (glibc's, itself within 1 ulp) by
 //! `tests/fmath.rs` over a few million points each, dense where it is hard:
