@@ -13,7 +13,7 @@
 #   to end and the GPU's phases (`--verbose`);
 # - first, where the binary's directory holds `pipeline_stats` (examples/pipeline_stats.rs),
 #   the driver's own statistics of the compiled event loop (registers, spills, workgroup
-#   memory, where it reports them) for each thread count and row split, to
+#   memory, where it reports them) for each thread count, row split and tables a workgroup, to
 #   $OUT/pipeline_stats.txt and the output.
 # PARTS (default "kernels sim study") chooses the parts; SIZES, KERNEL_SCENARIOS, KERNEL_PRECISIONS,
 # SIM_SIZES, BREAK_SIZES, SIM_PRECISIONS, ONE_CHUNK_SIZES (ordinary shots again in one chunk, with no
@@ -23,7 +23,10 @@
 # EXACT_OFF_SIZES (ordinary shots again with the CPU beside, the event loop compiled from
 # the WGSL as wgpu does, which the driver may contract, KISSTIME_GPU_EXACT=0: what the
 # exact SPIR-V costs, and how many tables part from the CPU's bits without it; default the
-# smallest of SIM_SIZES) and STUDY_SAMPLES their sizes. The sim table's `differ` column is
+# smallest of SIM_SIZES), GROUPED_SIZES (ordinary shots and breaks again for each THREADS:TABLES of
+# GROUPED, default "16:1 16:2 16:4 32:2": a table's threads, KISSTIME_EVENT_LOOP_THREADS, and
+# tables a workgroup, KISSTIME_GPU_TABLES_PER_GROUP: what occupancy gains; default the smallest
+# of SIM_SIZES) and STUDY_SAMPLES their sizes. The sim table's `differ` column is
 # events/moved/not-identical against the CPU (the last 0 on a device with IEEE f64). Prints one table per part at
 # the end; the raw JSON goes to $OUT/bench.jsonl, $OUT/sim.jsonl and $OUT/study.jsonl.
 # Each run has its own timeout (150 s), so the whole stays within one 10-minute call.
@@ -50,6 +53,8 @@ STUDY_SAMPLES="${STUDY_SAMPLES:-1000000}"
 ONE_CHUNK_SIZES="${ONE_CHUNK_SIZES:-${SIM_SIZES##* }}"
 ROW_SERIAL_SIZES="${ROW_SERIAL_SIZES:-${SIM_SIZES%% *}}"
 EXACT_OFF_SIZES="${EXACT_OFF_SIZES:-${SIM_SIZES%% *}}"
+GROUPED_SIZES="${GROUPED_SIZES:-${SIM_SIZES%% *}}"
+GROUPED="${GROUPED:-16:1 16:2 16:4 32:2}"
 PARTS="${PARTS:-kernels sim study}"
 mkdir -p "$OUT"
 if compgen -G ".gl/*.deb" > /dev/null; then
@@ -71,6 +76,7 @@ fi
 : > "$OUT/sim_one_chunk.jsonl"
 : > "$OUT/sim_row_serial.jsonl"
 : > "$OUT/sim_exact_off.jsonl"
+: > "$OUT/sim_grouped.jsonl"
 : > "$OUT/study.jsonl"
 run() { # output file, label, then kisstime bench arguments
   local file="$1" label="$2"; shift 2
@@ -124,6 +130,21 @@ if [[ " $PARTS " == *" sim "* ]]; then
     KISSTIME_GPU_EXACT=0 run "$OUT/sim_exact_off.jsonl" "sim all f64 ordinary $n, contraction allowed" \
       --sim ordinary --tables "$n" --backend all --precision f64 --reps 1
   done
+  # ordinary shots and breaks at other thread counts and several tables a workgroup: what
+  # occupancy gains (the same answers at every count)
+  for n in $GROUPED_SIZES; do
+    for g in $GROUPED; do
+      for workload in ordinary breaks; do
+        : > "$OUT/grouped_one.json"
+        KISSTIME_EVENT_LOOP_THREADS="${g%%:*}" KISSTIME_GPU_TABLES_PER_GROUP="${g##*:}" \
+          run "$OUT/grouped_one.json" "sim gpu f64 $workload $n, ${g%%:*} threads x ${g##*:} tables a workgroup" \
+          --sim "$workload" --tables "$n" --backend gpu --precision f64 --reps 1
+        # the JSON does not name the knobs: its workload tagged with them
+        sed "s/\"workload\": \"$workload\"/\"workload\": \"$workload [${g%%:*}x${g##*:}]\"/" \
+          "$OUT/grouped_one.json" >> "$OUT/sim_grouped.jsonl"
+      done
+    done
+  done
 fi
 if [[ " $PARTS " == *" study "* ]]; then
   for n in $STUDY_SAMPLES; do
@@ -140,7 +161,7 @@ if [[ " $PARTS " == *" study "* ]]; then
   grep -h "GPU phases\|samples of" "$OUT/study_stderr.txt"
 fi
 # one table of everything that ran (the JSON objects follow one another in the file)
-python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" "$OUT/sim_one_chunk.jsonl" "$OUT/sim_row_serial.jsonl" "$OUT/sim_exact_off.jsonl" <<'PY' || cat "$OUT"/*.jsonl
+python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" "$OUT/sim_one_chunk.jsonl" "$OUT/sim_row_serial.jsonl" "$OUT/sim_exact_off.jsonl" "$OUT/sim_grouped.jsonl" <<'PY' || cat "$OUT"/*.jsonl
 import json, sys
 def objects(path):
     text, dec, at, out = open(path).read(), json.JSONDecoder(), 0, []
@@ -161,7 +182,11 @@ for r in row_serial:
 exact_off = objects(sys.argv[6])
 for r in exact_off:
     r["workload"] += " (contraction allowed)"
-sims += one_chunk + row_serial + exact_off
+grouped = objects(sys.argv[7])
+for r in grouped:
+    w, _, g = r["workload"].partition(" [")
+    r["workload"] = w + " (" + g.rstrip("]") + ")"
+sims += one_chunk + row_serial + exact_off + grouped
 g = lambda v: "-" if v is None else f"{v / 1e6:,.0f} M"
 k = lambda s: "-" if not s else f"{s['kernel_s'] * 1e3:.2f}/{(s['upload_s'] + s['kernel_s'] + s['readback_s']) * 1e3:.2f} ms"
 print(f"{'scenario':<8} {'tables':>8} {'backend':<8} {'pairs/s':>10} {'next/s':>10} "
@@ -199,6 +224,15 @@ if sims:
 def gpu_of(r):
     return next((b for b in r["backends"] if b["backend"] == "gpu"), None)
 base = {(r["workload"], r["tables"]): gpu_of(r) for r in sims if "(" not in r["workload"]}
+def compare(what, workload, tables, old, new):
+    """One change: old (before it) against new (with it), kernel and end to end."""
+    if not (new and old and new.get("gpu_split") and old.get("gpu_split")):
+        return
+    kn, ko = new["gpu_split"]["kernel_s"], old["gpu_split"]["kernel_s"]
+    print(f"{what}, {workload} {tables}: kernel {ko * 1e3:,.0f} -> "
+          f"{kn * 1e3:,.0f} ms (x{ko / kn if kn else 0:.2f}), end to end "
+          f"{old['shots_per_s']:,.0f} -> {new['shots_per_s']:,.0f} shots/s "
+          f"(x{new['shots_per_s'] / old['shots_per_s'] if old['shots_per_s'] else 0:.2f})")
 for tag, what in ((" (rows on 1 thread)", "row split"), (" (1 chunk)", "four chunks"),
                   (" (contraction allowed)", "exact SPIR-V")):
     for r in sims:
@@ -207,11 +241,13 @@ for tag, what in ((" (rows on 1 thread)", "row split"), (" (1 chunk)", "four chu
         new, old = base.get((r["workload"][: -len(tag)], r["tables"])), gpu_of(r)
         if not (new and old and new.get("gpu_split") and old.get("gpu_split")):
             continue
-        kn, ko = new["gpu_split"]["kernel_s"], old["gpu_split"]["kernel_s"]
-        print(f"{what}, {r['workload'][: -len(tag)]} {r['tables']}: kernel {ko * 1e3:,.0f} -> "
-              f"{kn * 1e3:,.0f} ms (x{ko / kn if kn else 0:.2f}), end to end "
-              f"{old['shots_per_s']:,.0f} -> {new['shots_per_s']:,.0f} shots/s "
-              f"(x{new['shots_per_s'] / old['shots_per_s'] if old['shots_per_s'] else 0:.2f})")
+        compare(what, r["workload"][: -len(tag)], r["tables"], old, new)
+# threads x tables a workgroup against the default (64 threads, one table)
+for r in sims:
+    w, _, g = r["workload"].partition(" (")
+    if not (g.endswith(")") and "x" in g and g[0].isdigit()):
+        continue
+    compare(f"{g[:-1]} a workgroup", w, r["tables"], base.get((w, r["tables"])), gpu_of(r))
 if studies:
     print()
     print(f"{'samples':>8} {'seconds':>8} {'samples/s':>12}  backend")

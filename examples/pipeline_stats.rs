@@ -1,5 +1,6 @@
 //! The GPU event loop as the device's own Vulkan driver compiles it: for each build of the
-//! shader (ball-count bucket, threads a table, threads a row; f64), the driver's statistics
+//! shader (ball-count bucket, threads a table, threads a row, tables a workgroup; f64), the
+//! driver's statistics
 //! of the compiled `simulate_tables` (`VK_KHR_pipeline_executable_properties`: registers,
 //! spills, workgroup memory, instruction counts — whatever the driver reports). They say
 //! what bounds how many tables a multiprocessor holds at once, which the timings alone
@@ -8,11 +9,12 @@
 //!
 //! ```sh
 //! cargo run --release --example pipeline_stats               # the default builds
-//! cargo run --release --example pipeline_stats -- 16:64:64 64:64:1
+//! cargo run --release --example pipeline_stats -- 16:64:64 64:64:1 16:16:64:4
 //! ```
 //!
-//! Each argument is `BALLS:THREADS:ROW_THREADS` (the bucket, the workgroup's threads, the
-//! most threads a missing row is split over; see `kisstime::gpu::ROW_THREADS`), with
+//! Each argument is `BALLS:THREADS:ROW_THREADS[:TABLES]` (the bucket, a table's threads,
+//! the most threads a missing row is split over, see `kisstime::gpu::ROW_THREADS`; the
+//! tables a workgroup holds, 1 unless given, see `kisstime::gpu::TABLES_PER_GROUP`), with
 //! `:unchecked` after it for the SPIR-V without wgpu's runtime checks (no index clamps, no
 //! loop bounding: what `wgpu::Device::create_shader_module_trusted` with
 //! `ShaderRuntimeChecks::unchecked()` compiles; kisstime does not run it), to see what the
@@ -32,12 +34,16 @@ use kisstime::gpu::spirv::event_loop_spirv;
 use kisstime::gpu::{SimLayout, event_loop_constants};
 
 /// The builds measured without arguments: the 16-ball bucket at each thread count, with
-/// rows split and on one thread, and without wgpu's runtime checks; the larger buckets.
-const DEFAULT_BUILDS: [&str; 7] = [
+/// rows split and on one thread, several tables a workgroup, and without wgpu's runtime
+/// checks; the larger buckets.
+const DEFAULT_BUILDS: [&str; 10] = [
     "16:64:64",
     "16:64:1",
     "16:32:64",
     "16:16:64",
+    "16:32:64:2",
+    "16:16:64:2",
+    "16:16:64:4",
     "16:64:64:unchecked",
     "32:64:64",
     "64:64:64",
@@ -53,12 +59,14 @@ fn main() {
     }
 }
 
-/// One build of the event loop: its bucket, workgroup threads and row threads.
+/// One build of the event loop: its bucket, a table's threads, row threads and tables a
+/// workgroup.
 #[derive(Clone, Copy)]
 struct Build {
     balls: usize,
     threads: usize,
     row_threads: usize,
+    tables: usize,
     /// Without wgpu's runtime checks (index clamps, loop bounding).
     unchecked: bool,
 }
@@ -72,7 +80,7 @@ fn builds() -> Result<Vec<Build>, String> {
     specs.into_iter().map(build).collect()
 }
 
-/// `BALLS:THREADS:ROW_THREADS[:unchecked]`.
+/// `BALLS:THREADS:ROW_THREADS[:TABLES][:unchecked]`.
 fn build(spec: &str) -> Result<Build, String> {
     let (spec_nums, unchecked) = match spec.strip_suffix(":unchecked") {
         Some(rest) => (rest, true),
@@ -81,7 +89,7 @@ fn build(spec: &str) -> Result<Build, String> {
     let expected = || {
         format!(
             "{spec:?}: expected BALLS (16, 32, 48 or 64):THREADS (16, 32 or 64):ROW_THREADS \
-             (1 to 64), then :unchecked or nothing"
+             (1 to 64), then :TABLES (1, 2, 4, 8 or 16) or nothing, then :unchecked or nothing"
         )
     };
     let parts: Vec<usize> = spec_nums
@@ -89,15 +97,17 @@ fn build(spec: &str) -> Result<Build, String> {
         .map(|p| p.parse::<usize>())
         .collect::<Result<_, _>>()
         .map_err(|_| expected())?;
-    match parts[..] {
-        [
-            balls @ (16 | 32 | 48 | 64),
-            threads @ (16 | 32 | 64),
-            row_threads @ 1..=64,
-        ] => Ok(Build {
+    let (balls, threads, row_threads, tables) = match parts[..] {
+        [b, t, r] => (b, t, r, 1),
+        [b, t, r, g] => (b, t, r, g),
+        _ => return Err(expected()),
+    };
+    match (balls, threads, row_threads, tables) {
+        (16 | 32 | 48 | 64, 16 | 32 | 64, 1..=64, 1 | 2 | 4 | 8 | 16) => Ok(Build {
             balls,
             threads,
             row_threads,
+            tables,
             unchecked,
         }),
         _ => Err(expected()),
@@ -245,8 +255,9 @@ fn choose(instance: &ash::Instance) -> Result<Chosen, String> {
 /// The SPIR-V kisstime runs for build `b` (`kisstime::gpu::spirv`: naga's, every float
 /// operation `NoContraction`), and its workgroup's threads.
 fn spirv(b: Build) -> Result<(Vec<u32>, usize), String> {
-    let constants = event_loop_constants(&SimLayout::for_balls(b.balls), b.threads, b.row_threads);
-    let source = simulate_source(Precision::F64, b.balls);
+    let layout = SimLayout::for_balls(b.balls);
+    let constants = event_loop_constants(&layout, b.threads, b.row_threads, b.tables);
+    let source = simulate_source(Precision::F64, b.balls, b.tables);
     let threads = constants
         .iter()
         .find(|(name, _)| *name == "LOOP_THREADS")
@@ -265,9 +276,13 @@ fn report(
     let stats = chosen.stats;
     let (code, threads) = spirv(b)?;
     let label = format!(
-        "event loop f64, {} balls, {threads} threads a table, a row over at most {}{}",
+        "event loop f64, {} balls, {threads} threads a table, a row over at most {}, {} a workgroup{}",
         b.balls,
         b.row_threads,
+        match b.tables {
+            1 => "one table".to_owned(),
+            n => format!("{n} tables"),
+        },
         if b.unchecked {
             ", without wgpu's runtime checks"
         } else {

@@ -431,7 +431,8 @@ fn auto_never_picks_a_software_adapter_and_summaries_name_what_ran() {
 }
 
 /// The measuring knobs of the GPU event loop (`KISSTIME_EVENT_LOOP_THREADS`,
-/// `KISSTIME_GPU_PIPELINE_CHUNKS`, `KISSTIME_GPU_ROW_THREADS`) with a bad value: `gpu` is a clear error naming the
+/// `KISSTIME_GPU_PIPELINE_CHUNKS`, `KISSTIME_GPU_ROW_THREADS`, `KISSTIME_GPU_EXACT`,
+/// `KISSTIME_GPU_TABLES_PER_GROUP`) with a bad value: `gpu` is a clear error naming the
 /// variable, with nothing on standard output; `auto` says why and runs on the CPU, its
 /// output the CPU's. Checked before any device is opened, so no GPU is needed.
 #[test]
@@ -449,6 +450,8 @@ fn a_bad_gpu_knob_is_named() {
         ("KISSTIME_GPU_ROW_THREADS", "0"),
         ("KISSTIME_GPU_ROW_THREADS", "65"),
         ("KISSTIME_GPU_EXACT", "2"),
+        ("KISSTIME_GPU_TABLES_PER_GROUP", "3"),
+        ("KISSTIME_GPU_TABLES_PER_GROUP", "32"),
     ] {
         let env = [(var, value)];
         let gpu = kisstime(&["simulate", balls, "--backend", "gpu"], &env);

@@ -465,6 +465,58 @@ fn splitting_a_rows_items_over_the_threads_does_not_change_the_runs() {
     assert!(gpu.set_row_threads(65).is_err());
 }
 
+/// Several tables side by side in one workgroup (4 tables of 64 threads, 2 of 32) give
+/// the one-table workgroups' runs bit for bit: 21 reference shots (so that the last
+/// workgroup has empty slots), short dispatches (the tables of a workgroup end at
+/// different steps and dispatches), with every event recorded and without (the running
+/// tables listed for the next dispatch, workgroups formed anew from that list); and 22-ball
+/// tables on the 32-ball build, at as many tables a workgroup as the device holds.
+#[test]
+fn several_tables_a_workgroup_do_not_change_the_runs() {
+    let Some(mut gpu) = open(Precision::F64, "gpu_event_loop tables a workgroup") else {
+        return;
+    };
+    let params = SimParams::default();
+    let (table, inputs) = reference_shots(160..181);
+    let crowded = crowded_shots(22, 9);
+    let runs = |gpu: &mut GpuSimulator, crowd: bool| {
+        gpu.events_per_dispatch = 8;
+        let events = gpu
+            .simulate(&table, params, Limits::default(), &inputs, true)
+            .unwrap();
+        let finals = gpu
+            .simulate(&table, params, Limits::default(), &inputs, false)
+            .unwrap();
+        let crowd_runs = crowd.then(|| {
+            gpu.simulate(&table, params, Limits::default(), &crowded, false)
+                .unwrap()
+        });
+        (events, finals, crowd_runs)
+    };
+    let one = runs(&mut gpu, true);
+    // 4 tables of 64 threads on the same simulator, then 2 of 32 on another (not 16: on
+    // lavapipe a 16-thread build takes minutes to compile, once per build)
+    gpu.set_tables_per_group(4).unwrap();
+    assert_eq!(gpu.tables_per_group(16).unwrap(), 4);
+    let mut other = GpuSimulator::with_loop_threads(Precision::F64, 32).unwrap();
+    other.set_tables_per_group(2).unwrap();
+    for (sim, what, crowd) in [
+        (&mut gpu, "4 tables of 64 threads", false),
+        (&mut other, "2 tables of 32 threads", true),
+    ] {
+        let got = runs(sim, crowd);
+        assert_eq!(got.0, one.0, "{what} a workgroup, events recorded");
+        assert_eq!(got.1, one.1, "{what} a workgroup, final states");
+        if crowd {
+            let held = sim.tables_per_group(22).unwrap();
+            assert!((1..=2).contains(&held), "{what}: {held} at 22 balls");
+            assert_eq!(got.2, one.2, "{what} a workgroup, 22 balls ({held} held)");
+        }
+    }
+    assert!(gpu.set_tables_per_group(3).is_err());
+    assert!(gpu.set_tables_per_group(32).is_err());
+}
+
 /// Tables of `n` balls on the 9-ft table, spread on a jittered grid (no overlap), the cue
 /// ball (ball 0) struck hard in a different direction on each table: many collisions.
 fn crowded_shots(n: usize, tables: usize) -> Vec<GpuShot> {

@@ -106,6 +106,10 @@ fn every_host_layout_constant_is_the_shaders_in_every_bucket() {
         shader("simulate/cache.wgsl").contains(kisstime::gpu::GPU_MAX_BALLS_LINE),
         "the line the host rewrites is in cache.wgsl"
     );
+    assert!(
+        shader("simulate/event_loop.wgsl").contains(kisstime::gpu::shader::TABLES_PER_GROUP_LINE),
+        "the line the host rewrites is in event_loop.wgsl"
+    );
     assert_eq!(kisstime::gpu::GPU_BALL_BUCKETS, [16, 32, 48, 64]);
     for bucket in kisstime::gpu::GPU_BALL_BUCKETS {
         let mut env = HashMap::new();

@@ -622,3 +622,32 @@ fn one_position_chunks_laid_out_on_the_device_give_the_whole_blocks_runs() {
         }
     }
 }
+
+/// Several tables a workgroup (4 of 64 threads: each table's watch written by its own
+/// thread 0) give the one-table workgroups' samples bit for bit, to rest and to the first
+/// contact: 301 reference strikes (the last workgroup has empty slots).
+#[test]
+fn several_tables_a_workgroup_watch_as_one_table_does() {
+    let (config, strikes) = reference();
+    let strikes = &strikes[..301];
+    let Some(mut engine) = open("gpu_study tables a workgroup") else {
+        return;
+    };
+    for until in [Until::Rest, Until::FirstContact] {
+        let options = RunOptions {
+            until,
+            ..RunOptions::default()
+        };
+        let mut runs = Vec::new();
+        for tables in [1, 4] {
+            let gpu = engine.gpu().expect("a GPU engine");
+            gpu.set_tables_per_group(tables).unwrap();
+            assert_eq!(gpu.tables_per_group(16).unwrap(), tables);
+            let samples =
+                run_strikes_gpu(&mut engine, &config, strikes, &options, &mut |_, _| {}).unwrap();
+            // every number bit for bit (`{:?}` writes each f64 exactly; NaN included)
+            runs.push(format!("{samples:?}"));
+        }
+        assert!(runs[0] == runs[1], "{until:?}: 4 tables a workgroup differ");
+    }
+}

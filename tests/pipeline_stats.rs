@@ -22,7 +22,7 @@ fn the_event_loops_pipelines_build_in_the_driver_with_their_statistics() {
         "{} is missing: `cargo build --example pipeline_stats`",
         exe.display()
     );
-    let builds = ["16:64:64", "16:16:1:unchecked"];
+    let builds = ["16:64:64", "16:16:1:unchecked", "16:16:64:4"];
     let out = Command::new(&exe).args(builds).output().unwrap();
     let (stdout, stderr) = (
         String::from_utf8_lossy(&out.stdout),
@@ -44,8 +44,9 @@ fn the_event_loops_pipelines_build_in_the_driver_with_their_statistics() {
     }
     let without = stdout.contains("has no VK_KHR_pipeline_executable_properties");
     for label in [
-        "event loop f64, 16 balls, 64 threads a table, a row over at most 64: ",
-        "event loop f64, 16 balls, 16 threads a table, a row over at most 1, without wgpu's runtime checks: ",
+        "event loop f64, 16 balls, 64 threads a table, a row over at most 64, one table a workgroup: ",
+        "event loop f64, 16 balls, 16 threads a table, a row over at most 1, one table a workgroup, without wgpu's runtime checks: ",
+        "event loop f64, 16 balls, 16 threads a table, a row over at most 64, 4 tables a workgroup: ",
     ] {
         let line = stdout
             .lines()
@@ -57,7 +58,13 @@ fn the_event_loops_pipelines_build_in_the_driver_with_their_statistics() {
         }
     }
     // a build that is not one is refused, naming it
-    for spec in ["17:64:64", "16:64:64:fast", "16:64"] {
+    for spec in [
+        "17:64:64",
+        "16:64:64:fast",
+        "16:64",
+        "16:64:64:3",
+        "16:64:64:2:1",
+    ] {
         let bad = Command::new(&exe).arg(spec).output().unwrap();
         assert_eq!(bad.status.code(), Some(1), "{spec}");
         let err = String::from_utf8_lossy(&bad.stderr);

@@ -1,15 +1,16 @@
-// The per-table event loop (spec §3). WGSL twin of src/simulate/event_loop.rs: one
-// workgroup per table, the table's state in workgroup memory while a dispatch lasts and
-// in storage between dispatches.
+// The per-table event loop (spec §3). WGSL twin of src/simulate/event_loop.rs: a table's
+// threads in a workgroup (one table a workgroup, or TABLES_PER_GROUP side by side), the
+// table's state in workgroup memory while a dispatch lasts and in storage between
+// dispatches.
 //
 // Each step: the threads fill the missing cache entries in parallel (ball pairs, then each
 // ball–table category's rows, a row's items split over several threads where few rows are
 // missing: see fill_rows), each entry stamped with (step, position in its category's fill
 // order) as the Rust twin stamps it (simulate/cache.rs), so that the order they are filled
 // in does not matter; the threads reduce each category to its earliest
-// entry together (reduce_entries) and thread 0 chooses the winner with the Rust twin's tie
+// entry together (reduce_entries) and the table's thread 0 chooses the winner with the Rust twin's tie
 // rules (its choose, with comes_before as the comparison), the threads evolve every ball to
-// its time, thread 0 resolves it and invalidates the entries of the balls involved. At
+// its time, the table's thread 0 resolves it and invalidates the entries of the balls involved. At
 // most `events_per_dispatch` events per dispatch; the host dispatches again until every
 // table is done, each dispatch after the first only over the tables still running (listed
 // in `live`). Nothing is allocated per event; every loop is bounded.
@@ -28,9 +29,10 @@
 //
 // Differences forced by WGSL: NEVER for ∞; a missing entry is marked by its step
 // MISSING_STEP instead of a NaN time; a candidate carries a `valid` flag instead of being
-// an Option; the winner is passed from thread 0 to the others in workgroup memory.
+// an Option; the winner is passed from the table's thread 0 to the others in workgroup
+// memory.
 
-// The threads of a table's workgroup, and the rounds in which they cover the largest
+// The threads of a table, and the rounds in which they cover the largest
 // per-table loop (GPU_MAX_PAIRS entries). Every per-thread loop runs LOOP_ROUNDS times on
 // every thread, with the work under an `if`, so that every thread runs the same loops.
 // Pipeline-overridable (the host's EVENT_LOOP_THREADS: 16, 32 or 64, a power of two of at
@@ -41,8 +43,14 @@ override LOOP_ROUNDS: u32 = 2u;
 // thread, item by item, as the Rust twin does. Pipeline-overridable (the host's
 // ROW_THREADS, for measuring the two on a device; the same answers either way).
 override ROW_THREADS: u32 = 64u;
-// The most threads a workgroup may have (the reduction's array).
+// The most threads a table may have (the reduction's array).
 const MAX_LOOP_THREADS: u32 = 64u;
+// The tables of a workgroup, each with LOOP_THREADS threads (see `tab`). The host writes
+// its build's count on the next line (the host's TABLES_PER_GROUP: 1 by default; more put
+// several tables' threads in one workgroup, for measuring occupancy on a device).
+const TABLES_PER_GROUP: u32 = 1u;
+// The threads of a workgroup: TABLES_PER_GROUP · LOOP_THREADS (the host sets both).
+override GROUP_THREADS: u32 = 64u;
 
 // Event kinds (Rust: EventKind, the same codes).
 const EVENT_STICK_BALL: u32 = 0u;
@@ -149,10 +157,11 @@ struct LoopConfig {
     // cue ball's first contact
     watch_cue: u32,
     watch_stop: u32,
-    // the workgroups of this dispatch: the tables still running (see `live`)
+    // the tables of this dispatch: the tables still running (see `live`)
     n_active: u32,
     // 1: the workgroups take their tables from the active list (else workgroup k runs
-    // table k), and the tables still running are listed for the next dispatch
+    // tables k · TABLES_PER_GROUP onwards), and the tables still running are listed for
+    // the next dispatch
     compact: u32,
     // where this dispatch's list starts in `live` (0 or n_tables); the next one's is
     // the other half
@@ -191,47 +200,61 @@ struct LoopConfig {
 // done is never dispatched again.
 @group(0) @binding(8) var<storage, read_write> live: array<u32>;
 
-// The table's state while the dispatch lasts.
-var<workgroup> balls: array<BallState, GPU_MAX_BALLS>;
-// Each ball's next transition: absolute time (NEVER if none) and kind.
-var<workgroup> trans_t: array<real, GPU_MAX_BALLS>;
-var<workgroup> trans_kind: array<u32, GPU_MAX_BALLS>;
-// Pair entries in combinations order: absolute time and the step that filled them.
-var<workgroup> pair_t: array<real, GPU_MAX_PAIRS>;
-var<workgroup> pair_step: array<u32, GPU_MAX_PAIRS>;
-// Each ball's row of each ball–table category (index category * GPU_MAX_BALLS + ball):
-// the row's earliest time, its step and its item (Rust: RowBest).
-var<workgroup> row_t: array<real, GPU_ROWS>;
-var<workgroup> row_step: array<u32, GPU_ROWS>;
-var<workgroup> row_item: array<u32, GPU_ROWS>;
-// Each ball's path at the current time and its box.
-var<workgroup> paths: array<Path, GPU_MAX_BALLS>;
-var<workgroup> boxes: array<PathBox, GPU_MAX_BALLS>;
-var<workgroup> clock: real;
-var<workgroup> n_balls: u32;
-var<workgroup> n_events: u32;
-var<workgroup> status: u32;
-var<workgroup> n_recorded: u32;
-// The winner of this step (thread 0 writes it).
-var<workgroup> win_kind: u32;
-var<workgroup> win_t: real;
-var<workgroup> win_ball: u32;
-var<workgroup> win_other: u32;
-// The earliest entries, reduced by the threads together (see reduce_entries): per thread
-// then per tree level, the earliest pair; the earliest row of each category (in the first
-// ball's place of the category); the earliest transition (in ball 0's place).
-var<workgroup> red_pair: array<u32, MAX_LOOP_THREADS>;
-var<workgroup> red_row: array<u32, GPU_ROWS>;
-var<workgroup> red_trans: array<u32, GPU_MAX_BALLS>;
-// The translating balls whose rows are missing this step (in any order), and each thread's
-// part of a row split over several threads: its earliest time and item (see fill_rows).
-var<workgroup> row_balls: array<u32, GPU_MAX_BALLS>;
-var<workgroup> n_row_balls: atomic<u32>;
-var<workgroup> part_t: array<real, MAX_LOOP_THREADS>;
-var<workgroup> part_item: array<u32, MAX_LOOP_THREADS>;
-// The cue ball's state and the clock before this step's event, for the watch.
-var<workgroup> watch_before: BallState;
-var<workgroup> watch_t0: real;
+// A table's state while the dispatch lasts (one in each slot of `tab`).
+struct Resident {
+    // Its balls.
+    balls: array<BallState, GPU_MAX_BALLS>,
+    // Each ball's next transition: absolute time (NEVER if none) and kind.
+    trans_t: array<real, GPU_MAX_BALLS>,
+    trans_kind: array<u32, GPU_MAX_BALLS>,
+    // Pair entries in combinations order: absolute time and the step that filled them.
+    pair_t: array<real, GPU_MAX_PAIRS>,
+    pair_step: array<u32, GPU_MAX_PAIRS>,
+    // Each ball's row of each ball–table category (index category * GPU_MAX_BALLS + ball):
+    // the row's earliest time, its step and its item (Rust: RowBest).
+    row_t: array<real, GPU_ROWS>,
+    row_step: array<u32, GPU_ROWS>,
+    row_item: array<u32, GPU_ROWS>,
+    // Each ball's path at the current time and its box.
+    paths: array<Path, GPU_MAX_BALLS>,
+    boxes: array<PathBox, GPU_MAX_BALLS>,
+    clock: real,
+    n_balls: u32,
+    n_events: u32,
+    status: u32,
+    n_recorded: u32,
+    // The winner of this step (the table's thread 0 writes it).
+    win_kind: u32,
+    win_t: real,
+    win_ball: u32,
+    win_other: u32,
+    // The earliest entries, reduced by the threads together (see reduce_entries): per thread
+    // then per tree level, the earliest pair; the earliest row of each category (in the first
+    // ball's place of the category); the earliest transition (in ball 0's place).
+    red_pair: array<u32, MAX_LOOP_THREADS>,
+    red_row: array<u32, GPU_ROWS>,
+    red_trans: array<u32, GPU_MAX_BALLS>,
+    // The translating balls whose rows are missing this step (in any order), and each thread's
+    // part of a row split over several threads: its earliest time and item (see fill_rows).
+    row_balls: array<u32, GPU_MAX_BALLS>,
+    n_row_balls: atomic<u32>,
+    part_t: array<real, MAX_LOOP_THREADS>,
+    part_item: array<u32, MAX_LOOP_THREADS>,
+    // The cue ball's state and the clock before this step's event, for the watch.
+    watch_before: BallState,
+    watch_t0: real,
+}
+
+// The tables of the workgroup: TABLES_PER_GROUP of them, each with LOOP_THREADS threads;
+// thread lid works for table g = lid / LOOP_THREADS, as that table's thread
+// `lane` = lid % LOOP_THREADS ("the table's thread 0" is its lane 0). Every function below
+// works on its thread's table, tab[g].
+var<workgroup> tab: array<Resident, TABLES_PER_GROUP>;
+// This thread's table in the workgroup (set once, at the entry point).
+var<private> g: u32;
+// Whether any table of the workgroup is still running (thread 0 writes it; the threads
+// read it with workgroupUniformLoad, so that every thread takes the same barriers).
+var<workgroup> group_running: u32;
 
 // One category's earliest candidate (Rust: Candidate); `valid` false for none.
 struct Candidate {
@@ -312,60 +335,60 @@ fn watch_u(table: u32) -> u32 {
 
 // A table's state into workgroup memory: its I/O block, and its caches (empty at the
 // batch's first dispatch: every entry missing, as after the host's reset).
-fn load_table(table: u32, lid: u32) {
+fn load_table(table: u32, lane: u32) {
     let r0 = io_r(table);
     let u0 = io_u(table);
     let c_r = cache_r(table);
     let c_u = cache_u(table);
     let fresh = cfg.first_dispatch != 0u;
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let i = lid + round * LOOP_THREADS;
+        let i = lane + round * LOOP_THREADS;
         if i < GPU_MAX_BALLS {
             let at = r0 + 10u * i;
-            balls[i] = BallState(
+            tab[g].balls[i] = BallState(
                 real3(state_r[at], state_r[at + 1u], state_r[at + 2u]),
                 real3(state_r[at + 3u], state_r[at + 4u], state_r[at + 5u]),
                 real3(state_r[at + 6u], state_r[at + 7u], state_r[at + 8u]),
                 state_u[u0 + i],
                 state_r[at + 9u],
             );
-            trans_t[i] = state_r[r0 + IO_R_TRANS + i];
-            trans_kind[i] = state_u[u0 + IO_U_TRANS + i];
+            tab[g].trans_t[i] = state_r[r0 + IO_R_TRANS + i];
+            tab[g].trans_kind[i] = state_u[u0 + IO_U_TRANS + i];
         }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let k = lid + round * LOOP_THREADS;
+        let k = lane + round * LOOP_THREADS;
         if k < GPU_MAX_PAIRS {
             if fresh {
-                pair_t[k] = NEVER;
-                pair_step[k] = MISSING_STEP;
+                tab[g].pair_t[k] = NEVER;
+                tab[g].pair_step[k] = MISSING_STEP;
             } else {
-                pair_t[k] = state_r[c_r + k];
-                pair_step[k] = state_u[c_u + k];
+                tab[g].pair_t[k] = state_r[c_r + k];
+                tab[g].pair_step[k] = state_u[c_u + k];
             }
         }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let k = lid + round * LOOP_THREADS;
+        let k = lane + round * LOOP_THREADS;
         if k < GPU_ROWS {
             if fresh {
-                row_t[k] = NEVER;
-                row_step[k] = MISSING_STEP;
-                row_item[k] = 0u;
+                tab[g].row_t[k] = NEVER;
+                tab[g].row_step[k] = MISSING_STEP;
+                tab[g].row_item[k] = 0u;
             } else {
-                row_t[k] = state_r[c_r + CACHE_R_ROWS + k];
-                row_step[k] = state_u[c_u + CACHE_U_ROWS + k];
-                row_item[k] = state_u[c_u + CACHE_U_ITEMS + k];
+                tab[g].row_t[k] = state_r[c_r + CACHE_R_ROWS + k];
+                tab[g].row_step[k] = state_u[c_u + CACHE_U_ROWS + k];
+                tab[g].row_item[k] = state_u[c_u + CACHE_U_ITEMS + k];
             }
         }
     }
-    if lid == 0u {
-        clock = state_r[r0 + IO_R_CLOCK];
-        n_balls = state_u[u0 + IO_U_N];
-        n_events = state_u[u0 + IO_U_N + 1u];
-        status = state_u[u0 + IO_U_N + 2u];
-        n_recorded = 0u;
-        atomicStore(&n_row_balls, 0u);
+    if lane == 0u {
+        tab[g].clock = state_r[r0 + IO_R_CLOCK];
+        tab[g].n_balls = state_u[u0 + IO_U_N];
+        tab[g].n_events = state_u[u0 + IO_U_N + 1u];
+        // (its status was read at the entry point, which loads only a running table)
+        tab[g].n_recorded = 0u;
+        atomicStore(&tab[g].n_row_balls, 0u);
         if fresh && cfg.watch_cue != NO_AGENT {
             clear_watch(table);
         }
@@ -373,16 +396,16 @@ fn load_table(table: u32, lid: u32) {
 }
 
 // A table's state back to storage.
-fn store_table(table: u32, lid: u32) {
+fn store_table(table: u32, lane: u32) {
     let r0 = io_r(table);
     let u0 = io_u(table);
     let c_r = cache_r(table);
     let c_u = cache_u(table);
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let i = lid + round * LOOP_THREADS;
+        let i = lane + round * LOOP_THREADS;
         if i < GPU_MAX_BALLS {
             let at = r0 + 10u * i;
-            let b = balls[i];
+            let b = tab[g].balls[i];
             state_r[at] = b.r.x;
             state_r[at + 1u] = b.r.y;
             state_r[at + 2u] = b.r.z;
@@ -394,36 +417,36 @@ fn store_table(table: u32, lid: u32) {
             state_r[at + 8u] = b.w.z;
             state_r[at + 9u] = b.t;
             state_u[u0 + i] = b.s;
-            state_r[r0 + IO_R_TRANS + i] = trans_t[i];
-            state_u[u0 + IO_U_TRANS + i] = trans_kind[i];
+            state_r[r0 + IO_R_TRANS + i] = tab[g].trans_t[i];
+            state_u[u0 + IO_U_TRANS + i] = tab[g].trans_kind[i];
         }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let k = lid + round * LOOP_THREADS;
+        let k = lane + round * LOOP_THREADS;
         if k < GPU_MAX_PAIRS {
-            state_r[c_r + k] = pair_t[k];
-            state_u[c_u + k] = pair_step[k];
+            state_r[c_r + k] = tab[g].pair_t[k];
+            state_u[c_u + k] = tab[g].pair_step[k];
         }
     }
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let k = lid + round * LOOP_THREADS;
+        let k = lane + round * LOOP_THREADS;
         if k < GPU_ROWS {
-            state_r[c_r + CACHE_R_ROWS + k] = row_t[k];
-            state_u[c_u + CACHE_U_ROWS + k] = row_step[k];
-            state_u[c_u + CACHE_U_ITEMS + k] = row_item[k];
+            state_r[c_r + CACHE_R_ROWS + k] = tab[g].row_t[k];
+            state_u[c_u + CACHE_U_ROWS + k] = tab[g].row_step[k];
+            state_u[c_u + CACHE_U_ITEMS + k] = tab[g].row_item[k];
         }
     }
-    if lid == 0u {
-        state_r[r0 + IO_R_CLOCK] = clock;
-        state_u[u0 + IO_U_N + 1u] = n_events;
-        state_u[u0 + IO_U_N + 2u] = status;
+    if lane == 0u {
+        state_r[r0 + IO_R_CLOCK] = tab[g].clock;
+        state_u[u0 + IO_U_N + 1u] = tab[g].n_events;
+        state_u[u0 + IO_U_N + 2u] = tab[g].status;
         if cfg.watch_cue != NO_AGENT {
             watch_end(table);
         }
         if cfg.record_events != 0u {
-            events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = n_recorded;
+            events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = tab[g].n_recorded;
         }
-        if status == STATUS_RUNNING {
+        if tab[g].status == STATUS_RUNNING {
             let k = atomicAdd(&running, 1u);
             if cfg.compact != 0u {
                 live[cfg.n_tables - cfg.live_in + k] = table;
@@ -434,7 +457,7 @@ fn store_table(table: u32, lid: u32) {
 
 // The absolute time of an entry τ after the clock (NEVER stays NEVER).
 fn after_clock(tau: real) -> real {
-    return select(clock + tau, NEVER, tau >= NEVER);
+    return select(tab[g].clock + tau, NEVER, tau >= NEVER);
 }
 
 // The winner among the categories' candidates (spec §3): the earliest time; of exact
@@ -449,9 +472,9 @@ fn comes_before(c: Candidate, b: Candidate) -> bool {
 // The earliest transition (ties: ball order).
 fn transition_candidate(p: BallParams) -> Candidate {
     // the earliest of balls 0..n (of equal times the first), reduced by reduce_entries
-    let best = red_trans[0];
-    let kind = EVENT_SLIDING_ROLLING + trans_kind[best];
-    return Candidate(true, trans_t[best], 2u, ball_energy(balls[best], p), kind, best, NO_AGENT);
+    let best = tab[g].red_trans[0];
+    let kind = EVENT_SLIDING_ROLLING + tab[g].trans_kind[best];
+    return Candidate(true, tab[g].trans_t[best], 2u, ball_energy(tab[g].balls[best], p), kind, best, NO_AGENT);
 }
 
 // τ until balls i < j collide, with pairs whose boxes stay apart skipped (the box test
@@ -459,34 +482,34 @@ fn transition_candidate(p: BallParams) -> Candidate {
 // apart than 2R at τ = 0 too).
 fn pair_time(i: u32, j: u32, p: BallParams) -> real {
     let r = p.r;
-    let bi = balls[i];
-    let bj = balls[j];
+    let bi = tab[g].balls[i];
+    let bj = tab[g].balls[j];
     let pocketed = bi.s == STATE_POCKETED || bj.s == STATE_POCKETED;
     if pocketed || !(ball_translating(bi) || ball_translating(bj)) {
         return NEVER;
     }
-    if boxes_apart(boxes[i], boxes[j], 2.0 * r) {
+    if boxes_apart(tab[g].boxes[i], tab[g].boxes[j], 2.0 * r) {
         return NEVER;
     }
     let rule = ball_ball_rules(bi, bj, r);
     if rule >= 0.0 {
         return rule;
     }
-    return ball_ball_time_on(paths[i], paths[j], r);
+    return ball_ball_time_on(tab[g].paths[i], tab[g].paths[j], r);
 }
 
 // The earliest ball–ball collision (tier 3, energy |v1 − v2|²).
 fn ball_ball_candidate() -> Candidate {
-    let n = n_balls;
+    let n = tab[g].n_balls;
     let n_pairs = n * (n - 1u) / 2u;
     if n_pairs == 0u {
         return no_candidate();
     }
     // the earliest entry (entry_before over the pairs), reduced by reduce_entries
-    let best = red_pair[0];
+    let best = tab[g].red_pair[0];
     let ij = pair_at(best, n);
-    let dv = balls[ij.x].v - balls[ij.y].v;
-    return Candidate(true, pair_t[best], 3u, dot3(dv, dv), EVENT_BALL_BALL, ij.x, ij.y);
+    let dv = tab[g].balls[ij.x].v - tab[g].balls[ij.y].v;
+    return Candidate(true, tab[g].pair_t[best], 3u, dot3(dv, dv), EVENT_BALL_BALL, ij.x, ij.y);
 }
 
 // τ until a translating ball on `path` (box `bx`) meets item m of a category, or NEVER;
@@ -534,9 +557,9 @@ fn n_items(which: u32) -> u32 {
 // with this step (no item: NEVER and item 0).
 fn put_row(which: u32, i: u32, t: real, item: u32) {
     let at = which * GPU_MAX_BALLS + i;
-    row_t[at] = t;
-    row_step[at] = n_events;
-    row_item[at] = select(item, 0u, item == NO_AGENT);
+    tab[g].row_t[at] = t;
+    tab[g].row_step[at] = tab[g].n_events;
+    tab[g].row_item[at] = select(item, 0u, item == NO_AGENT);
 }
 
 // The earliest of items lane, lane + lanes, lane + 2·lanes, … of one ball–table category
@@ -545,7 +568,7 @@ fn put_row(which: u32, i: u32, t: real, item: u32) {
 fn row_part(which: u32, i: u32, lane: u32, lanes: u32, r: real) -> RowPart {
     var best = RowPart(NEVER, NO_AGENT);
     for (var m = lane; m < n_items(which); m += lanes) {
-        let t = after_clock(item_time(which, m, paths[i], boxes[i], r));
+        let t = after_clock(item_time(which, m, tab[g].paths[i], tab[g].boxes[i], r));
         if best.item == NO_AGENT || t < best.t {
             best = RowPart(t, m);
         }
@@ -576,20 +599,20 @@ fn row_lanes(rows: u32) -> u32 {
 // times the first). A row's items are split over `lanes` threads, each keeping the
 // earliest of its part; with one lane a thread fills whole rows, else the parts are put
 // in part_t/part_item and merged by merge_rows after a barrier. Called by every thread.
-fn fill_rows(lid: u32, r: real) {
-    let rows = 3u * atomicLoad(&n_row_balls);
+fn fill_rows(lane: u32, r: real) {
+    let rows = 3u * atomicLoad(&tab[g].n_row_balls);
     let lanes = row_lanes(rows);
-    for (var s = lid; s < rows * lanes; s += LOOP_THREADS) {
+    for (var s = lane; s < rows * lanes; s += LOOP_THREADS) {
         let row = s / lanes;
         let which = row % 3u;
-        let i = row_balls[row / 3u];
-        if row_step[which * GPU_MAX_BALLS + i] == MISSING_STEP {
+        let i = tab[g].row_balls[row / 3u];
+        if tab[g].row_step[which * GPU_MAX_BALLS + i] == MISSING_STEP {
             let part = row_part(which, i, s % lanes, lanes, r);
             if lanes == 1u {
                 put_row(which, i, part.t, part.item);
             } else {
-                part_t[s] = part.t;
-                part_item[s] = part.item;
+                tab[g].part_t[s] = part.t;
+                tab[g].part_item[s] = part.item;
             }
         }
     }
@@ -597,21 +620,21 @@ fn fill_rows(lid: u32, r: real) {
 
 // Merges the parts of each row that fill_rows split (rows · lanes ≤ LOOP_THREADS then),
 // in lane order. Called by every thread after a barrier that follows fill_rows.
-fn merge_rows(lid: u32) {
-    let rows = 3u * atomicLoad(&n_row_balls);
+fn merge_rows(lane: u32) {
+    let rows = 3u * atomicLoad(&tab[g].n_row_balls);
     let lanes = row_lanes(rows);
-    if lanes == 1u || lid >= rows {
+    if lanes == 1u || lane >= rows {
         return;
     }
-    let which = lid % 3u;
-    let i = row_balls[lid / 3u];
-    if row_step[which * GPU_MAX_BALLS + i] != MISSING_STEP {
+    let which = lane % 3u;
+    let i = tab[g].row_balls[lane / 3u];
+    if tab[g].row_step[which * GPU_MAX_BALLS + i] != MISSING_STEP {
         return;
     }
     var best = RowPart(NEVER, NO_AGENT);
     for (var k = 0u; k < lanes; k++) {
-        let s = lid * lanes + k;
-        best = earlier_part(best, RowPart(part_t[s], part_item[s]));
+        let s = lane * lanes + k;
+        best = earlier_part(best, RowPart(tab[g].part_t[s], tab[g].part_item[s]));
     }
     put_row(which, i, best.t, best.item);
 }
@@ -623,9 +646,9 @@ fn item_candidate(which: u32, kind: u32, tier: u32, p: BallParams) -> Candidate 
     }
     let base = which * GPU_MAX_BALLS;
     // the earliest row (entry_before over the balls), reduced by reduce_entries
-    let at = red_row[base];
+    let at = tab[g].red_row[base];
     let best = at - base;
-    return Candidate(true, row_t[at], tier, ball_energy(balls[best], p), kind, best, row_item[at]);
+    return Candidate(true, tab[g].row_t[at], tier, ball_energy(tab[g].balls[best], p), kind, best, tab[g].row_item[at]);
 }
 
 // Of two pair entries (NO_AGENT: none), the one entry_before puts first.
@@ -636,7 +659,7 @@ fn earlier_pair(a: u32, b: u32) -> u32 {
     if b == NO_AGENT {
         return a;
     }
-    return select(a, b, entry_before(pair_t[b], pair_step[b], b, pair_t[a], pair_step[a], a));
+    return select(a, b, entry_before(tab[g].pair_t[b], tab[g].pair_step[b], b, tab[g].pair_t[a], tab[g].pair_step[a], a));
 }
 
 // Of two rows of one category (their places in the row arrays; NO_AGENT: none), the one
@@ -650,7 +673,7 @@ fn earlier_row(a: u32, b: u32) -> u32 {
     }
     let ia = a % GPU_MAX_BALLS;
     let ib = b % GPU_MAX_BALLS;
-    return select(a, b, entry_before(row_t[b], row_step[b], ib, row_t[a], row_step[a], ia));
+    return select(a, b, entry_before(tab[g].row_t[b], tab[g].row_step[b], ib, tab[g].row_t[a], tab[g].row_step[a], ia));
 }
 
 // Of two balls' transitions (NO_AGENT: none), the earlier (of equal times the first ball).
@@ -661,46 +684,46 @@ fn earlier_trans(a: u32, b: u32) -> u32 {
     if b == NO_AGENT {
         return a;
     }
-    return select(a, b, trans_t[b] < trans_t[a] || (trans_t[b] == trans_t[a] && b < a));
+    return select(a, b, tab[g].trans_t[b] < tab[g].trans_t[a] || (tab[g].trans_t[b] == tab[g].trans_t[a] && b < a));
 }
 
 // The threads reduce each category to its earliest entry together, in a tree of
 // LOOP_THREADS: the candidates' scans of the Rust twin, whose comparisons are total
 // orders (time, then stamp, then index), so any order of reduction gives their answer.
 // Called by every thread after the entries are filled; ends with a barrier.
-fn reduce_entries(lid: u32, n: u32) {
+fn reduce_entries(lane: u32, n: u32) {
     let n_pairs = n * (n - 1u) / 2u;
     var mine = NO_AGENT;
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let k = lid + round * LOOP_THREADS;
+        let k = lane + round * LOOP_THREADS;
         if k < n_pairs {
             mine = earlier_pair(mine, k);
         }
     }
-    red_pair[lid] = mine;
+    tab[g].red_pair[lane] = mine;
     for (var round = 0u; round < LOOP_ROUNDS; round++) {
-        let q = lid + round * LOOP_THREADS;
+        let q = lane + round * LOOP_THREADS;
         if q < GPU_ROWS {
-            red_row[q] = select(NO_AGENT, q, q % GPU_MAX_BALLS < n);
+            tab[g].red_row[q] = select(NO_AGENT, q, q % GPU_MAX_BALLS < n);
         }
     }
-    if lid < GPU_MAX_BALLS {
-        red_trans[lid] = select(NO_AGENT, lid, lid < n);
+    if lane < GPU_MAX_BALLS {
+        tab[g].red_trans[lane] = select(NO_AGENT, lane, lane < n);
     }
     workgroupBarrier();
     for (var stride = LOOP_THREADS / 2u; stride > 0u; stride = stride / 2u) {
-        if lid < stride {
-            red_pair[lid] = earlier_pair(red_pair[lid], red_pair[lid + stride]);
+        if lane < stride {
+            tab[g].red_pair[lane] = earlier_pair(tab[g].red_pair[lane], tab[g].red_pair[lane + stride]);
         }
         if stride < GPU_MAX_BALLS {
             for (var round = 0u; round < LOOP_ROUNDS; round++) {
-                let q = lid + round * LOOP_THREADS;
+                let q = lane + round * LOOP_THREADS;
                 if q < GPU_ROWS && q % GPU_MAX_BALLS < stride {
-                    red_row[q] = earlier_row(red_row[q], red_row[q + stride]);
+                    tab[g].red_row[q] = earlier_row(tab[g].red_row[q], tab[g].red_row[q + stride]);
                 }
             }
-            if lid < stride {
-                red_trans[lid] = earlier_trans(red_trans[lid], red_trans[lid + stride]);
+            if lane < stride {
+                tab[g].red_trans[lane] = earlier_trans(tab[g].red_trans[lane], tab[g].red_trans[lane + stride]);
             }
         }
         workgroupBarrier();
@@ -720,19 +743,19 @@ fn circle_out_of_reach(path: Path, center: real2, rho: real) -> bool {
 fn resolve(sp: SimParams) {
     let p = sp.ball;
     let rp = sp.resolver;
-    let i = win_ball;
-    let m = win_other;
-    let b = balls[i];
+    let i = tab[g].win_ball;
+    let m = tab[g].win_other;
+    let b = tab[g].balls[i];
     // Q17: a transition's agent is stamped t + (T − t), a collision's T
-    var stamp = win_t;
-    if win_kind >= EVENT_SLIDING_ROLLING {
-        stamp = clock + (win_t - clock);
+    var stamp = tab[g].win_t;
+    if tab[g].win_kind >= EVENT_SLIDING_ROLLING {
+        stamp = tab[g].clock + (tab[g].win_t - tab[g].clock);
     }
     var new_b: BallState;
-    switch win_kind {
+    switch tab[g].win_kind {
         case EVENT_BALL_BALL: {
-            let pair = resolve_ball_ball(b, balls[m], p, rp);
-            balls[m] = BallState(pair.b2.r, pair.b2.v, pair.b2.w, pair.b2.s, stamp);
+            let pair = resolve_ball_ball(b, tab[g].balls[m], p, rp);
+            tab[g].balls[m] = BallState(pair.b2.r, pair.b2.v, pair.b2.w, pair.b2.s, stamp);
             new_b = pair.b1;
         }
         case EVENT_LINEAR_CUSHION: {
@@ -745,13 +768,13 @@ fn resolve(sp: SimParams) {
             new_b = resolve_pocket(b, pocket_item(m));
         }
         default: {
-            new_b = resolve_transition(b, trans_kind[i]);
+            new_b = resolve_transition(b, tab[g].trans_kind[i]);
         }
     }
-    balls[i] = BallState(new_b.r, new_b.v, new_b.w, new_b.s, stamp);
-    clock = win_t;
+    tab[g].balls[i] = BallState(new_b.r, new_b.v, new_b.w, new_b.s, stamp);
+    tab[g].clock = tab[g].win_t;
     involve(i, p);
-    if win_kind == EVENT_BALL_BALL {
+    if tab[g].win_kind == EVENT_BALL_BALL {
         involve(m, p);
     }
 }
@@ -759,38 +782,38 @@ fn resolve(sp: SimParams) {
 // Ball i took part in the last event: its next transition is recomputed from its new
 // state and every cached entry that names it is deleted.
 fn involve(i: u32, p: BallParams) {
-    let b = balls[i];
+    let b = tab[g].balls[i];
     let next = next_transition(b, p);
-    trans_t[i] = select(b.t + next.x, NEVER, next.x >= NEVER);
-    trans_kind[i] = u32(next.y);
-    let n = n_balls;
+    tab[g].trans_t[i] = select(b.t + next.x, NEVER, next.x >= NEVER);
+    tab[g].trans_kind[i] = u32(next.y);
+    let n = tab[g].n_balls;
     for (var j = 0u; j < n; j++) {
         if j != i {
-            pair_step[pair_index(min(i, j), max(i, j), n)] = MISSING_STEP;
+            tab[g].pair_step[pair_index(min(i, j), max(i, j), n)] = MISSING_STEP;
         }
     }
     for (var c = 0u; c < 3u; c++) {
-        row_step[c * GPU_MAX_BALLS + i] = MISSING_STEP;
+        tab[g].row_step[c * GPU_MAX_BALLS + i] = MISSING_STEP;
     }
 }
 
 // Appends the winner and its agents' states to this dispatch's records.
 fn record(table: u32) {
-    if cfg.record_events == 0u || n_recorded >= cfg.events_per_dispatch {
+    if cfg.record_events == 0u || tab[g].n_recorded >= cfg.events_per_dispatch {
         return;
     }
-    let k = n_recorded;
+    let k = tab[g].n_recorded;
     let ru = table * (1u + EVENT_UINTS * cfg.events_per_dispatch) + 1u + EVENT_UINTS * k;
     let rr = (table * cfg.events_per_dispatch + k) * EVENT_REALS;
-    let second = select(win_ball, win_other, win_kind == EVENT_BALL_BALL);
-    events_u[ru] = win_kind;
-    events_u[ru + 1u] = win_ball;
-    events_u[ru + 2u] = win_other;
-    events_u[ru + 3u] = balls[win_ball].s;
-    events_u[ru + 4u] = balls[second].s;
-    events_r[rr] = win_t;
+    let second = select(tab[g].win_ball, tab[g].win_other, tab[g].win_kind == EVENT_BALL_BALL);
+    events_u[ru] = tab[g].win_kind;
+    events_u[ru + 1u] = tab[g].win_ball;
+    events_u[ru + 2u] = tab[g].win_other;
+    events_u[ru + 3u] = tab[g].balls[tab[g].win_ball].s;
+    events_u[ru + 4u] = tab[g].balls[second].s;
+    events_r[rr] = tab[g].win_t;
     for (var a = 0u; a < 2u; a++) {
-        let b = balls[select(win_ball, second, a == 1u)];
+        let b = tab[g].balls[select(tab[g].win_ball, second, a == 1u)];
         let at = rr + 1u + 10u * a;
         events_r[at] = b.r.x;
         events_r[at + 1u] = b.r.y;
@@ -803,7 +826,7 @@ fn record(table: u32) {
         events_r[at + 8u] = b.w.z;
         events_r[at + 9u] = b.t;
     }
-    n_recorded = k + 1u;
+    tab[g].n_recorded = k + 1u;
 }
 
 // A table's watch blank: no pot, no first contact, no fact (Rust: Watcher::start).
@@ -812,7 +835,7 @@ fn record(table: u32) {
 fn watch_end(table: u32) {
     let e_r = watch_r(table) + WATCH_R_END;
     let e_u = watch_u(table) + WATCH_U_END;
-    let b = balls[min(cfg.watch_cue, GPU_MAX_BALLS - 1u)];
+    let b = tab[g].balls[min(cfg.watch_cue, GPU_MAX_BALLS - 1u)];
     state_r[e_r] = b.r.x;
     state_r[e_r + 1u] = b.r.y;
     state_r[e_r + 2u] = b.r.z;
@@ -823,11 +846,11 @@ fn watch_end(table: u32) {
     state_r[e_r + 7u] = b.w.y;
     state_r[e_r + 8u] = b.w.z;
     state_r[e_r + 9u] = b.t;
-    state_r[e_r + BALL_REALS] = clock;
+    state_r[e_r + BALL_REALS] = tab[g].clock;
     state_u[e_u] = b.s;
-    state_u[e_u + 1u] = n_balls;
-    state_u[e_u + 2u] = n_events;
-    state_u[e_u + 3u] = status;
+    state_u[e_u + 1u] = tab[g].n_balls;
+    state_u[e_u + 2u] = tab[g].n_events;
+    state_u[e_u + 3u] = tab[g].status;
 }
 
 // watch_end for a table done before its first dispatch: from its I/O block.
@@ -866,40 +889,40 @@ fn clear_watch(table: u32) {
 fn observe_facts(w_r: u32, w_u: u32, cue: u32) {
     let f = w_u + WATCH_U_FACTS;
     let fr = w_r + WATCH_R_FACTS;
-    if win_kind == EVENT_BALL_BALL {
+    if tab[g].win_kind == EVENT_BALL_BALL {
         state_u[f] = 1u;
-        if win_ball != cue && win_other != cue {
+        if tab[g].win_ball != cue && tab[g].win_other != cue {
             return;
         }
-        let other = select(win_ball, win_other, win_ball == cue);
+        let other = select(tab[g].win_ball, tab[g].win_other, tab[g].win_ball == cue);
         if state_u[f + 1u] == 0u {
             state_u[f + 1u] = other + 1u;
-            state_r[fr] = win_t;
+            state_r[fr] = tab[g].win_t;
         } else if state_u[f + 1u] != other + 1u && state_u[f + 5u] == 0u {
             state_u[f + 5u] = 1u;
-            state_r[fr + 1u] = win_t;
-            if state_u[f + 7u] != 0u && state_r[fr + 2u] == win_t {
+            state_r[fr + 1u] = tab[g].win_t;
+            if state_u[f + 7u] != 0u && state_r[fr + 2u] == tab[g].win_t {
                 state_u[f + 6u] = state_u[f + 6u] - state_u[f + 7u];
             }
         }
         return;
     }
-    if win_kind == EVENT_LINEAR_CUSHION || win_kind == EVENT_CIRCULAR_CUSHION {
+    if tab[g].win_kind == EVENT_LINEAR_CUSHION || tab[g].win_kind == EVENT_CIRCULAR_CUSHION {
         // two words of 32 balls each
-        let word = win_ball / 32u;
-        let mask = 1u << (win_ball % 32u);
+        let word = tab[g].win_ball / 32u;
+        let mask = 1u << (tab[g].win_ball % 32u);
         if word < 2u {
             state_u[f + 3u + word] = state_u[f + 3u + word] | mask;
         }
-        if state_u[f + 1u] != 0u && win_t > state_r[fr] {
+        if state_u[f + 1u] != 0u && tab[g].win_t > state_r[fr] {
             state_u[f + 2u] = 1u;
         }
-        if win_kind == EVENT_LINEAR_CUSHION && win_ball == cue && state_u[f + 5u] == 0u {
+        if tab[g].win_kind == EVENT_LINEAR_CUSHION && tab[g].win_ball == cue && state_u[f + 5u] == 0u {
             state_u[f + 6u] = state_u[f + 6u] + 1u;
-            if state_u[f + 7u] != 0u && state_r[fr + 2u] == win_t {
+            if state_u[f + 7u] != 0u && state_r[fr + 2u] == tab[g].win_t {
                 state_u[f + 7u] = state_u[f + 7u] + 1u;
             } else {
-                state_r[fr + 2u] = win_t;
+                state_r[fr + 2u] = tab[g].win_t;
                 state_u[f + 7u] = 1u;
             }
         }
@@ -923,28 +946,28 @@ fn watch_event(table: u32) {
     let cue = cfg.watch_cue;
     let w_r = watch_r(table);
     let w_u = watch_u(table);
-    if win_kind == EVENT_POCKET {
+    if tab[g].win_kind == EVENT_POCKET {
         let k = state_u[w_u];
         if k < GPU_MAX_BALLS {
-            state_u[w_u + WATCH_U_POTS + k] = n_events;
-            state_u[w_u + WATCH_U_POTS + GPU_MAX_BALLS + k] = win_ball;
-            state_u[w_u + WATCH_U_POTS + 2u * GPU_MAX_BALLS + k] = win_other;
-            state_r[w_r + WATCH_R_POTS + k] = win_t;
+            state_u[w_u + WATCH_U_POTS + k] = tab[g].n_events;
+            state_u[w_u + WATCH_U_POTS + GPU_MAX_BALLS + k] = tab[g].win_ball;
+            state_u[w_u + WATCH_U_POTS + 2u * GPU_MAX_BALLS + k] = tab[g].win_other;
+            state_r[w_r + WATCH_R_POTS + k] = tab[g].win_t;
             state_u[w_u] = k + 1u;
         }
     }
     observe_facts(w_r, w_u, cue);
-    if state_u[w_u + WATCH_U_FIRST] != 0u || !first_contact_of(win_kind, win_ball, win_other, cue) {
+    if state_u[w_u + WATCH_U_FIRST] != 0u || !first_contact_of(tab[g].win_kind, tab[g].win_ball, tab[g].win_other, cue) {
         return;
     }
-    let b = watch_before;
-    state_u[w_u + WATCH_U_FIRST] = n_events;
-    state_u[w_u + WATCH_U_FIRST + 1u] = win_kind;
-    state_u[w_u + WATCH_U_FIRST + 2u] = win_ball;
-    state_u[w_u + WATCH_U_FIRST + 3u] = win_other;
+    let b = tab[g].watch_before;
+    state_u[w_u + WATCH_U_FIRST] = tab[g].n_events;
+    state_u[w_u + WATCH_U_FIRST + 1u] = tab[g].win_kind;
+    state_u[w_u + WATCH_U_FIRST + 2u] = tab[g].win_ball;
+    state_u[w_u + WATCH_U_FIRST + 3u] = tab[g].win_other;
     state_u[w_u + WATCH_U_FIRST + 4u] = b.s;
-    state_r[w_r] = win_t;
-    state_r[w_r + 1u] = watch_t0;
+    state_r[w_r] = tab[g].win_t;
+    state_r[w_r + 1u] = tab[g].watch_t0;
     let at = w_r + WATCH_R_BEFORE;
     state_r[at] = b.r.x;
     state_r[at + 1u] = b.r.y;
@@ -956,79 +979,92 @@ fn watch_event(table: u32) {
     state_r[at + 7u] = b.w.y;
     state_r[at + 8u] = b.w.z;
     state_r[at + 9u] = b.t;
-    let c = balls[cue].r;
+    let c = tab[g].balls[cue].r;
     state_r[w_r + WATCH_R_CUE] = c.x;
     state_r[w_r + WATCH_R_CUE + 1u] = c.y;
     state_r[w_r + WATCH_R_CUE + 2u] = c.z;
-    let other = select(win_ball, win_other, win_ball == cue);
-    let o = balls[min(other, n_balls - 1u)].r;
+    let other = select(tab[g].win_ball, tab[g].win_other, tab[g].win_ball == cue);
+    let o = tab[g].balls[min(other, tab[g].n_balls - 1u)].r;
     state_r[w_r + WATCH_R_OTHER] = o.x;
     state_r[w_r + WATCH_R_OTHER + 1u] = o.y;
     state_r[w_r + WATCH_R_OTHER + 2u] = o.z;
     if cfg.watch_stop != 0u {
-        status = STATUS_DONE;
+        tab[g].status = STATUS_DONE;
     }
 }
 
-// One workgroup per table: up to events_per_dispatch steps of its loop (Rust:
-// EventLoop::step, with candidates, choose, advance and resolve).
-@compute @workgroup_size(LOOP_THREADS)
+// TABLES_PER_GROUP tables a workgroup, LOOP_THREADS threads each: up to
+// events_per_dispatch steps of each table's loop (Rust: EventLoop::step, with candidates,
+// choose, advance and resolve). The tables of a workgroup step together: a table done
+// (or a slot without a table) waits through the others' steps with its work skipped, and
+// the loop ends when none of them is running.
+@compute @workgroup_size(GROUP_THREADS)
 fn simulate_tables(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let slot = wid.y * cfg.groups_x + wid.x;
-    if slot >= cfg.n_active {
-        return;
-    }
-    var table = slot;
-    if cfg.compact != 0u && cfg.first_dispatch == 0u {
+    g = min(lid / LOOP_THREADS, TABLES_PER_GROUP - 1u);
+    let lane = lid % LOOP_THREADS;
+    let slot = (wid.y * cfg.groups_x + wid.x) * TABLES_PER_GROUP + g;
+    let occupied = slot < cfg.n_active;
+    var table = min(slot, cfg.n_tables - 1u);
+    if occupied && cfg.compact != 0u && cfg.first_dispatch == 0u {
         table = live[cfg.live_in + slot];
     }
-    // a table done in an earlier dispatch is left as it is
-    if lid == 0u {
-        status = state_u[io_u(table) + IO_U_N + 2u];
+    // a table done in an earlier dispatch is left as it is (not loaded, not stored)
+    if lane == 0u {
+        tab[g].status = select(STATUS_DONE, state_u[io_u(table) + IO_U_N + 2u], occupied);
+        tab[g].n_balls = 0u;
     }
-    if workgroupUniformLoad(&status) != STATUS_RUNNING {
-        if lid == 0u {
-            if cfg.record_events != 0u {
-                events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = 0u;
-            }
-            if cfg.first_dispatch != 0u && cfg.watch_cue != NO_AGENT {
-                clear_watch(table);
-                watch_end_of_io(table);
-            }
+    workgroupBarrier();
+    let loaded = tab[g].status == STATUS_RUNNING;
+    if occupied && !loaded && lane == 0u {
+        if cfg.record_events != 0u {
+            events_u[table * (1u + EVENT_UINTS * cfg.events_per_dispatch)] = 0u;
         }
-        return;
+        if cfg.first_dispatch != 0u && cfg.watch_cue != NO_AGENT {
+            clear_watch(table);
+            watch_end_of_io(table);
+        }
     }
     let sp = load_params(table);
     let p = sp.ball;
     let max_time = sim[table * cfg.sim_stride + SIM_R_MAX_TIME];
-    load_table(table, lid);
+    if loaded {
+        load_table(table, lane);
+    }
     workgroupBarrier();
     for (var step = 0u; step < cfg.events_per_dispatch; step++) {
-        if workgroupUniformLoad(&status) != STATUS_RUNNING {
+        if lid == 0u {
+            var any = 0u;
+            for (var k = 0u; k < TABLES_PER_GROUP; k++) {
+                any = any | u32(tab[k].status == STATUS_RUNNING);
+            }
+            group_running = any;
+        }
+        if workgroupUniformLoad(&group_running) == 0u {
             break;
         }
-        let n = n_balls;
+        let stepping = tab[g].status == STATUS_RUNNING;
+        let n = select(0u, tab[g].n_balls, stepping);
         // the paths and boxes of every ball at the current time; the translating balls
         // whose rows are missing listed for fill_rows, the others' missing rows filled now
         // (a ball that does not translate meets nothing)
         for (var round = 0u; round < LOOP_ROUNDS; round++) {
-            let i = lid + round * LOOP_THREADS;
+            let i = lane + round * LOOP_THREADS;
             if i < n {
-                let path = trajectory(balls[i], p);
-                paths[i] = path;
-                boxes[i] = path_box(path);
+                let path = trajectory(tab[g].balls[i], p);
+                tab[g].paths[i] = path;
+                tab[g].boxes[i] = path_box(path);
                 var missing = false;
                 for (var which = 0u; which < 3u; which++) {
-                    missing = missing || row_step[which * GPU_MAX_BALLS + i] == MISSING_STEP;
+                    missing = missing || tab[g].row_step[which * GPU_MAX_BALLS + i] == MISSING_STEP;
                 }
-                if missing && ball_translating(balls[i]) {
-                    row_balls[atomicAdd(&n_row_balls, 1u)] = i;
+                if missing && ball_translating(tab[g].balls[i]) {
+                    tab[g].row_balls[atomicAdd(&tab[g].n_row_balls, 1u)] = i;
                 } else if missing {
                     for (var which = 0u; which < 3u; which++) {
-                        if row_step[which * GPU_MAX_BALLS + i] == MISSING_STEP {
+                        if tab[g].row_step[which * GPU_MAX_BALLS + i] == MISSING_STEP {
                             put_row(which, i, NEVER, 0u);
                         }
                     }
@@ -1039,26 +1075,30 @@ fn simulate_tables(
         // the missing pair entries, then the missing rows, in parallel
         let n_pairs = n * (n - 1u) / 2u;
         for (var round = 0u; round < LOOP_ROUNDS; round++) {
-            let k = lid + round * LOOP_THREADS;
+            let k = lane + round * LOOP_THREADS;
             if k < n_pairs {
-                if pair_step[k] == MISSING_STEP {
+                if tab[g].pair_step[k] == MISSING_STEP {
                     let ij = pair_at(k, n);
-                    pair_t[k] = after_clock(pair_time(ij.x, ij.y, p));
-                    pair_step[k] = n_events;
+                    tab[g].pair_t[k] = after_clock(pair_time(ij.x, ij.y, p));
+                    tab[g].pair_step[k] = tab[g].n_events;
                 }
             }
         }
-        fill_rows(lid, p.r);
+        if stepping {
+            fill_rows(lane, p.r);
+        }
         workgroupBarrier();
-        merge_rows(lid);
+        if stepping {
+            merge_rows(lane);
+        }
         workgroupBarrier();
         // each category's earliest entry, by the threads together
-        reduce_entries(lid, n);
-        if lid == 0u {
+        reduce_entries(lane, n);
+        if stepping && lane == 0u {
             // the list is read (fill_rows, merge_rows): empty for the next step
-            atomicStore(&n_row_balls, 0u);
-            if n_events >= cfg.max_events {
-                status = STATUS_CUT_EVENTS;
+            atomicStore(&tab[g].n_row_balls, 0u);
+            if tab[g].n_events >= cfg.max_events {
+                tab[g].status = STATUS_CUT_EVENTS;
             } else {
                 // the candidates in category order: transition, ball–ball, circular
                 // cushion, linear cushion, pocket (the stick was resolved on the host)
@@ -1080,36 +1120,36 @@ fn simulate_tables(
                     best = pocket;
                 }
                 if !best.valid || best.t >= NEVER {
-                    status = STATUS_DONE;
+                    tab[g].status = STATUS_DONE;
                 } else if best.t > max_time {
-                    status = STATUS_CUT_TIME;
+                    tab[g].status = STATUS_CUT_TIME;
                 } else {
-                    win_kind = best.kind;
-                    win_t = best.t;
-                    win_ball = best.ball;
-                    win_other = best.other;
+                    tab[g].win_kind = best.kind;
+                    tab[g].win_t = best.t;
+                    tab[g].win_ball = best.ball;
+                    tab[g].win_other = best.other;
                     if cfg.watch_cue != NO_AGENT {
-                        watch_before = balls[cfg.watch_cue];
-                        watch_t0 = clock;
+                        tab[g].watch_before = tab[g].balls[cfg.watch_cue];
+                        tab[g].watch_t0 = tab[g].clock;
                     }
                 }
             }
         }
-        if workgroupUniformLoad(&status) != STATUS_RUNNING {
-            break;
-        }
+        workgroupBarrier();
+        // a table whose loop ended at this step has no event to apply
+        let applies = stepping && tab[g].status == STATUS_RUNNING;
         // every ball evolved to the winner's time (closed forms, labels kept)
-        let dt = win_t - clock;
+        let dt = tab[g].win_t - tab[g].clock;
         for (var round = 0u; round < LOOP_ROUNDS; round++) {
-            let i = lid + round * LOOP_THREADS;
-            if i < n {
-                balls[i] = evolve(balls[i], dt, p);
+            let i = lane + round * LOOP_THREADS;
+            if applies && i < n {
+                tab[g].balls[i] = evolve(tab[g].balls[i], dt, p);
             }
         }
         workgroupBarrier();
-        if lid == 0u {
+        if applies && lane == 0u {
             resolve(sp);
-            n_events += 1u;
+            tab[g].n_events += 1u;
             record(table);
             if cfg.watch_cue != NO_AGENT {
                 watch_event(table);
@@ -1118,7 +1158,9 @@ fn simulate_tables(
         workgroupBarrier();
     }
     workgroupBarrier();
-    store_table(table, lid);
+    if loaded {
+        store_table(table, lane);
+    }
 }
 
 // One position struck many ways (a study's chunk): every table's I/O block is the

@@ -24,7 +24,8 @@
 //! # Chunking
 //! A batch is cut into chunks of whole tables that fit the buffers and the adapter's
 //! limits (binding size, workgroups per dimension: the dispatch is 2-D, one workgroup per
-//! table); each chunk is uploaded, dispatched and read back in turn.
+//! table, or per [`TABLES_PER_GROUP`] tables in the event loop); each chunk is uploaded,
+//! dispatched and read back in turn.
 
 use std::ops::Range;
 
@@ -60,6 +61,7 @@ pub use simulate::event_loop_constants;
 pub use simulate::{
     CheckedTables, EVENT_LOOP_THREADS, EVENTS_PER_DISPATCH, FillTable, GpuOutput, GpuSimulator,
     MAX_TABLES_PER_CHUNK, OnEvent, PIPELINE_CHUNKS, PIPELINE_MIN_TABLES, ROW_THREADS,
+    TABLES_PER_GROUP,
 };
 
 /// How large one chunk may be (tests can lower them with `set_chunk_limits`, a hook of the

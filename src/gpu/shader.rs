@@ -159,11 +159,17 @@ pub const SIMULATE_FILES: [(&str, &str); 2] = [
 /// the shader is derived from it.
 pub const GPU_MAX_BALLS_LINE: &str = "const GPU_MAX_BALLS: u32 = 16u;";
 
-/// The WGSL source of the event loop for `precision` and tables of up to `max_balls`
-/// balls: the prelude, [`SHADER_FILES`] without the kernels' entry points, then
-/// [`SIMULATE_FILES`] with [`GPU_MAX_BALLS_LINE`] set to `max_balls`.
-pub fn simulate_source(precision: Precision, max_balls: usize) -> String {
-    let own = format!("const GPU_MAX_BALLS: u32 = {max_balls}u;");
+/// The line of `simulate/event_loop.wgsl` that declares how many tables a workgroup
+/// holds; the host writes each build's there ([`simulate_source`]).
+pub const TABLES_PER_GROUP_LINE: &str = "const TABLES_PER_GROUP: u32 = 1u;";
+
+/// The WGSL source of the event loop for `precision`, tables of up to `max_balls` balls
+/// and `tables_per_group` tables a workgroup: the prelude, [`SHADER_FILES`] without the
+/// kernels' entry points, then [`SIMULATE_FILES`] with [`GPU_MAX_BALLS_LINE`] set to
+/// `max_balls` and [`TABLES_PER_GROUP_LINE`] to `tables_per_group`.
+pub fn simulate_source(precision: Precision, max_balls: usize, tables_per_group: usize) -> String {
+    let balls = format!("const GPU_MAX_BALLS: u32 = {max_balls}u;");
+    let group = format!("const TABLES_PER_GROUP: u32 = {tables_per_group}u;");
     std::iter::once(prelude(precision).to_owned())
         .chain(
             SHADER_FILES
@@ -171,11 +177,10 @@ pub fn simulate_source(precision: Precision, max_balls: usize) -> String {
                 .filter(|(name, _)| *name != "kernels.wgsl")
                 .map(|(_, text)| (*text).to_owned()),
         )
-        .chain(
-            SIMULATE_FILES
-                .iter()
-                .map(|(_, text)| text.replace(GPU_MAX_BALLS_LINE, &own)),
-        )
+        .chain(SIMULATE_FILES.iter().map(|(_, text)| {
+            text.replace(GPU_MAX_BALLS_LINE, &balls)
+                .replace(TABLES_PER_GROUP_LINE, &group)
+        }))
         .collect::<Vec<_>>()
         .join("\n")
 }
@@ -186,4 +191,70 @@ pub fn shader_source(precision: Precision) -> String {
         .chain(SHADER_FILES.iter().map(|(_, text)| *text))
         .collect::<Vec<_>>()
         .join("\n")
+}
+
+/// The workgroup memory of `entry` in `source` (WGSL), in bytes: the sizes of the
+/// workgroup variables it uses, as naga lays them out. For choosing a build the device
+/// holds before asking the device to build it.
+///
+/// Errors: the source does not parse or validate (naga's message), or has no `entry`.
+pub fn workgroup_bytes(source: &str, entry: &str) -> Result<u64, String> {
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| format!("{e:?}"))?;
+    let at = module
+        .entry_points
+        .iter()
+        .position(|e| e.name == entry)
+        .ok_or_else(|| format!("no entry point {entry}"))?;
+    let mut layouter = naga::proc::Layouter::default();
+    layouter
+        .update(module.to_ctx())
+        .map_err(|e| format!("{e:?}"))?;
+    let used = info.get_entry_point(at);
+    Ok(module
+        .global_variables
+        .iter()
+        .filter(|(h, v)| v.space == naga::AddressSpace::WorkGroup && !used[*h].is_empty())
+        .map(|(_, v)| u64::from(layouter[v.ty].size))
+        .sum())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn workgroup_bytes_counts_what_the_entry_uses() {
+        let source = "var<workgroup> a: array<f32, 10>;\n\
+                      var<workgroup> b: u32;\n\
+                      var<workgroup> unused: array<f32, 100>;\n\
+                      @compute @workgroup_size(1) fn main() { a[b] = 1.0; }";
+        assert_eq!(workgroup_bytes(source, "main"), Ok(44));
+        assert!(
+            workgroup_bytes(source, "other")
+                .unwrap_err()
+                .contains("other")
+        );
+        assert!(workgroup_bytes("fn (", "main").is_err());
+    }
+
+    #[test]
+    fn each_table_of_a_workgroup_has_its_own_state() {
+        let bytes = |tables| {
+            workgroup_bytes(
+                &simulate_source(Precision::F64, 16, tables),
+                "simulate_tables",
+            )
+            .unwrap()
+        };
+        let (one, four) = (bytes(1), bytes(4));
+        // a 16-ball table's state in f64 is several kilobytes; the group's flag is shared
+        assert!((4_000..10_000).contains(&one), "{one}");
+        assert!(four > 3 * one && four < 4 * one, "{one} {four}");
+    }
 }

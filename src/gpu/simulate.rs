@@ -31,7 +31,7 @@ use super::GpuTimings;
 use super::device::{
     self, AdapterSummary, PassTimer, Scopes, copy_to_mapped, gpu_error, map_and_wait,
 };
-use super::shader::simulate_source;
+use super::shader::{simulate_source, workgroup_bytes};
 use super::sim_layout::{
     EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, MAX_LAYOUT, NEVER_F32, NEVER_F64,
     SIM_R_MAX_TIME, SIM_REALS, STRUCK_REALS, STRUCK_UINTS, SimLayout, WatchedRun, event_record,
@@ -111,6 +111,28 @@ fn row_threads() -> Result<usize, Error> {
     )
 }
 
+/// Tables a workgroup of the event loop holds, at most, by default (the shader's
+/// `TABLES_PER_GROUP`): one. More put several tables' threads side by side in one
+/// workgroup (a 16-thread table fills half an NVIDIA warp; two tables fill it), each
+/// table's work as before, for measuring occupancy on a device.
+pub const TABLES_PER_GROUP: usize = 1;
+
+/// Tables a workgroup holds, at most: `KISSTIME_GPU_TABLES_PER_GROUP` (1, 2, 4, 8 or 16)
+/// or [`TABLES_PER_GROUP`].
+fn tables_per_group() -> Result<usize, Error> {
+    knob(
+        "KISSTIME_GPU_TABLES_PER_GROUP",
+        TABLES_PER_GROUP,
+        valid_tables_per_group,
+        "1, 2, 4, 8 or 16",
+    )
+}
+
+/// Whether `n` tables a workgroup may be asked for.
+fn valid_tables_per_group(n: usize) -> bool {
+    matches!(n, 1 | 2 | 4 | 8 | 16)
+}
+
 /// The chunks a large batch is cut into: `KISSTIME_GPU_PIPELINE_CHUNKS` (1 to 64; 1 keeps
 /// a batch in one chunk where the bindings allow, with no host work beside the device's:
 /// for measuring what the overlap gains) or [`PIPELINE_CHUNKS`].
@@ -149,18 +171,21 @@ const TAIL_FRACTION: usize = 16;
 
 /// The event loop's pipeline constants for `layout`'s bucket: `LOOP_THREADS` (`threads`,
 /// or the bucket's ball count if larger), `LOOP_ROUNDS` to match, `ROW_THREADS`
-/// (`row_threads`). What [`GpuSimulator`] builds with, and `examples/pipeline_stats.rs`.
+/// (`row_threads`), `GROUP_THREADS` (`tables` tables of `LOOP_THREADS`). What
+/// [`GpuSimulator`] builds with, and `examples/pipeline_stats.rs`.
 #[doc(hidden)]
 pub fn event_loop_constants(
     layout: &SimLayout,
     threads: usize,
     row_threads: usize,
-) -> [(&'static str, f64); 3] {
+    tables: usize,
+) -> [(&'static str, f64); 4] {
     let threads = threads.max(layout.gpu_max_balls.next_power_of_two());
     [
         ("LOOP_THREADS", threads as f64),
         ("LOOP_ROUNDS", layout.gpu_max_pairs.div_ceil(threads) as f64),
         ("ROW_THREADS", row_threads as f64),
+        ("GROUP_THREADS", (tables * threads) as f64),
     ]
 }
 
@@ -309,6 +334,8 @@ struct HostBlocks {
 struct LoopPipelines {
     simulate: wgpu::ComputePipeline,
     expand: wgpu::ComputePipeline,
+    /// Tables a workgroup of `simulate` holds.
+    tables: u32,
 }
 
 /// The GPU event loop: device, pipeline and buffers, reused across calls.
@@ -323,6 +350,10 @@ pub struct GpuSimulator {
     threads: usize,
     /// The most threads a missing row is split over (the shader's `ROW_THREADS`).
     row_threads: usize,
+    /// Tables a workgroup holds, at most (fewer where a bucket's do not fit the device).
+    tables_per_group: usize,
+    /// The most threads a workgroup may have on the device.
+    max_group_threads: u32,
     /// Whether the event loop is built as SPIR-V without contraction ([`super::spirv`]).
     exact: bool,
     /// Whether the device takes SPIR-V as it is (Vulkan, `PASSTHROUGH_SHADERS`).
@@ -371,12 +402,52 @@ impl GpuSimulator {
     /// `SHADER_F64` for f64); [`Error::Gpu`] when the device or the shader fails to build.
     pub fn new(precision: Precision) -> Result<GpuSimulator, Error> {
         let (threads, chunks, rows) = (event_loop_threads()?, pipeline_chunks()?, row_threads()?);
+        let tables = tables_per_group()?;
         let mut sim = GpuSimulator::with_loop_threads(precision, threads)?;
         sim.pipeline_chunks = chunks;
         if rows != ROW_THREADS {
             sim.set_row_threads(rows)?;
         }
+        if tables != TABLES_PER_GROUP {
+            sim.set_tables_per_group(tables)?;
+        }
         Ok(sim)
+    }
+
+    /// Puts up to `tables` tables in each workgroup of the event loop from now on (1, 2,
+    /// 4, 8 or 16; [`TABLES_PER_GROUP`] by default): the same answers, another occupancy.
+    /// A bucket whose workgroups of `tables` tables would not fit the device (its
+    /// workgroup memory or threads) is built with as many as fit, halving. The pipelines
+    /// are built again.
+    ///
+    /// Errors: [`Error::Unsupported`] for another count; [`Error::Gpu`] when the shader
+    /// does not build.
+    pub fn set_tables_per_group(&mut self, tables: usize) -> Result<(), Error> {
+        if !valid_tables_per_group(tables) {
+            return Err(Error::Unsupported(format!(
+                "{tables} tables a workgroup: expected 1, 2, 4, 8 or 16"
+            )));
+        }
+        self.tables_per_group = tables;
+        self.pipelines.clear();
+        // the buffers' bind groups were made for the old pipelines' layouts
+        self.bufs = None;
+        self.pipeline(&SimLayout::for_balls(16))?;
+        Ok(())
+    }
+
+    /// Tables a workgroup of the event loop holds for tables of up to `max_balls` balls
+    /// (the bucket's build; 1 by default).
+    ///
+    /// Errors: as [`GpuSimulator::set_tables_per_group`], when the bucket's pipelines are
+    /// built now; [`Error::Unsupported`] past [`GPU_MAX_BALLS`].
+    pub fn tables_per_group(&mut self, max_balls: usize) -> Result<usize, Error> {
+        let layout = SimLayout::bucket(max_balls).ok_or_else(|| {
+            Error::Unsupported(format!(
+                "a table of {max_balls} balls: the GPU event loop takes at most {GPU_MAX_BALLS}"
+            ))
+        })?;
+        Ok(self.pipeline(&layout)?.tables as usize)
     }
 
     /// Splits each missing row over at most `threads` threads from now on (1 to 64; 1:
@@ -393,6 +464,8 @@ impl GpuSimulator {
         }
         self.row_threads = threads;
         self.pipelines.clear();
+        // the buffers' bind groups were made for the old pipelines' layouts
+        self.bufs = None;
         self.pipeline(&SimLayout::for_balls(16))?;
         Ok(())
     }
@@ -453,6 +526,8 @@ impl GpuSimulator {
             pipelines: Vec::new(),
             threads,
             row_threads: ROW_THREADS,
+            tables_per_group: TABLES_PER_GROUP,
+            max_group_threads: opened.limits.max_compute_invocations_per_workgroup,
             exact: opened.spirv && exact_wanted()?,
             spirv: opened.spirv,
             timings: GpuTimings::default(),
@@ -476,8 +551,8 @@ impl GpuSimulator {
             return Ok(&self.pipelines[k].1);
         }
         let n = layout.gpu_max_balls;
-        let constants = event_loop_constants(layout, self.threads, self.row_threads);
-        let source = simulate_source(self.precision, n);
+        let (tables, source) = self.group_build(layout)?;
+        let constants = event_loop_constants(layout, self.threads, self.row_threads, tables);
         let device = &self.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -519,6 +594,7 @@ impl GpuSimulator {
         let pipeline = LoopPipelines {
             simulate,
             expand: wgsl_entry("expand_tables"),
+            tables: tables as u32,
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
             let text = e.to_string();
@@ -538,6 +614,27 @@ impl GpuSimulator {
         self.pipelines.push((*layout, pipeline));
         Ok(&self.pipelines.last().expect("pushed").1)
     }
+    /// The tables a workgroup of `layout`'s build holds, and its source: the simulator's
+    /// count, halved until the workgroup's threads and memory fit the device (one table
+    /// always: a bucket whose one table does not fit fails at the build, naming it).
+    fn group_build(&self, layout: &SimLayout) -> Result<(usize, String), Error> {
+        let threads = self.threads.max(layout.gpu_max_balls.next_power_of_two());
+        let mut tables = self.tables_per_group;
+        loop {
+            let source = simulate_source(self.precision, layout.gpu_max_balls, tables);
+            if tables == 1 {
+                return Ok((1, source));
+            }
+            let bytes = workgroup_bytes(&source, "simulate_tables").map_err(gpu_error)?;
+            if tables * threads <= self.max_group_threads as usize
+                && bytes <= u64::from(self.max_workgroup_bytes)
+            {
+                return Ok((tables, source));
+            }
+            tables /= 2;
+        }
+    }
+
     /// The adapter in use.
     pub fn adapter(&self) -> &AdapterSummary {
         &self.adapter
@@ -965,13 +1062,21 @@ impl GpuSimulator {
         // without events, each dispatch after the first runs only the tables still running
         // (the shader lists them, in the halves of `live` by turns)
         let compact = !record;
+        let group_tables = self
+            .pipelines
+            .iter()
+            .find(|(l, _)| *l == call.layout)
+            .ok_or_else(|| gpu_error("no pipeline for the chunk's layout"))?
+            .1
+            .tables;
         let mut n_active = n_tables as u32;
         let mut dispatch = 0u32;
         loop {
             let started = Instant::now();
             let tail = (n_active as usize) * TAIL_FRACTION < n_tables;
-            let groups_x = n_active.min(self.max_groups_per_dim);
-            let groups_y = n_active.div_ceil(groups_x);
+            let groups = n_active.div_ceil(group_tables);
+            let groups_x = groups.min(self.max_groups_per_dim);
+            let groups_y = groups.div_ceil(groups_x);
             #[cfg_attr(not(feature = "testing"), allow(unused_mut))]
             let mut row = groups_x;
             #[cfg(feature = "testing")]
