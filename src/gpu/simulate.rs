@@ -429,11 +429,7 @@ impl GpuSimulator {
             )));
         }
         self.tables_per_group = tables;
-        self.pipelines.clear();
-        // the buffers' bind groups were made for the old pipelines' layouts
-        self.bufs = None;
-        self.pipeline(&SimLayout::for_balls(16))?;
-        Ok(())
+        self.rebuild()
     }
 
     /// Tables a workgroup of the event loop holds for tables of up to `max_balls` balls
@@ -463,11 +459,7 @@ impl GpuSimulator {
             )));
         }
         self.row_threads = threads;
-        self.pipelines.clear();
-        // the buffers' bind groups were made for the old pipelines' layouts
-        self.bufs = None;
-        self.pipeline(&SimLayout::for_balls(16))?;
-        Ok(())
+        self.rebuild()
     }
 
     /// Builds the event loop as exact SPIR-V (`true`, the default on Vulkan) or from the
@@ -484,8 +476,14 @@ impl GpuSimulator {
             )));
         }
         self.exact = exact;
+        self.rebuild()
+    }
+
+    /// The pipelines built anew for the settings now (the 16-ball bucket at once, so that
+    /// a build that fails fails here), and the buffers made anew with them: their bind
+    /// groups were made for the old pipelines' layouts.
+    fn rebuild(&mut self) -> Result<(), Error> {
         self.pipelines.clear();
-        // the buffers' bind groups were made for the other build's layouts
         self.bufs = None;
         self.pipeline(&SimLayout::for_balls(16))?;
         Ok(())
