@@ -40,3 +40,6 @@ fn real_cos(x: real) -> real {
 fn real_acos(x: real) -> real {
     return acos(x);
 }
+fn real_atan2(y: real, x: real) -> real {
+    return atan2(y, x);
+}

@@ -1,4 +1,4 @@
-//! The arithmetic-only `exp`, `sin`, `cos`, `acos` (`src/model/fmath.rs`, twins of
+//! The arithmetic-only `exp`, `sin`, `cos`, `acos`, `atan`, `atan2`, `ln` and normal quantile (`src/model/fmath.rs`, twins of
 //! `shaders/model/fmath.wgsl`) against the standard library, over the ranges the physics
 //! uses and beyond, dense where they are hard: the error bound each one documents, in ulps,
 //! and the special values.
@@ -15,7 +15,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use common::rng::TestRng;
 
 use kisstime::model::fmath::{
-    HalfPiRem, TRIG_BOUND, acos_poly, cos_poly, exp_poly, pow2i, reduce_half_pi, sin_poly,
+    HalfPiRem, LOG_ULPS, TRIG_BOUND, acos_poly, atan_poly, atan2_poly, cos_poly, exp_poly,
+    log_poly, normal_quantile, pow2i, reduce_half_pi, sin_poly,
 };
 
 /// The documented bounds (ulps against the standard library).
@@ -411,6 +412,8 @@ fn the_std_constants_are_the_wgsl_literals() {
         ("INV_PIO2", std::f64::consts::FRAC_2_PI),
         ("PI_HI", PI),
         ("PIO2_HI", FRAC_PI_2),
+        ("SQRT2", std::f64::consts::SQRT_2),
+        ("ATAN_HI1", std::f64::consts::FRAC_PI_4),
     ] {
         let decl = format!("const {name}: real = ");
         let line = wgsl
@@ -419,5 +422,196 @@ fn the_std_constants_are_the_wgsl_literals() {
             .unwrap_or_else(|| panic!("{name} in the WGSL twin"));
         let literal: f64 = line.trim_end_matches(';').parse().unwrap();
         assert_eq!(literal.to_bits(), value.to_bits(), "{name}");
+    }
+}
+
+#[test]
+fn log_within_its_bound() {
+    let mut rng = TestRng::new(0x106);
+    let cases: [(&str, Vec<f64>); 5] = [
+        (
+            "[2^-53, 1/2] (the normal quantile's tails)",
+            (0..1_000_000)
+                .map(|_| 2f64.powf(rng.range(-53.0, -1.0)))
+                .collect(),
+        ),
+        (
+            "[1/2, 2]",
+            (0..300_000).map(|_| rng.range(0.5, 2.0)).collect(),
+        ),
+        (
+            "[2^-1022, 2^1023] by exponent",
+            (0..300_000)
+                .map(|_| 2f64.powf(rng.range(-1022.0, 1023.0)))
+                .collect(),
+        ),
+        (
+            "1 ± 2^-20 (ln near 0)",
+            (0..100_000)
+                .map(|_| 1.0 + rng.range(-1.0, 1.0) * 2f64.powi(-20))
+                .collect(),
+        ),
+        (
+            "√2·2^k ± 4 ulp (where the reduction flips)",
+            (-1020..1020)
+                .flat_map(|k| {
+                    let x = std::f64::consts::SQRT_2 * 2f64.powi(k);
+                    (-4..=4).map(move |d| step(x, d))
+                })
+                .collect(),
+        ),
+    ];
+    for (range, xs) in cases {
+        check("ln", range, &worst(xs, log_poly, f64::ln), LOG_ULPS);
+    }
+    // powers of two and the extremes exactly where the reference is exact
+    assert_eq!(log_poly(1.0).to_bits(), 0f64.to_bits());
+    for k in [-1022, -53, -1, 1, 2, 1023] {
+        let x = 2f64.powi(k);
+        assert!(ulps(log_poly(x), f64::ln(x)) <= LOG_ULPS, "ln 2^{k}");
+    }
+    assert!(ulps(log_poly(f64::MAX), f64::MAX.ln()) <= LOG_ULPS);
+    assert!(ulps(log_poly(f64::MIN_POSITIVE), f64::MIN_POSITIVE.ln()) <= LOG_ULPS);
+}
+
+#[test]
+fn the_normal_quantile_gives_known_quantiles() {
+    // Φ⁻¹(p) to 16+ digits (mpmath, 40 digits: √2·erfinv(2p − 1))
+    let known = [
+        (0.5, 0.0f64),
+        (0.975, 1.9599639845400538),
+        (0.999, 3.090232306167813),
+        (0.9, 1.2815515655446006),
+        (0.6, 0.2533471031357997),
+        (0.3, -0.5244005127080408),
+        (0.075, -1.439531470938456),
+        (0.02, -2.053748910631823),
+        (1e-5, -4.264890793922825),
+        (1e-10, -6.361340902404057),
+        (1e-20, -9.262340089798407),
+        (2f64.powi(-53), -8.209536151601387),
+    ];
+    for (p, want) in known {
+        let got = normal_quantile(p);
+        let tol = 1e-15 * want.abs().max(1.0);
+        assert!(
+            (got - want).abs() <= tol,
+            "Φ⁻¹({p:e}) = {got:e}, want {want:e} (off {:e})",
+            got - want
+        );
+    }
+    // antisymmetric where 1 − p is exact, and increasing over a fine grid across the
+    // three regions' boundaries
+    let mut rng = TestRng::new(0x9A55);
+    for _ in 0..100_000 {
+        let p = rng.range(0.5, 1.0);
+        let lo = 1.0 - p;
+        assert_eq!(
+            normal_quantile(lo).to_bits(),
+            (-normal_quantile(p)).to_bits(),
+            "p = {p:e}"
+        );
+    }
+    let mut last = f64::NEG_INFINITY;
+    for i in 1..200_000u32 {
+        let p = f64::from(i) / 200_000.0;
+        let x = normal_quantile(p);
+        assert!(x > last, "Φ⁻¹ increases at p = {p}: {x} after {last}");
+        last = x;
+    }
+    // across the regions' boundaries (|p − 1/2| = 0.425; r = 5 at p = e⁻²⁵) the
+    // quantile's step between neighbouring p is the true step within four ulps (AS 241's
+    // rational functions are accurate to a few ulps, and its regions meet within that)
+    for split in [0.075, 0.925, (-25f64).exp()] {
+        for d in -50..=50 {
+            let (p, q) = (step(split, d), step(split, d + 1));
+            let (x, y) = (normal_quantile(p), normal_quantile(q));
+            // the true step: (q − p)/φ(x)
+            let phi = (-0.5 * x * x).exp() / (2.0 * PI).sqrt();
+            let off = (y - x) - (q - p) / phi;
+            assert!(
+                off.abs() <= 4.0 * f64::EPSILON * x.abs(),
+                "at {p:e}: {x:e} then {y:e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn atan_and_atan2_within_their_bounds() {
+    let mut rng = TestRng::new(0xA7A2);
+    let cases: [(&str, Vec<f64>); 4] = [
+        (
+            "[-3, 3]",
+            (0..500_000).map(|_| rng.range(-3.0, 3.0)).collect(),
+        ),
+        (
+            "|x| in [1e-12, 1e22]",
+            (0..300_000).map(|_| rng.log_signed(-12.0, 22.0)).collect(),
+        ),
+        (
+            "the reduction's edges 7/16, 11/16, 19/16, 39/16 ± 4 ulp",
+            [
+                0.4375,
+                0.6875,
+                1.1875,
+                2.4375,
+                2f64.powi(-27),
+                2f64.powi(66),
+            ]
+            .iter()
+            .flat_map(|&x| (-4..=4).flat_map(move |d| [step(x, d), -step(x, d)]))
+            .collect(),
+        ),
+        (
+            "the squirt's quotients (|a| < 1)",
+            (0..200_000)
+                .map(|_| {
+                    let a: f64 = rng.range(-1.0, 1.0);
+                    2.5 * a * (1.0 - a * a).sqrt() / (1.0 + 0.1 + 2.5 * (1.0 - a * a))
+                })
+                .collect(),
+        ),
+    ];
+    for (range, xs) in cases {
+        check("atan", range, &worst(xs, atan_poly, f64::atan), 1);
+    }
+    for x in [0.0, -0.0, 1e-300, -1e-300] {
+        assert_eq!(atan_poly(x).to_bits(), x.to_bits(), "atan({x:e})");
+    }
+    assert_eq!(atan_poly(f64::INFINITY), FRAC_PI_2);
+    assert_eq!(atan_poly(f64::NEG_INFINITY), -FRAC_PI_2);
+    assert!(atan_poly(f64::NAN).is_nan());
+
+    // atan2 over the four quadrants: the quotient's rounding, then atan
+    let mut pairs = Vec::new();
+    for _ in 0..400_000 {
+        pairs.push((rng.log_signed(-6.0, 6.0), rng.log_signed(-6.0, 6.0)));
+    }
+    let (mut bad, mut most) = (None, 0);
+    for &(y, x) in &pairs {
+        let u = ulps(atan2_poly(y, x), y.atan2(x));
+        if u > most {
+            most = u;
+            bad = Some((y, x));
+        }
+    }
+    println!("atan2: {} points, max {most} ulp at {bad:?}", pairs.len());
+    assert!(most <= 2, "atan2 {most} ulp at {bad:?}");
+    for (y, x, want) in [
+        (0.0, 1.0, 0.0),
+        (-0.0, 1.0, 0.0),
+        (1.0, 0.0, FRAC_PI_2),
+        (-1.0, 0.0, -FRAC_PI_2),
+        (0.0, 0.0, 0.0),
+        (0.0, -1.0, PI),
+        (1.0, -1.0, 0.75 * PI),
+        (-1.0, -1.0, -0.75 * PI),
+    ] {
+        assert_eq!(
+            atan2_poly(y, x).to_bits(),
+            want.to_bits(),
+            "atan2({y}, {x})"
+        );
     }
 }

@@ -304,6 +304,41 @@ const TWINS: &[Twin] = &[
         wgsl_only: &[],
     },
     Twin {
+        rust: "src/resolve/stick_ball.rs",
+        wgsl: "shaders/resolve/stick_ball.wgsl",
+        rust_only: &[(
+            "CueStrike::validate",
+            "the host checks a strike before any reaches the device",
+        )],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/study/philox.rs",
+        wgsl: "shaders/study/philox.wgsl",
+        rust_only: &[],
+        wgsl_only: &[],
+    },
+    Twin {
+        rust: "src/study/noise.rs",
+        wgsl: "shaders/study/noise.wgsl",
+        rust_only: &[
+            (
+                "noisy_strike",
+                "a study file's strike: the device is handed the intended strike",
+            ),
+            (
+                "sample_physics",
+                "a sample's physics spread is drawn by the host",
+            ),
+            ("splitmix", "mix's finaliser, the host's"),
+            (
+                "mix",
+                "self-play's and the environments' seeds of games and episodes, the host's",
+            ),
+        ],
+        wgsl_only: &[],
+    },
+    Twin {
         rust: "src/simulate/cache.rs",
         wgsl: "shaders/simulate/cache.wgsl",
         rust_only: &[

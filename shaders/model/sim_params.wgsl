@@ -1,6 +1,5 @@
 // Parameters of the simulation, pooltool 0.6.0's (spec §1). WGSL twin of
-// src/model/sim_params.rs. The cue's parameters stay on the host (the strike is resolved
-// there).
+// src/model/sim_params.rs.
 
 // pooltool's constants.EPS, 100 machine epsilons (spec §0), is SIM_EPS of the precision
 // prelude (naga does not fold f64 constant expressions).
@@ -48,4 +47,13 @@ fn eta2(rp: ResolverParams) -> real {
 struct SimParams {
     ball: BallParams,
     resolver: ResolverParams,
+}
+
+// The cue's parameters for the strike (spec §5.6) (Rust: CueParams): its mass M and end
+// mass m_e in kg, instantaneous_point's english and squirt throttles.
+struct CueParams {
+    mass: real,
+    end_mass: real,
+    english_throttle: real,
+    squirt_throttle: real,
 }

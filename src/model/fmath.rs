@@ -1,4 +1,5 @@
-//! `exp`, `sin`, `cos` and `acos` from arithmetic alone, for the GPU's f64: the twin of
+//! `exp`, `sin`, `cos`, `acos`, `atan`, `atan2`, `ln` and the normal quantile from
+//! arithmetic alone, for the GPU's f64: the twin of
 //! `shaders/model/fmath.wgsl` (same functions, same order, same operations in the same
 //! order).
 //!
@@ -8,7 +9,10 @@
 //! instructions behind them are defined for 16- and 32-bit floats only). The resolutions
 //! need some: the Alciatore ball–ball friction `exp(−c·|slip|)` (`src/resolve/ball_ball.rs`)
 //! and the Stronge compliant cushion model's `sin`, `cos` of phases `ω·t` and `acos(x)`,
-//! `x` in [−1, 1] (`src/resolve/stronge.rs`). These functions use only what WGSL f64 has
+//! `x` in [−1, 1] (`src/resolve/stronge.rs`); a study's strike, drawn and resolved on the
+//! device, needs `ln` and the normal quantile for its noise (`src/study/noise.rs`) and
+//! `sin`, `cos` and the squirt's `atan2` for the cue (`src/resolve/stick_ball.rs`, which
+//! the CPU resolves with these functions too, so that the two agree bit for bit). These functions use only what WGSL f64 has
 //! safely: `+ − × ÷`, `sqrt`, `abs`, `select`, comparisons and int/float conversions.
 //!
 //! # The twins give the same bits
@@ -35,12 +39,17 @@
 //!   subnormal ulps);
 //! - [`sin_poly`], [`cos_poly`]: ≤ 1 ulp for |x| ≤ [`TRIG_BOUND`] (8·10⁵), near the zeros
 //!   (multiples of π/2) included;
-//! - [`acos_poly`]: ≤ 1 ulp on [−1, 1].
+//! - [`acos_poly`]: ≤ 1 ulp on [−1, 1];
+//! - [`log_poly`]: ≤ 1 ulp on [2⁻¹⁰²², 2¹⁰²³];
+//! - [`atan_poly`]: ≤ 1 ulp; [`atan2_poly`]: ≤ 2 ulp (the quotient's rounding first);
+//! - [`normal_quantile`]: within 1e-15 relative on (0, 1) (against quantiles computed to
+//!   40 digits).
 //!
 //! # Special values
 //! NaN in gives NaN out; [`exp_poly`] overflows to +∞ above ~709.78 and is 0 below −746;
 //! [`sin_poly`], [`cos_poly`] are NaN beyond ±[`TRIG_BOUND`] and for ±∞; [`acos_poly`] is
-//! NaN outside [−1, 1]. WGSL has no NaN or ∞ literals, so these come from arithmetic on the
+//! NaN outside [−1, 1]; [`log_poly`] and [`normal_quantile`] are specified only inside
+//! their domains ((0, ∞) normal, (0, 1)). WGSL has no NaN or ∞ literals, so these come from arithmetic on the
 //! argument (an overflowing product, the square root of a negative number); a GPU compiler
 //! that assumes there are no NaNs or infinities (Vulkan without the float-controls
 //! execution modes, which naga does not ask for) may not keep them. The physics never
@@ -55,6 +64,11 @@
 //!   π/2 (`e_rem_pio2.c`).
 //! - acos: fdlibm's rational approximation of asin, asin(x) = x + x·R(x²), R = P/Q on
 //!   x² ≤ 1/4, and its π/2, π (`e_asin.c`, `e_acos.c`).
+//! - ln: fdlibm's minimax polynomial Lg1…Lg7 of log(1 + f) = 2·atanh(s) (`e_log.c`).
+//! - atan, atan2: fdlibm's aT[0…10] and its atan(1/2), atan(1), atan(3/2) as
+//!   double-doubles, and π's tail (`s_atan.c`, `e_atan2.c`).
+//! - the normal quantile: the coefficients of M. J. Wichura's AS 241 (PPND16), Applied
+//!   Statistics 37(3), 477–484, 1988.
 //!
 //! The hexadecimal comments are the intended bits; the decimals are the shortest that give
 //! them (in WGSL also for the four that are `std::f64::consts` here).
@@ -172,6 +186,172 @@ const ASIN_Q2: f64 = 2.0209457602335057;
 const ASIN_Q3: f64 = -0.6882839716054533;
 /// 0x3FB3B8C5_B12E9282
 const ASIN_Q4: f64 = 0.07703815055590194;
+
+// log: fdlibm e_log.c, log(1 + f) = f − s·(f − R(s²)), s = f/(2 + f).
+/// 0x3FE55555_55555593
+const LOG_LG1: f64 = 0.6666666666666735;
+/// 0x3FD99999_9997FA04
+const LOG_LG2: f64 = 0.3999999999940942;
+/// 0x3FD24924_94229359
+const LOG_LG3: f64 = 0.2857142874366239;
+/// 0x3FCC71C5_1D8E78AF
+const LOG_LG4: f64 = 0.22222198432149784;
+/// 0x3FC74664_96CB03DE
+const LOG_LG5: f64 = 0.1818357216161805;
+/// 0x3FC39A09_D078C69F
+const LOG_LG6: f64 = 0.15313837699209373;
+/// 0x3FC2F112_DF3E5244
+const LOG_LG7: f64 = 0.14798198605116586;
+/// √2 rounded (0x3FF6A09E_667F3BCD): the reduced argument m lies in (√2/2, √2].
+const SQRT2: f64 = std::f64::consts::SQRT_2;
+
+// the normal quantile: Wichura's AS 241 (PPND16), rational approximations in three regions.
+/// |p − 1/2| ≤ PPND_SPLIT1: the central region.
+const PPND_SPLIT1: f64 = 0.425;
+/// 0.425²: r = PPND_CONST1 − q² there.
+const PPND_CONST1: f64 = 0.180625;
+/// The tails: r = √(−ln min(p, 1 − p)) ≤ PPND_SPLIT2 is the near tail, beyond it the far one.
+const PPND_SPLIT2: f64 = 5.0;
+/// The near tail's shift: its polynomials are in r − PPND_CONST2.
+const PPND_CONST2: f64 = 1.6;
+// central numerator
+/// 0x400B18D9_1E9EEF75
+const PPND_A0: f64 = 3.3871328727963665;
+/// 0x4060A488_8B1A436E
+const PPND_A1: f64 = 133.14166789178438;
+/// 0x409ECE5D_2213C0CC
+const PPND_A2: f64 = 1971.5909503065513;
+/// 0x40CAD1D8_CD4EE71D
+const PPND_A3: f64 = 13731.69376550946;
+/// 0x40E66C3E_869B752A
+const PPND_A4: f64 = 45921.95393154987;
+/// 0x40F06C1C_55B78F20
+const PPND_A5: f64 = 67265.7709270087;
+/// 0x40E052D2_6B2E45E4
+const PPND_A6: f64 = 33430.57558358813;
+/// 0x40A39A29_6F7D925E
+const PPND_A7: f64 = 2509.0809287301227;
+// central denominator (B0 = 1)
+/// 0x4045281B_386E1AB5
+const PPND_B1: f64 = 42.31333070160091;
+/// 0x4085797E_FDC8B3F7
+const PPND_B2: f64 = 687.1870074920579;
+/// 0x40B51232_2E75C89F
+const PPND_B3: f64 = 5394.196021424751;
+/// 0x40D4B772_D5D65266
+const PPND_B4: f64 = 21213.794301586597;
+/// 0x40E3317C_AA64F4BE
+const PPND_B5: f64 = 39307.89580009271;
+/// 0x40DC0E45_7CB1AE76
+const PPND_B6: f64 = 28729.085735721943;
+/// 0x40B46A7E_CA984B69
+const PPND_B7: f64 = 5226.495278852854;
+// near tail numerator
+/// 0x3FF6C665_FDE9526A
+const PPND_C0: f64 = 1.4234371107496835;
+/// 0x40128577_48CAB19B
+const PPND_C1: f64 = 4.630337846156546;
+/// 0x401713F7_1462256A
+const PPND_C2: f64 = 5.769497221460691;
+/// 0x400D2ECB_1A3D02C4
+const PPND_C3: f64 = 3.6478483247632045;
+/// 0x3FF453CC_085375B2
+const PPND_C4: f64 = 1.2704582524523684;
+/// 0x3FCEF2AB_B9B85C37
+const PPND_C5: f64 = 0.2417807251774506;
+/// 0x3F9744EB_6C45EC67
+const PPND_C6: f64 = 0.022723844989269184;
+/// 0x3F49615A_C0B7ACE9
+const PPND_C7: f64 = 0.0007745450142783414;
+// near tail denominator (D0 = 1)
+/// 0x40006CEF_BB46A449
+const PPND_D1: f64 = 2.053191626637759;
+/// 0x3FFAD278_E6526633
+const PPND_D2: f64 = 1.6763848301838038;
+/// 0x3FE61292_F23385C9
+const PPND_D3: f64 = 0.6897673349851;
+/// 0x3FC2F512_3394F040
+const PPND_D4: f64 = 0.14810397642748008;
+/// 0x3F8F207A_7EAB17BF
+const PPND_D5: f64 = 0.015198666563616457;
+/// 0x3F41F18C_BFDF2728
+const PPND_D6: f64 = 0.0005475938084995345;
+/// 0x3E120D3F_686439E4
+const PPND_D7: f64 = 1.0507500716444169e-09;
+// far tail numerator
+/// 0x401AA1B1_C13EE526
+const PPND_E0: f64 = 6.657904643501103;
+/// 0x4015DAEA_6E875003
+const PPND_E1: f64 = 5.463784911164114;
+/// 0x3FFC8EA6_461FA445
+const PPND_E2: f64 = 1.7848265399172913;
+/// 0x3FD2FAD9_315255CF
+const PPND_E3: f64 = 0.29656057182850487;
+/// 0x3F9B2B41_193B4EE7
+const PPND_E4: f64 = 0.026532189526576124;
+/// 0x3F545C19_08425345
+const PPND_E5: f64 = 0.0012426609473880784;
+/// 0x3EFC6EC6_CC59E02A
+const PPND_E6: f64 = 2.7115555687434876e-05;
+/// 0x3E8AFB74_D693BF93
+const PPND_E7: f64 = 2.0103343992922881e-07;
+// far tail denominator (F0 = 1)
+/// 0x3FE331D3_4FC7D77F
+const PPND_F1: f64 = 0.599832206555888;
+/// 0x3FC186EB_183443FB
+const PPND_F2: f64 = 0.1369298809227358;
+/// 0x3F8E76F9_3215462A
+const PPND_F3: f64 = 0.014875361290850615;
+/// 0x3F49C8BC_979DC5D7
+const PPND_F4: f64 = 0.0007868691311456133;
+/// 0x3EF35C2C_496374BF
+const PPND_F5: f64 = 1.8463183175100548e-05;
+/// 0x3E831446_F740B9E0
+const PPND_F6: f64 = 1.421511758316446e-07;
+/// 0x3CE269BF_F1F8C190
+const PPND_F7: f64 = 2.0442631033899397e-15;
+
+// atan: fdlibm s_atan.c, atan(t) ≈ t − t·(s1 + s2) on |t| < 7/16 after the reduction.
+/// 0x3FD55555_5555550D
+const ATAN_T0: f64 = 0.3333333333333293;
+/// 0xBFC99999_9998EBC4
+const ATAN_T1: f64 = -0.19999999999876483;
+/// 0x3FC24924_920083FF
+const ATAN_T2: f64 = 0.14285714272503466;
+/// 0xBFBC71C6_FE231671
+const ATAN_T3: f64 = -0.11111110405462356;
+/// 0x3FB745CD_C54C206E
+const ATAN_T4: f64 = 0.09090887133436507;
+/// 0xBFB3B0F2_AF749A6D
+const ATAN_T5: f64 = -0.0769187620504483;
+/// 0x3FB10D66_A0D03D51
+const ATAN_T6: f64 = 0.06661073137387531;
+/// 0xBFADDE2D_52DEFD9A
+const ATAN_T7: f64 = -0.058335701337905735;
+/// 0x3FA97B4B_24760DEB
+const ATAN_T8: f64 = 0.049768779946159324;
+/// 0xBFA2B444_2C6A6C2F
+const ATAN_T9: f64 = -0.036531572744216916;
+/// 0x3F90AD3A_E322DA11
+const ATAN_T10: f64 = 0.016285820115365782;
+/// atan(1/2) rounded (0x3FDDAC67_0561BB4F).
+const ATAN_HI0: f64 = 0.4636476090008061;
+/// atan(1) rounded (0x3FE921FB_54442D18).
+const ATAN_HI1: f64 = std::f64::consts::FRAC_PI_4;
+/// atan(3/2) rounded (0x3FEF730B_D281F69B).
+const ATAN_HI2: f64 = 0.982793723247329;
+/// atan(1/2) − ATAN_HI0 (0x3C7A2B7F_222F65E2).
+const ATAN_LO0: f64 = 2.2698777452961687e-17;
+/// atan(1) − ATAN_HI1 (0x3C81A626_33145C07).
+const ATAN_LO1: f64 = 3.061616997868383e-17;
+/// atan(3/2) − ATAN_HI2 (0x3C700788_7AF0CBBD).
+const ATAN_LO2: f64 = 1.3903311031230998e-17;
+/// Below this |x|, atan x is x to the last bit (2⁻²⁷).
+const ATAN_TINY: f64 = 7.450580596923828e-9;
+/// From this |x| on, atan x is ±π/2 rounded (2⁶⁶).
+const ATAN_HUGE: f64 = 7.378697629483821e19;
+/// π − PI_HI (0x3CA1A626_33145C07): atan2's tail of π.
+const PI_LO: f64 = 1.2246467991473532e-16;
 
 /// `a·b + c` rounded twice, the product then the sum, never fused (WGSL: `mad`, the same
 /// function). Where fdlibm and the earlier twins used a fused multiply-add, these use
@@ -406,5 +586,217 @@ pub fn acos_poly(x: f64) -> f64 {
         right
     } else {
         left
+    }
+}
+
+/// ln x.
+///
+/// Contract: for finite x ≥ 2⁻¹⁰²² (positive and normal), within [`LOG_ULPS`] ulp of the
+/// correctly rounded value (tests/fmath.rs); ln 1 = +0. Zero, subnormal, negative,
+/// infinite and NaN arguments are outside the contract (what they give is unspecified).
+///
+/// Method (fdlibm e_log.c): x = 2ᵏ·m with m in (√2/2, √2] — k and m found without the
+/// bits of x (WGSL cannot take an f64 apart), by ten steps that divide or multiply by
+/// 2^512, 2^256, …, 2, all exact — then with f = m − 1 (exact) and s = f/(2 + f),
+/// ln m = f − s·(f − R(s²)), R fdlibm's minimax polynomial (|2s·atanh-series error| <
+/// 2⁻⁵⁸·⁴⁵), and ln x = k·LN2_HI − ((s·(f − R) − k·LN2_LO) − f) with the ln 2 split of
+/// [`exp_poly`] (k·LN2_HI exact). fdlibm also has a second arrangement for f near √2 − 1,
+/// worth a fraction of an ulp there; it is left out, one formula on both twins.
+pub fn log_poly(x: f64) -> f64 {
+    let mut m = x;
+    let mut k = 0i32;
+    let mut p = pow2i(512);
+    let mut e = 512i32;
+    for _ in 0..10 {
+        // before this step 2^(1 − 2e) ≤ m < 2^(2e); after it 2^(1 − e) ≤ m < 2^e
+        if m >= p {
+            m /= p;
+            k += e;
+        }
+        if m < 2.0 / p {
+            m *= p;
+            k -= e;
+        }
+        p = p.sqrt();
+        e >>= 1;
+    }
+    let big = m > SQRT2;
+    let mr = if big { m * 0.5 } else { m };
+    let kr = if big { k + 1 } else { k };
+    let f = mr - 1.0;
+    let s = f / (2.0 + f);
+    let z = s * s;
+    let w = z * z;
+    let t1 = w * mad(w, mad(w, LOG_LG6, LOG_LG4), LOG_LG2);
+    let t2 = z * mad(w, mad(w, mad(w, LOG_LG7, LOG_LG5), LOG_LG3), LOG_LG1);
+    let r = t2 + t1;
+    let dk = kr as f64;
+    mad(dk, LN2_HI, -(mad(s, f - r, -(dk * LN2_LO)) - f))
+}
+
+/// The documented bound of [`log_poly`], in ulps.
+pub const LOG_ULPS: u64 = 1;
+
+/// The standard normal quantile Φ⁻¹(p): the x with P(Z ≤ x) = p.
+///
+/// Contract: for p in (0, 1), within 1e-15 relative of Φ⁻¹(p) (AS 241's approximations
+/// are good to about 1e-16, the rounding of their evaluation adds a few ulps;
+/// tests/fmath.rs checks known quantiles to 1e-15); antisymmetric,
+/// Φ⁻¹(1 − p) = −Φ⁻¹(p) where 1 − p is exact; Φ⁻¹(1/2) = 0. p = 0, 1 and arguments
+/// outside (0, 1) are outside the contract.
+///
+/// Method: M. J. Wichura, "Algorithm AS 241: The percentage points of the normal
+/// distribution", Applied Statistics 37(3), 1988 (its PPND16): with q = p − 1/2, for
+/// |q| ≤ 0.425 a rational function of r = 0.425² − q² (degree 7 over 7) times q; beyond it,
+/// with r = √(−ln min(p, 1 − p)), a rational function of r − 1.6 for r ≤ 5 and of r − 5
+/// beyond, signed as q. Polynomials in Horner form with [`mad`]; ln by [`log_poly`]. The
+/// central region returns early (85 % of uniform p: no logarithm); of the tails both are
+/// computed and one is selected, as on the GPU.
+pub fn normal_quantile(p: f64) -> f64 {
+    let q = p - 0.5;
+    let r = PPND_CONST1 - q * q;
+    let a = mad(r, PPND_A7, PPND_A6);
+    let a = mad(r, a, PPND_A5);
+    let a = mad(r, a, PPND_A4);
+    let a = mad(r, a, PPND_A3);
+    let a = mad(r, a, PPND_A2);
+    let a = mad(r, a, PPND_A1);
+    let a = mad(r, a, PPND_A0);
+    let b = mad(r, PPND_B7, PPND_B6);
+    let b = mad(r, b, PPND_B5);
+    let b = mad(r, b, PPND_B4);
+    let b = mad(r, b, PPND_B3);
+    let b = mad(r, b, PPND_B2);
+    let b = mad(r, b, PPND_B1);
+    let b = mad(r, b, 1.0);
+    if q.abs() <= PPND_SPLIT1 {
+        return q * (a / b);
+    }
+    // the smaller tail, exact: p itself below 1/2, 1 − p (Sterbenz) above
+    let small = if q < 0.0 { p } else { 1.0 - p };
+    let t = (-log_poly(small)).sqrt();
+    let u = t - PPND_CONST2;
+    let c = mad(u, PPND_C7, PPND_C6);
+    let c = mad(u, c, PPND_C5);
+    let c = mad(u, c, PPND_C4);
+    let c = mad(u, c, PPND_C3);
+    let c = mad(u, c, PPND_C2);
+    let c = mad(u, c, PPND_C1);
+    let c = mad(u, c, PPND_C0);
+    let d = mad(u, PPND_D7, PPND_D6);
+    let d = mad(u, d, PPND_D5);
+    let d = mad(u, d, PPND_D4);
+    let d = mad(u, d, PPND_D3);
+    let d = mad(u, d, PPND_D2);
+    let d = mad(u, d, PPND_D1);
+    let d = mad(u, d, 1.0);
+    let v = t - PPND_SPLIT2;
+    let e = mad(v, PPND_E7, PPND_E6);
+    let e = mad(v, e, PPND_E5);
+    let e = mad(v, e, PPND_E4);
+    let e = mad(v, e, PPND_E3);
+    let e = mad(v, e, PPND_E2);
+    let e = mad(v, e, PPND_E1);
+    let e = mad(v, e, PPND_E0);
+    let f = mad(v, PPND_F7, PPND_F6);
+    let f = mad(v, f, PPND_F5);
+    let f = mad(v, f, PPND_F4);
+    let f = mad(v, f, PPND_F3);
+    let f = mad(v, f, PPND_F2);
+    let f = mad(v, f, PPND_F1);
+    let f = mad(v, f, 1.0);
+    let size = if t <= PPND_SPLIT2 { c / d } else { e / f };
+    if q < 0.0 { -size } else { size }
+}
+
+/// atan x, in [−π/2, π/2].
+///
+/// Contract: ≤ 1 ulp from the correctly rounded value for finite x (tests/fmath.rs);
+/// atan(±0) = ±0, atan x = x for |x| < 2⁻²⁷, ±π/2 rounded for |x| ≥ 2⁶⁶; NaN for NaN.
+///
+/// Method (fdlibm s_atan.c): with t = |x|, below 7/16 atan t = t − t·(s1 + s2) (fdlibm's
+/// odd minimax polynomial, split in even and odd powers of t⁴); above, t is reduced by
+/// atan t = atan c + atan((t − c)/(1 + c·t)) with c = 1/2, 1, 3/2 or ∞ by where t lies
+/// (7/16, 11/16, 19/16, 39/16), atan c as a double-double; the sign of x last.
+pub fn atan_poly(x: f64) -> f64 {
+    let ax = x.abs();
+    let id = if ax < 0.4375 {
+        -1
+    } else if ax < 0.6875 {
+        0
+    } else if ax < 1.1875 {
+        1
+    } else if ax < 2.4375 {
+        2
+    } else {
+        3
+    };
+    let t = match id {
+        -1 => ax,
+        0 => mad(2.0, ax, -1.0) / (2.0 + ax),
+        1 => (ax - 1.0) / (ax + 1.0),
+        2 => (ax - 1.5) / mad(1.5, ax, 1.0),
+        _ => -1.0 / ax,
+    };
+    let (hi, lo) = match id {
+        0 => (ATAN_HI0, ATAN_LO0),
+        1 => (ATAN_HI1, ATAN_LO1),
+        2 => (ATAN_HI2, ATAN_LO2),
+        _ => (PIO2_HI, PIO2_LO),
+    };
+    let z = t * t;
+    let w = z * z;
+    let s1 = z * mad(
+        w,
+        mad(
+            w,
+            mad(w, mad(w, mad(w, ATAN_T10, ATAN_T8), ATAN_T6), ATAN_T4),
+            ATAN_T2,
+        ),
+        ATAN_T0,
+    );
+    let s2 = w * mad(
+        w,
+        mad(w, mad(w, mad(w, ATAN_T9, ATAN_T7), ATAN_T5), ATAN_T3),
+        ATAN_T1,
+    );
+    let small = mad(-t, s1 + s2, t);
+    let reduced = hi - (mad(t, s1 + s2, -lo) - t);
+    let a = if id < 0 { small } else { reduced };
+    let a = if ax >= ATAN_HUGE {
+        PIO2_HI + PIO2_LO
+    } else {
+        a
+    };
+    let signed = if x < 0.0 { -a } else { a };
+    if ax < ATAN_TINY { x } else { signed }
+}
+
+/// atan2(y, x): the angle of the point (x, y) from the +x axis, in [−π, π].
+///
+/// Contract: for finite arguments whose quotient y/x neither overflows nor underflows,
+/// ≤ 2 ulp from the correctly rounded value (tests/fmath.rs: the rounding of y/x, then
+/// [`atan_poly`]); atan2(y, 0) = ±π/2 for y ≠ 0; atan2(±0, x > 0) = +0, atan2(±0, 0) = +0
+/// and atan2(±0, x < 0) = π (glibc keeps the sign of −0 there: the physics never asks);
+/// NaN for NaN.
+///
+/// Method (fdlibm e_atan2.c): z = atan|y/x|, then by the signs: z, −z, π − (z − π_lo),
+/// (z − π_lo) − π, with π as the double-double PI_HI + PI_LO.
+pub fn atan2_poly(y: f64, x: f64) -> f64 {
+    let z = atan_poly((y / x).abs());
+    let right = if y < 0.0 { -z } else { z };
+    let left = if y < 0.0 {
+        (z - PI_LO) - PI_HI
+    } else {
+        PI_HI - (z - PI_LO)
+    };
+    let up = if y < 0.0 { -PIO2_HI } else { PIO2_HI };
+    let on_axis = if y == 0.0 { 0.0 } else { up };
+    if x > 0.0 {
+        right
+    } else if x < 0.0 {
+        left
+    } else {
+        on_axis
     }
 }

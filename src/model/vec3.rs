@@ -7,6 +7,8 @@
 
 use std::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
+use super::fmath::{cos_poly, sin_poly};
+
 /// A 3-vector of f64.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Vec3 {
@@ -66,10 +68,11 @@ impl Vec3 {
         Vec3::new(self.x, self.y, 0.0)
     }
 
-    /// Rotated counter-clockwise about z by `angle` radians (`Rz(angle)·v`, spec §0).
+    /// Rotated counter-clockwise about z by `angle` radians (`Rz(angle)·v`, spec §0), the
+    /// cosine and sine by [`cos_poly`] and [`sin_poly`] (the shader's, bit for bit; NaN
+    /// beyond |angle| = [`crate::model::fmath::TRIG_BOUND`]).
     pub fn rotate_z(self, angle: f64) -> Vec3 {
-        let (s, c) = angle.sin_cos();
-        Vec3::new(c * self.x - s * self.y, s * self.x + c * self.y, self.z)
+        self.rotate_z_cs(cos_poly(angle), sin_poly(angle))
     }
 
     /// Rotated counter-clockwise about z by the angle whose cosine and sine are `c`, `s`.

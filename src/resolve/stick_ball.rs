@@ -7,13 +7,25 @@
 //! `v = 2V0/(1 + m/M + T/(I/m))` horizontally along φ (the vertical part `v sinθ` is
 //! dropped), spin from the contact offset, and the velocity (not the spin) turned by the
 //! squirt angle.
+//!
+//! The twin of `shaders/resolve/stick_ball.wgsl` (same functions, same order): the GPU
+//! strikes a study's samples itself. The sines, cosines and the arctangent are
+//! [`crate::model::fmath`]'s (within an ulp of the standard library's, and the shader's bit
+//! for bit); the degrees become radians as `f64::to_radians` does (one product by π/180).
 
 use crate::error::SimError;
 use crate::model::MotionState;
 use crate::model::ball_state::BallState;
+use crate::model::fmath::{atan2_poly, cos_poly, sin_poly};
 use crate::model::sim_params::{BallParams, CueParams};
 use crate::model::vec3::Vec3;
 use std::f64::consts::FRAC_PI_2;
+
+/// π/180 rounded, `f64::to_radians`'s factor (0x3F91DF46_A2529D39).
+const DEG_TO_RAD: f64 = std::f64::consts::PI / 180.0;
+/// The largest |φ| in degrees a strike may have: its angle in radians stays within the
+/// arithmetic sine's and cosine's range ([`crate::model::fmath::TRIG_BOUND`], 8·10⁵).
+pub const MAX_PHI_DEGREES: f64 = 1.0e7;
 
 /// A cue strike: pooltool's `Cue.set_state(V0, phi, theta, a, b)` arguments.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,8 +43,8 @@ pub struct CueStrike {
 }
 
 impl CueStrike {
-    /// Checks the strike: every number finite, V0 ≥ 0, a² + b² ≤ 1 (pooltool gives NaN
-    /// beyond, Q11).
+    /// Checks the strike: every number finite, V0 ≥ 0, |φ| ≤ [`MAX_PHI_DEGREES`],
+    /// a² + b² ≤ 1 (pooltool gives NaN beyond, Q11).
     pub fn validate(&self) -> Result<(), SimError> {
         let s = self;
         if ![s.v0, s.phi, s.theta, s.a, s.b]
@@ -43,6 +55,12 @@ impl CueStrike {
         }
         if s.v0 < 0.0 {
             return Err(SimError::Strike(format!("V0 = {} < 0", s.v0)));
+        }
+        if s.phi.abs() > MAX_PHI_DEGREES {
+            return Err(SimError::Strike(format!(
+                "|phi| = {} degrees > {MAX_PHI_DEGREES:e} (give the angle modulo 360)",
+                s.phi.abs()
+            )));
         }
         if s.a * s.a + s.b * s.b > 1.0 {
             return Err(SimError::Strike(format!(
@@ -59,13 +77,13 @@ pub fn squirt_angle(a: f64, p: &BallParams, cue: &CueParams) -> f64 {
     let ratio = p.m / cue.end_mass;
     let num = 2.5 * a * (1.0 - a * a).sqrt();
     let den = 1.0 + ratio + 2.5 * (1.0 - a * a);
-    -cue.squirt_throttle * num.atan2(den)
+    -cue.squirt_throttle * atan2_poly(num, den)
 }
 
 /// Speed and ball-frame spin of the strike (§5.6 steps 1–3): `(v, ω_B)`.
 fn strike_ball_frame(s: &CueStrike, p: &BallParams, cue: &CueParams) -> (f64, Vec3) {
-    let theta = s.theta.to_radians();
-    let (st, ct) = theta.sin_cos();
+    let theta = s.theta * DEG_TO_RAD;
+    let (st, ct) = (sin_poly(theta), cos_poly(theta));
     // clamped: for a tip on the ball's rim (a² + b² = 1, which validation accepts) the
     // difference can round below 0, and its root was NaN (pooltool's too): a NaN strike
     // and NaN event times (the `event_loop` fuzz target's finding 15, FUZZING.md)
@@ -73,7 +91,8 @@ fn strike_ball_frame(s: &CueStrike, p: &BallParams, cue: &CueParams) -> (f64, Ve
     let (a_b, c_b, b_b) = (s.a, ct * c_cue - st * s.b, st * c_cue + ct * s.b);
     let (qa, qc, qb) = (p.r * a_b, p.r * c_b, p.r * b_b);
     let i_m = 0.4 * p.r * p.r;
-    let t = qa * qa + (qb * ct).powi(2) + (qc * st).powi(2) - 2.0 * qb * qc * ct * st;
+    let (qbc, qcs) = (qb * ct, qc * st);
+    let t = qa * qa + qbc * qbc + qcs * qcs - 2.0 * qb * qc * ct * st;
     let v = 2.0 * s.v0 / (1.0 + p.m / cue.mass + t / i_m);
     let w = (v / i_m) * Vec3::new(-qc * st + qb * ct, qa * st, -qa * ct);
     (v, w)
@@ -82,9 +101,9 @@ fn strike_ball_frame(s: &CueStrike, p: &BallParams, cue: &CueParams) -> (f64, Ve
 /// The cue ball right after the strike (§5.6): position kept, labelled sliding.
 pub fn cue_strike(ball: &BallState, s: &CueStrike, p: &BallParams, cue: &CueParams) -> BallState {
     let (v, w_b) = strike_ball_frame(s, p, cue);
-    let theta = s.theta.to_radians();
-    let rot = s.phi.to_radians() + FRAC_PI_2;
-    let v_b = Vec3::new(0.0, -v * theta.cos(), 0.0);
+    let theta = s.theta * DEG_TO_RAD;
+    let rot = s.phi * DEG_TO_RAD + FRAC_PI_2;
+    let v_b = Vec3::new(0.0, -v * cos_poly(theta), 0.0);
     let v_t = v_b.rotate_z(rot).rotate_z(squirt_angle(s.a, p, cue));
     let w_t = cue.english_throttle * w_b.rotate_z(rot);
     BallState {

@@ -5,7 +5,7 @@
 //! - [`config`]: the study file (TOML, the simulator's frame) and the built-in study;
 //! - [`reference`](mod@reference): the reference format of `data/studies` (pooltool's scenario JSON,
 //!   its outcome columns);
-//! - [`noise`]: each sample's noisy strike;
+//! - [`noise`]: each sample's noisy strike, from [`philox`], the counter-based generator;
 //! - [`mod@run`]: the driver over samples, through the one whole-shot entry point
 //!   ([`crate::engine::ShotEngine::simulate_with`], either backend) watching the cue ball,
 //!   to rest or to the first contact, and [`sample_of`], which turns a sample's watch into
@@ -18,6 +18,7 @@
 
 pub mod config;
 pub mod noise;
+pub mod philox;
 pub mod reference;
 pub mod run;
 pub mod stats;
@@ -26,7 +27,7 @@ pub use config::{
     BUILTIN_NAME, BUILTIN_TOML, NOISE_PRESETS, Noise, PhysicsSpread, Spot, StudyConfig, StudyGame,
     Target,
 };
-pub use noise::{clamped, mix, noisy_strike, noisy_strike_of, sample_physics};
+pub use noise::{clamped, cue_normals, mix, noisy_strike, noisy_strike_of, sample_physics};
 pub use reference::{REFERENCE_COLUMNS, write_reference_csv};
 pub use run::{
     CHUNK, FirstContact, Pot, RunOptions, Sample, Samples, Until, run, run_samples, run_strikes,

@@ -1,20 +1,55 @@
-//! The cue noise: sample `i`'s strike, drawn from a PCG generator seeded by `(seed, i)`
-//! only, so results do not depend on the thread count, the chunking or how many samples
-//! are drawn (the first `n` samples of a larger study are the study of `n`).
-
-use rand::SeedableRng;
-use rand_distr::{Distribution, StandardNormal};
-use rand_pcg::Pcg64Mcg;
-
-use rand::RngExt;
+//! The cue noise: sample `i`'s strike, drawn from the counter-based generator Philox
+//! ([`super::philox`]) keyed by the seed at counter `i`, so results do not depend on the
+//! thread count, the chunking, the backend or how many samples are drawn (the first `n`
+//! samples of a larger study are the study of `n`). The twin of
+//! `shaders/study/noise.wgsl`: the GPU draws a sample's strike from the same bits.
+//!
+//! # The draws
+//! Philox's counter is `(i mod 2³², i div 2³², block, stream)` and its key the seed's low
+//! and high words. The cue noise is stream 0: blocks 0, 1 and 2 give six uniforms
+//! ([`open_unit`] of words 0–1 and 2–3), the first five turned into standard normals by
+//! the normal quantile ([`normal_quantile`], exact arithmetic on both twins) in the order
+//! `v0, phi, theta, a, b`. A sample's physics spread is stream 1 (blocks 0–4, ten
+//! uniforms, one per parameter), so a study's strikes are the same with or without one.
 
 use super::config::{Noise, PhysicsSpread, StudyConfig, ball_field};
+use super::philox::{open_unit, philox4x32};
+use crate::model::fmath::normal_quantile;
 use crate::model::sim_params::SimParams;
 use crate::resolve::stick_ball::CueStrike;
 
-/// Told apart from the cue noise's: sample `i`'s physics comes from a generator of its own,
-/// so that a study's strikes are the same with or without a physics spread.
-const PHYSICS_STREAM: u64 = 0x7068_7973_6963_7321;
+/// Philox's stream word for the cue noise.
+const CUE_STREAM: u32 = 0;
+/// Philox's stream word for a sample's physics: draws of their own, so that a study's
+/// strikes are the same with or without a physics spread.
+const PHYSICS_STREAM: u32 = 1;
+/// The most rescalings [`clamped`] makes to bring a tip pushed off the ball back inside
+/// (one or two are ever needed: the division leaves a² + b² a few ulps from 1).
+const RIM_STEPS: u32 = 8;
+/// 1 − 2⁻⁵²: [`clamped`]'s rescaling factor.
+const RIM_SHRINK: f64 = 1.0 - f64::EPSILON;
+
+/// Philox's four words for sample `i`'s `block` on `stream` under `seed`.
+fn draw_block(seed: u64, i: u64, stream: u32, block: u32) -> [u32; 4] {
+    philox4x32(
+        [i as u32, (i >> 32) as u32, block, stream],
+        [seed as u32, (seed >> 32) as u32],
+    )
+}
+
+/// Sample `i`'s five standard normals of the cue noise, in the order `v0, phi, theta, a, b`.
+pub fn cue_normals(seed: u64, i: u64) -> [f64; 5] {
+    let w0 = draw_block(seed, i, CUE_STREAM, 0);
+    let w1 = draw_block(seed, i, CUE_STREAM, 1);
+    let w2 = draw_block(seed, i, CUE_STREAM, 2);
+    [
+        normal_quantile(open_unit(w0[0], w0[1])),
+        normal_quantile(open_unit(w0[2], w0[3])),
+        normal_quantile(open_unit(w1[0], w1[1])),
+        normal_quantile(open_unit(w1[2], w1[3])),
+        normal_quantile(open_unit(w2[0], w2[1])),
+    ]
+}
 
 /// The noisy strike of sample `i`: the intended strike plus `sigma` times five standard
 /// normals (drawn in the order `v0, phi, theta, a, b`), with the offsets' σ (metres)
@@ -27,11 +62,7 @@ pub fn noisy_strike(config: &StudyConfig, sigma: &Noise, seed: u64, i: u64) -> C
 /// intended strike draws the same five normals for the same `(seed, i)`, so that strikes
 /// compared sample by sample meet the same noise (common random numbers: the planner's).
 pub fn noisy_strike_of(s: CueStrike, r: f64, sigma: &Noise, seed: u64, i: u64) -> CueStrike {
-    let mut rng = Pcg64Mcg::seed_from_u64(mix(seed, i));
-    let mut z = [0.0f64; 5];
-    for v in &mut z {
-        *v = StandardNormal.sample(&mut rng);
-    }
+    let z = cue_normals(seed, i);
     clamped(CueStrike {
         v0: s.v0 + sigma.v0 * z[0],
         phi: s.phi + sigma.phi * z[1],
@@ -42,17 +73,19 @@ pub fn noisy_strike_of(s: CueStrike, r: f64, sigma: &Noise, seed: u64, i: u64) -
 }
 
 /// Sample `i`'s physics: `base` with each parameter that `spread` varies scaled by
-/// `1 + lo + (hi − lo)·u`, `u` uniform in [0, 1) from a PCG generator seeded by
-/// `(seed, i)` on a stream of its own (ten draws, one per parameter in `BALL_KEYS` order,
-/// whichever vary). `base` itself where nothing varies.
+/// `1 + lo + (hi − lo)·u`, `u` uniform in (0, 1) from Philox keyed by `seed` at counter `i`
+/// on a stream of its own (ten draws, one per parameter in `BALL_KEYS` order, whichever
+/// vary: parameter `k` is block `k / 2`'s words `2(k mod 2)` and `2(k mod 2) + 1`).
+/// `base` itself where nothing varies.
 pub fn sample_physics(base: &SimParams, spread: &PhysicsSpread, seed: u64, i: u64) -> SimParams {
     if spread.is_empty() {
         return *base;
     }
-    let mut rng = Pcg64Mcg::seed_from_u64(mix(seed ^ PHYSICS_STREAM, i));
     let mut p = *base;
     for (k, range) in spread.ranges.iter().enumerate() {
-        let u: f64 = rng.random();
+        let w = draw_block(seed, i, PHYSICS_STREAM, (k / 2) as u32);
+        let j = 2 * (k % 2);
+        let u = open_unit(w[j], w[j + 1]);
         if let Some((lo, hi)) = range {
             *ball_field(&mut p, k) *= 1.0 + lo + (hi - lo) * u;
         }
@@ -61,19 +94,23 @@ pub fn sample_physics(base: &SimParams, spread: &PhysicsSpread, seed: u64, i: u6
 }
 
 /// The strike with V0 ≥ 0, θ in [0°, 90°] and the tip on the ball (a² + b² ≤ 1, scaled
-/// back onto the rim when noise pushed it off).
+/// back onto the rim when noise pushed it off). For finite strikes.
 pub fn clamped(s: CueStrike) -> CueStrike {
     let mut s = s;
-    s.v0 = s.v0.max(0.0);
+    s.v0 = if s.v0 < 0.0 { 0.0 } else { s.v0 };
+    // below 0 or above 90 (the shader's two selects; a −0 stays −0 on both)
     s.theta = s.theta.clamp(0.0, 90.0);
     let rho = (s.a * s.a + s.b * s.b).sqrt();
     if rho > 1.0 {
         s.a /= rho;
         s.b /= rho;
-        // the division can leave a² + b² one ulp above 1
-        while s.a * s.a + s.b * s.b > 1.0 {
-            s.a *= 1.0 - f64::EPSILON;
-            s.b *= 1.0 - f64::EPSILON;
+        // the division can leave a² + b² an ulp or two above 1
+        for _ in 0..RIM_STEPS {
+            if s.a * s.a + s.b * s.b <= 1.0 {
+                break;
+            }
+            s.a *= RIM_SHRINK;
+            s.b *= RIM_SHRINK;
         }
     }
     s
@@ -90,4 +127,117 @@ fn splitmix(mut z: u64) -> u64 {
 /// self-play's and the learning environments' seeds of games, tables and episodes).
 pub fn mix(seed: u64, i: u64) -> u64 {
     splitmix(splitmix(seed).wrapping_add(i.wrapping_mul(0x9e37_79b9_7f4a_7c15)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cue_normals_are_standard_normal_and_independent() {
+        let n = 200_000u64;
+        let mut sum = [0.0; 5];
+        let mut sq = [0.0; 5];
+        let mut cross = [[0.0; 5]; 5];
+        let probs = [0.001, 0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99, 0.999];
+        let mut below = [[0u64; 9]; 5];
+        for i in 0..n {
+            let z = cue_normals(42, i);
+            for j in 0..5 {
+                sum[j] += z[j];
+                sq[j] += z[j] * z[j];
+                for k in 0..5 {
+                    cross[j][k] += z[j] * z[k];
+                }
+                for (c, p) in probs.iter().enumerate() {
+                    below[j][c] += u64::from(z[j] <= normal_quantile(*p));
+                }
+            }
+        }
+        let nf = n as f64;
+        for j in 0..5 {
+            let mean = sum[j] / nf;
+            let var = sq[j] / nf - mean * mean;
+            // 5σ: the mean's σ is 1/√n, the variance's √(2/n)
+            assert!(mean.abs() < 5.0 / nf.sqrt(), "normal {j}: mean {mean}");
+            assert!(
+                (var - 1.0).abs() < 5.0 * (2.0 / nf).sqrt(),
+                "normal {j}: var {var}"
+            );
+            for (k, c) in cross[j].iter().enumerate().take(j) {
+                let r = c / nf;
+                assert!(
+                    r.abs() < 5.0 / nf.sqrt(),
+                    "normals {j}, {k}: correlation {r}"
+                );
+            }
+            for (c, p) in probs.iter().enumerate() {
+                let frac = below[j][c] as f64 / nf;
+                let sd = (p * (1.0 - p) / nf).sqrt();
+                assert!(
+                    (frac - p).abs() < 5.0 * sd,
+                    "normal {j}: P(z ≤ Φ⁻¹({p})) = {frac}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn seeds_and_samples_draw_apart() {
+        let a = cue_normals(1, 0);
+        assert_ne!(a, cue_normals(2, 0));
+        assert_ne!(a, cue_normals(1, 1));
+        // the seed's and the index's high words count
+        assert_ne!(a, cue_normals(1 | (1 << 32), 0));
+        assert_ne!(a, cue_normals(1, 1 << 32));
+        assert_eq!(a, cue_normals(1, 0));
+    }
+
+    #[test]
+    fn noise_that_pushes_the_tip_off_the_ball_leaves_it_on_the_rim() {
+        let s = CueStrike {
+            v0: 0.05,
+            phi: 10.0,
+            theta: 89.0,
+            a: 0.99,
+            b: -0.1,
+        };
+        let sigma = Noise {
+            v0: 0.5,
+            theta: 5.0,
+            a: 0.02,
+            b: 0.02,
+            ..Noise::default()
+        };
+        let mut on_rim = 0;
+        for i in 0..20_000 {
+            let t = noisy_strike_of(s, 0.028_575, &sigma, 7, i);
+            assert!(t.a * t.a + t.b * t.b <= 1.0, "sample {i}: {t:?}");
+            assert!(
+                t.v0 >= 0.0 && (0.0..=90.0).contains(&t.theta),
+                "sample {i}: {t:?}"
+            );
+            on_rim += usize::from(t.a * t.a + t.b * t.b > 1.0 - 1e-12);
+        }
+        assert!(on_rim > 1000, "the rim case is exercised: {on_rim}");
+    }
+
+    #[test]
+    fn a_physics_spread_scales_within_its_range_on_draws_of_its_own() {
+        let base = SimParams::default();
+        let mut spread = PhysicsSpread::default();
+        spread.ranges[0] = Some((-0.1, 0.2));
+        let mut lo_seen = f64::INFINITY;
+        let mut hi_seen = f64::NEG_INFINITY;
+        for i in 0..10_000 {
+            let mut p = sample_physics(&base, &spread, 3, i);
+            let mut b = base;
+            let scale = *ball_field(&mut p, 0) / *ball_field(&mut b, 0);
+            assert!((0.9..1.2).contains(&scale), "sample {i}: {scale}");
+            lo_seen = lo_seen.min(scale);
+            hi_seen = hi_seen.max(scale);
+        }
+        assert!(lo_seen < 0.901 && hi_seen > 1.199, "{lo_seen} … {hi_seen}");
+        assert_eq!(sample_physics(&base, &PhysicsSpread::default(), 3, 0), base);
+    }
 }
