@@ -28,6 +28,7 @@ mod common;
 
 use common::kernel::F64Kernels;
 use common::rng::TestRng;
+use common::ulps;
 
 const PRELUDE_F64: &str = include_str!("../shaders/real_f64.wgsl");
 const PRELUDE_F32: &str = include_str!("../shaders/real_f32.wgsl");
@@ -83,19 +84,6 @@ fn shader(prelude: &str) -> String {
 /// arguments per invocation).
 fn run_f64(k: &F64Kernels, pipeline: &wgpu::ComputePipeline, xs: &[f64]) -> Vec<f64> {
     k.run(pipeline, xs, xs.len(), xs.len().div_ceil(4))
-}
-
-/// How many doubles apart `a` and `b` are (0 when both are NaN).
-fn ulps(a: f64, b: f64) -> u64 {
-    let ordinal = |x: f64| {
-        let bits = x.to_bits() as i64;
-        if bits < 0 { -(bits & i64::MAX) } else { bits }
-    };
-    match (a.is_nan(), b.is_nan()) {
-        (true, true) => 0,
-        (false, false) => (ordinal(a) - ordinal(b)).unsigned_abs(),
-        _ => u64::MAX,
-    }
 }
 
 /// `n` ulps above `x` (for x > 0).

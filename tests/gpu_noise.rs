@@ -21,6 +21,7 @@ mod common;
 
 use common::kernel::{F64Kernels, source};
 use common::rng::TestRng;
+use common::ulps;
 use kisstime::model::fmath::{atan_poly, atan2_poly, log_poly, normal_quantile};
 use kisstime::model::{BallParams, BallState, CueParams};
 use kisstime::resolve::stick_ball::{CueStrike, cue_strike};
@@ -113,19 +114,6 @@ const OUT: usize = 11;
 /// How far from the Rust twin (in ulps) the floats may land where the driver may contract
 /// and re-associate (not on Vulkan: there they must be exact).
 const CONTRACTED_ULPS: u64 = 8;
-
-/// How many doubles apart `a` and `b` are (0 when both are NaN).
-fn ulps(a: f64, b: f64) -> u64 {
-    let ordinal = |x: f64| {
-        let bits = x.to_bits() as i64;
-        if bits < 0 { -(bits & i64::MAX) } else { bits }
-    };
-    match (a.is_nan(), b.is_nan()) {
-        (true, true) => 0,
-        (false, false) => (ordinal(a) - ordinal(b)).unsigned_abs(),
-        _ => u64::MAX,
-    }
-}
 
 /// Compares the GPU's floats with the Rust twin's: bit for bit where the pipelines are
 /// exact, else within [`CONTRACTED_ULPS`]; the first differences go to `problems`.

@@ -1,12 +1,11 @@
 // The cue strike, pooltool's instantaneous_point model with squirt (spec §5.6). WGSL twin
 // of src/resolve/stick_ball.rs (same functions, same order; the module documentation
 // there has the model and its sources). The sines, cosines and the arctangent are
-// real_sin, real_cos, real_atan2 (in f64 model/fmath.wgsl's, the Rust twin's bit for bit).
+// real_sin, real_cos, real_atan2 (in f64 model/fmath.wgsl's, the Rust twin's bit for bit);
+// π/2 is fmath's PIO2_HI (std::f64::consts::FRAC_PI_2 of the Rust twin).
 
 // π/180 rounded, f64::to_radians's factor (0x3F91DF46_A2529D39).
 const DEG_TO_RAD: real = 0.017453292519943295;
-// π/2 rounded (0x3FF921FB_54442D18), std::f64::consts::FRAC_PI_2 of the Rust twin.
-const STRIKE_PIO2: real = 1.5707963267948966;
 
 // A cue strike: pooltool's Cue.set_state(V0, phi, theta, a, b) arguments (V0 m/s; phi,
 // theta degrees; a, b fractions of R).
@@ -57,7 +56,7 @@ fn strike_ball_frame(s: CueStrike, p: BallParams, cue: CueParams) -> StrikeFrame
 fn cue_strike(ball: BallState, s: CueStrike, p: BallParams, cue: CueParams) -> BallState {
     let f = strike_ball_frame(s, p, cue);
     let theta = s.theta * DEG_TO_RAD;
-    let rot = s.phi * DEG_TO_RAD + STRIKE_PIO2;
+    let rot = s.phi * DEG_TO_RAD + PIO2_HI;
     let v_b = real3(0.0, -f.v * real_cos(theta), 0.0);
     let v_t = rotate_z(rotate_z(v_b, rot), squirt_angle(s.a, p, cue));
     let w_t = cue.english_throttle * rotate_z(f.w, rot);

@@ -9,6 +9,20 @@ use kisstime::model::{dot, norm};
 use kisstime::query::RelPath;
 use kisstime::{Ball, MotionState, Params, Status, ball_path};
 
+/// How many doubles apart `a` and `b` are (0 when both are NaN, `u64::MAX` when one is):
+/// adjacent doubles differ by 1, and +0 and −0 are the same point.
+pub fn ulps(a: f64, b: f64) -> u64 {
+    let ordinal = |x: f64| {
+        let bits = x.to_bits() as i64;
+        if bits < 0 { -(bits & i64::MAX) } else { bits }
+    };
+    match (a.is_nan(), b.is_nan()) {
+        (true, true) => 0,
+        (false, false) => (ordinal(a) - ordinal(b)).unsigned_abs(),
+        _ => u64::MAX,
+    }
+}
+
 /// One corpus case.
 #[derive(Clone, Debug)]
 pub struct Case {
