@@ -10,7 +10,8 @@
 #   work hidden behind the device's), and (for ordinary shots up to SIM_CPU_MAX tables, where the CPU runs beside
 #   it) the tables whose events differ from the CPU's;
 # - study: `kisstime shots` (the built-in study) on the GPU and on the CPU: samples/s end
-#   to end and the GPU's phases (`--verbose`);
+#   to end and the GPU's phases (`--verbose`), and on the GPU again with each sample's strike
+#   drawn on the host and shipped (KISSTIME_GPU_DRAWS=0: what the device's draws gain);
 # - first, where the binary's directory holds `pipeline_stats` (examples/pipeline_stats.rs),
 #   the driver's own statistics of the compiled event loop (registers, spills, workgroup
 #   memory, where it reports them) for each thread count, row split and tables a workgroup, to
@@ -157,8 +158,19 @@ if [[ " $PARTS " == *" study "* ]]; then
         echo "FAIL study $backend f64 $n (exit $?, $((SECONDS - start)) s; see study_stderr.txt)"
       fi
     done
+    # the same GPU study with each sample's strike drawn and struck on the host and shipped
+    # (KISSTIME_GPU_DRAWS=0): what the device's own draws gain
+    start=$SECONDS
+    if KISSTIME_GPU_DRAWS=0 timeout 150 "$BIN" shots --samples "$n" --backend gpu --precision f64 --json --verbose \
+        >> "$OUT/study_host_draws.jsonl" 2>> "$OUT/study_host_draws_stderr.txt"; then
+      echo "ok   study gpu f64 $n, strikes drawn on the host ($((SECONDS - start)) s)"
+    else
+      echo "FAIL study gpu f64 $n, strikes drawn on the host (exit $?, $((SECONDS - start)) s)"
+    fi
   done
   grep -h "GPU phases\|samples of" "$OUT/study_stderr.txt"
+  echo "strikes drawn on the host (KISSTIME_GPU_DRAWS=0):"
+  grep -h "GPU phases\|samples of" "$OUT/study_host_draws_stderr.txt"
 fi
 # one table of everything that ran (the JSON objects follow one another in the file)
 python3 - "$OUT/bench.jsonl" "$OUT/sim.jsonl" "$OUT/study.jsonl" "$OUT/sim_one_chunk.jsonl" "$OUT/sim_row_serial.jsonl" "$OUT/sim_exact_off.jsonl" "$OUT/sim_grouped.jsonl" <<'PY' || cat "$OUT"/*.jsonl

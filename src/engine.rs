@@ -34,7 +34,7 @@ use crate::query::ball_ball::Contact;
 use crate::resolve::stick_ball::CueStrike;
 use crate::simulate::batch::{EventRecord, check_input};
 use crate::simulate::{
-    BatchError, BatchOptions, BatchStats, Chunk, EventLoop, Limits, simulate_batch,
+    BatchError, BatchOptions, BatchStats, Chunk, DrawnStrikes, EventLoop, Limits, simulate_batch,
 };
 use std::ops::Range;
 use std::time::Instant;
@@ -597,11 +597,22 @@ impl ShotEngine {
             .step_by(per)
             .map(|start| start..n_tables.min(start + per))
             .collect();
-        // a chunk's check, with its seconds
+        // a study's strikes the device draws itself: shared physics, one position, no events
+        // recorded (a watched batch records none)
+        let records = options.record_events && options.watch.is_none();
+        let drawn = options
+            .drawn
+            .filter(|_| physics.is_shared() && options.one_position && !records);
+        // a chunk's check, with whether the device draws its strikes, and its seconds
         let check = |range: Range<usize>| {
             let started = Instant::now();
-            let most = check_chunk(table, physics, options, range, &input);
-            (most, started.elapsed().as_secs_f64())
+            let (most, drawn) = match drawn
+                .and_then(|d| check_drawn(table, physics, options, range.clone(), &input, &d))
+            {
+                Some(most) => (most, true),
+                None => (check_chunk(table, physics, options, range, &input), false),
+            };
+            (most, drawn, started.elapsed().as_secs_f64())
         };
         let mut stats = BatchStats::default();
         // a simulated chunk handed to the sink, counted in the stats
@@ -618,7 +629,8 @@ impl ShotEngine {
         let mut pending: Option<(Chunk, f64)> = None;
         for (c, range) in ranges.iter().enumerate() {
             let (start, end) = (range.start, range.end);
-            let (most, check_seconds) = checked.take().expect("checked before its turn");
+            let (most, drawn_here, check_seconds) =
+                checked.take().expect("checked before its turn");
             let max_balls = match most {
                 Ok(most) => most,
                 Err((table, error)) => {
@@ -635,6 +647,7 @@ impl ShotEngine {
                 n_tables: end - start,
                 max_balls,
                 one_position: options.one_position,
+                drawn: drawn.filter(|_| drawn_here).map(|d| d.from(start)),
             };
             let part = physics.part(start..end);
             let after = ranges.get(c + 1).cloned();
@@ -801,6 +814,39 @@ fn check_chunk(
     verdicts
         .into_iter()
         .try_fold(0, |most, v| v.map(|n| most.max(n)))
+}
+
+/// The check of a chunk whose strikes the device draws ([`BatchOptions::drawn`]): its
+/// first table checked as [`check_chunk`] checks it, and its first and last tables compared
+/// with the rule (the same balls, the same struck ball, the rule's strikes) — the study
+/// draws every strike valid, and its input gives the same balls to every table. The most
+/// balls a table has, or `None` where the tables differ from the rule (the chunk is then
+/// checked table by table and packed as usual).
+fn check_drawn(
+    table: &Table,
+    physics: Physics<'_>,
+    options: &BatchOptions,
+    tables: Range<usize>,
+    input: &(impl Fn(usize, &mut Vec<BallState>) -> Result<Option<(usize, CueStrike)>, SimError> + Sync),
+    drawn: &DrawnStrikes,
+) -> Option<Result<usize, (usize, SimError)>> {
+    let (first, last) = (tables.start, tables.end.checked_sub(1)?);
+    let r = physics.of(first).ball.r;
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let strike_a = input(first, &mut a).ok()?;
+    let strike_b = input(last, &mut b).ok()?;
+    let (cue, s_a) = strike_a?;
+    let (cue_b, s_b) = strike_b?;
+    let same =
+        cue == cue_b && a == b && s_a == drawn.strike(r, first) && s_b == drawn.strike(r, last);
+    if !same {
+        return None;
+    }
+    Some(
+        check_input(table, r, options, &a, strike_a)
+            .map(|()| a.len())
+            .map_err(|e| (first, e)),
+    )
 }
 
 /// One chunk of [`ShotEngine::simulate_with`] on the GPU (tables checked), as a [`Chunk`]

@@ -450,6 +450,7 @@ fn a_bad_gpu_knob_is_named() {
         ("KISSTIME_GPU_ROW_THREADS", "0"),
         ("KISSTIME_GPU_ROW_THREADS", "65"),
         ("KISSTIME_GPU_EXACT", "2"),
+        ("KISSTIME_GPU_DRAWS", "yes"),
         ("KISSTIME_GPU_TABLES_PER_GROUP", "3"),
         ("KISSTIME_GPU_TABLES_PER_GROUP", "32"),
     ] {

@@ -550,6 +550,7 @@ fn one_position_chunks_laid_out_on_the_device_give_the_whole_blocks_runs() {
                     n_tables: n,
                     max_balls: initial.len(),
                     one_position,
+                    drawn: None,
                 };
                 let watched = gpu
                     .simulate_checked(
@@ -599,6 +600,7 @@ fn one_position_chunks_laid_out_on_the_device_give_the_whole_blocks_runs() {
                     n_tables: 1,
                     max_balls: initial.len(),
                     one_position,
+                    drawn: None,
                 };
                 let run =
                     gpu.simulate_checked(&config.table, physics, limits, tables, GpuOutput::Finals);
@@ -649,5 +651,171 @@ fn several_tables_a_workgroup_watch_as_one_table_does() {
             runs.push(format!("{samples:?}"));
         }
         assert!(runs[0] == runs[1], "{until:?}: 4 tables a workgroup differ");
+    }
+}
+
+/// A study's samples drawn on the device (`BatchOptions::drawn`: `study::run` of
+/// `Samples::Drawn`, the shader's `expand_drawn` drawing each sample's noisy strike from
+/// Philox and playing it) are the CPU study's — bit for bit where the event loop runs as
+/// exact SPIR-V (Vulkan: CI's lavapipe), else the same first contacts and pots — to rest
+/// and to the first contact, over several engine chunks and device chunks, and over a
+/// range of sample ids that crosses 2³² (the id's high word). Every chunk was drawn on
+/// the device.
+#[test]
+fn a_study_drawn_on_the_device_is_the_cpus_sample_for_sample() {
+    let config = StudyConfig::builtin();
+    let Some(mut gpu) = open("gpu_drawn_study") else {
+        return;
+    };
+    gpu.set_gpu_chunk_tables(Some(400));
+    gpu.gpu().expect("a GPU engine").max_tables_per_chunk = 128;
+    let exact = gpu.gpu().is_some_and(|g| g.exact());
+    let mut cpu = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let edge = 1usize << 32;
+    for (until, range) in [
+        (Until::Rest, 1000..2000),
+        (Until::FirstContact, 0..700),
+        (Until::Rest, edge - 300..edge + 300),
+    ] {
+        let options = RunOptions {
+            until,
+            ..RunOptions::default()
+        };
+        let drawn = || Samples::Drawn {
+            sigma: &config.noise,
+            seed: 0x1234_5678_9abc_def0,
+            range: range.clone(),
+        };
+        let on_gpu = run(&mut gpu, &config, drawn(), &options, &mut |_, _| {}).unwrap();
+        let drawn_chunks = gpu.gpu().expect("a GPU engine").drawn_chunks();
+        let on_cpu = run(&mut cpu, &config, drawn(), &options, &mut |_, _| {}).unwrap();
+        let at = format!("{until:?}, samples {range:?}");
+        assert_eq!(on_gpu.len(), range.len(), "{at}");
+        // the last engine chunk's device chunks were all drawn
+        assert!(drawn_chunks >= 1, "{at}: {drawn_chunks} chunks drawn");
+        let mut differ = 0;
+        for (k, (g, c)) in on_gpu.iter().zip(&on_cpu).enumerate() {
+            assert_eq!(g.strike, c.strike, "{at}: sample {k}'s strike");
+            assert_eq!(
+                (g.first, g.potted.len()),
+                (c.first, c.potted.len()),
+                "{at}: sample {k}"
+            );
+            differ += usize::from(format!("{g:?}") != format!("{c:?}"));
+        }
+        println!(
+            "{at}: {differ} of {} samples differ (exact: {exact})",
+            range.len()
+        );
+        if exact {
+            assert_eq!(differ, 0, "{at}: exact SPIR-V gives the CPU's samples");
+        }
+        // the strikes were played: most samples hit a ball
+        let hit = on_gpu
+            .iter()
+            .filter(|s| matches!(s.first, kisstime::study::FirstContact::Ball(_)))
+            .count();
+        assert!(hit * 10 > range.len() * 9, "{at}: {hit} hit a ball");
+    }
+}
+
+/// `BatchOptions::drawn` is a description the engine checks: where the input gives other
+/// strikes than the rule (here the reference's strikes, or the rule's strikes for every
+/// table but the chunks' last ones), or physics that varies per table, no chunk is drawn
+/// on the device and the runs are the input's, the same as without the description; where
+/// it gives the rule's, the chunks are drawn on the device with the same runs, watched and
+/// final states alike.
+#[test]
+fn a_drawn_description_the_input_does_not_match_is_not_used() {
+    use kisstime::simulate::{BallState, BatchOptions, Physics, WatchOptions};
+    use kisstime::study::noise::drawn;
+    let (config, strikes) = reference();
+    let Some(mut gpu) = open("gpu_drawn_mismatch") else {
+        return;
+    };
+    gpu.set_gpu_chunk_tables(Some(100));
+    let exact = gpu.gpu().is_some_and(|g| g.exact());
+    let n = 300;
+    let initial = config.initial();
+    let description = drawn(&config, &config.noise, 5, 0).expect("drawn");
+    let r = config.params.ball.r;
+    let params: Vec<_> = (0..n).map(|_| config.params).collect();
+    let run_with = |gpu: &mut ShotEngine,
+                    (drawn_on, watched): (bool, bool),
+                    per_table: bool,
+                    strike: &(dyn Fn(usize) -> CueStrike + Sync)| {
+        let options = BatchOptions {
+            check_layout: false,
+            record_events: false,
+            watch: watched.then_some(WatchOptions {
+                cue: config.cue,
+                stop_at_first_contact: false,
+                facts: false,
+            }),
+            one_position: true,
+            drawn: drawn_on.then_some(description),
+            ..BatchOptions::default()
+        };
+        let input = |k: usize, balls: &mut Vec<BallState>| {
+            balls.clear();
+            balls.extend_from_slice(&initial);
+            Ok(Some((config.cue, strike(k))))
+        };
+        let physics = if per_table {
+            Physics::PerTable(&params)
+        } else {
+            Physics::Shared(config.params)
+        };
+        let mut out = Vec::new();
+        gpu.simulate_with(&config.table, physics, &options, n, input, |chunk| {
+            for t in chunk.iter() {
+                out.push(format!("{:?} {:?}", t.balls, t.outcome));
+            }
+            Ok::<(), kisstime::Error>(())
+        })
+        .unwrap();
+        let drawn_chunks = gpu.gpu().expect("a GPU engine").drawn_chunks();
+        (out, drawn_chunks)
+    };
+    let given = |k: usize| strikes[k];
+    let rule_but_last = |k: usize| {
+        if k % 100 == 99 {
+            strikes[k]
+        } else {
+            description.strike(r, k)
+        }
+    };
+    let rule = |k: usize| description.strike(r, k);
+    for (name, strike, per_table, drawn_used) in [
+        (
+            "the reference's strikes",
+            &given as &(dyn Fn(usize) -> CueStrike + Sync),
+            false,
+            false,
+        ),
+        (
+            "the rule but each chunk's last table",
+            &rule_but_last,
+            false,
+            false,
+        ),
+        ("the rule, per-table physics", &rule, true, false),
+        ("the rule", &rule, false, true),
+    ] {
+        // watched (a study's) and final states alone
+        for watched in [true, false] {
+            let name = format!("{name}, watched {watched}");
+            let (with, chunks) = run_with(&mut gpu, (true, watched), per_table, strike);
+            let (without, none) = run_with(&mut gpu, (false, watched), per_table, strike);
+            assert_eq!(none, 0, "{name}: nothing drawn without a description");
+            assert_eq!(chunks > 0, drawn_used, "{name}: {chunks} chunks drawn");
+            assert_eq!(with.len(), n);
+            // the device's draws round as the host's only as exact SPIR-V
+            if exact || !drawn_used {
+                for (k, (a, b)) in with.iter().zip(&without).enumerate() {
+                    assert_eq!(a, b, "{name}: table {k}");
+                }
+            }
+        }
     }
 }

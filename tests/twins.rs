@@ -335,6 +335,20 @@ const TWINS: &[Twin] = &[
                 "mix",
                 "self-play's and the environments' seeds of games and episodes, the host's",
             ),
+            (
+                "drawn_strike",
+                "the host's draw of a drawn chunk's sample, for reporting it (the device's is \
+                 noisy_strike_of in expand_drawn)",
+            ),
+            (
+                "drawn",
+                "the host describes a study's draws to the engine (BatchOptions::drawn)",
+            ),
+            ("max_normal", "the host's bound on the draws"),
+            (
+                "draws_are_strikes",
+                "the host checks once that every draw is a valid strike",
+            ),
         ],
         wgsl_only: &[],
     },
@@ -525,9 +539,19 @@ const TWINS: &[Twin] = &[
             ),
             ("simulate_tables", "the entry point"),
             (
+                "lay_out_position",
+                "a table's I/O block copied from the position's (the expansions')",
+            ),
+            (
                 "expand_tables",
                 "an entry point: a study's chunk laid out from one position and its strikes \
                  (gpu::sim_layout's start_table and strike_block on the host)",
+            ),
+            (
+                "expand_drawn",
+                "an entry point: a study's chunk laid out from one position, each table's \
+                 strike drawn and played on the device (gpu::sim_layout's start_table and \
+                 drawn_block, study::noise's noisy_strike_of on the host)",
             ),
         ],
     },

@@ -20,10 +20,12 @@
 // host needs of the events and of the table's end (watch_end), so that only the watch
 // blocks are read back.
 //
-// The strike is resolved on the host (resolve/stick_ball.rs has no twin): a table arrives
-// here after its stick_ball event, at step 1, or at step 0 without one. A study's chunk
-// (one position struck many ways) arrives as the position's I/O block and each table's
-// strike block, which expand_tables lays out into the tables' I/O blocks. That gives the
+// The strike is resolved before the loop: a table arrives here after its stick_ball event,
+// at step 1, or at step 0 without one. The host resolves it (start_table), or, for a
+// study's chunk (one position struck many ways), sends the position's I/O block and each
+// table's strike block, which expand_tables lays out into the tables' I/O blocks, or the
+// position and one header, from which expand_drawn draws each table's noisy strike and
+// plays it (resolve/stick_ball.wgsl, study/noise.wgsl) as the host would have. That gives the
 // Rust twin's events: after the strike the Rust loop keeps, from step 0, only entries
 // that are never (every ball was at rest), which no tie with a finite time can involve.
 //
@@ -133,6 +135,12 @@ const WATCH_UINTS: u32 = WATCH_U_END + WATCH_END_UINTS;
 // transition's kind, n_events and the status.
 const STRUCK_REALS: u32 = BALL_REALS + 1u;
 const STRUCK_UINTS: u32 = 4u;
+// A drawn chunk's header after the position's block (expand_drawn): the intended strike
+// (V0, phi, theta, a, b), the noise's five σ in the same order, the cue's mass, end mass,
+// english and squirt throttles; the seed and the first sample id (low, high words each)
+// and whether a strike is played at all.
+const DRAWN_REALS: u32 = 14u;
+const DRAWN_UINTS: u32 = 5u;
 // Reals of one parameter block in `sim` (ball 10, resolver 8, max_time) and where max_time is.
 const SIM_REALS: u32 = 19u;
 const SIM_R_MAX_TIME: u32 = 18u;
@@ -185,11 +193,13 @@ struct LoopConfig {
 @group(0) @binding(4) var<storage, read_write> state_u: array<u32>;
 // The events recorded by this dispatch (only with record_events): EVENT_REALS per event.
 // Without events, expand_tables reads its input here: one table's I/O block (IO_REALS),
-// then each table's strike block (STRUCK_REALS).
+// then each table's strike block (STRUCK_REALS); expand_drawn's: the I/O block, then the
+// header (DRAWN_REALS).
 @group(0) @binding(5) var<storage, read_write> events_r: array<real>;
 // Per table: the number of events recorded by this dispatch, then EVENT_UINTS per event
 // (only with record_events). Without events, expand_tables's input: the I/O block's u32s
-// (IO_UINTS), then each table's strike block (STRUCK_UINTS).
+// (IO_UINTS), then each table's strike block (STRUCK_UINTS), or expand_drawn's header
+// (DRAWN_UINTS).
 @group(0) @binding(6) var<storage, read_write> events_u: array<u32>;
 // The tables still running after this dispatch (the host zeroes it before each dispatch
 // and reads back only this word until it is 0).
@@ -1163,6 +1173,19 @@ fn simulate_tables(
     }
 }
 
+// Table `table`'s I/O block as the position's, which an expansion's input starts with
+// (events_r/events_u from 0).
+fn lay_out_position(table: u32) {
+    let r0 = io_r(table);
+    let u0 = io_u(table);
+    for (var k = 0u; k < IO_REALS; k = k + 1u) {
+        state_r[r0 + k] = events_r[k];
+    }
+    for (var k = 0u; k < IO_UINTS; k = k + 1u) {
+        state_u[u0 + k] = events_u[k];
+    }
+}
+
 // One position struck many ways (a study's chunk): every table's I/O block is the
 // position's (events_r/events_u from 0) with the struck ball's state, its transition, the
 // event count and the status from the table's strike block, which the host made as it
@@ -1178,14 +1201,9 @@ fn expand_tables(
     if table >= cfg.n_tables {
         return;
     }
+    lay_out_position(table);
     let r0 = io_r(table);
     let u0 = io_u(table);
-    for (var k = 0u; k < IO_REALS; k = k + 1u) {
-        state_r[r0 + k] = events_r[k];
-    }
-    for (var k = 0u; k < IO_UINTS; k = k + 1u) {
-        state_u[u0 + k] = events_u[k];
-    }
     let cue = min(cfg.struck_ball, GPU_MAX_BALLS - 1u);
     let s_r = IO_REALS + table * STRUCK_REALS;
     let s_u = IO_UINTS + table * STRUCK_UINTS;
@@ -1197,4 +1215,77 @@ fn expand_tables(
     state_u[u0 + IO_U_TRANS + cue] = events_u[s_u + 1u];
     state_u[u0 + IO_U_N + 1u] = events_u[s_u + 2u];
     state_u[u0 + IO_U_N + 2u] = events_u[s_u + 3u];
+}
+
+// A study's chunk drawn on the device: every table's I/O block is the position's with
+// the struck ball struck by its sample's noisy strike, sample first + table (the study's
+// noisy_strike_of: Philox keyed by the seed, study/noise.wgsl), under the CPU loop's rule
+// (Rust: gpu::sim_layout's start_table and drawn_block, study::noise's noisy_strike_of).
+// The header after the position's block: DRAWN_REALS (the intended strike, the five σ,
+// the cue's parameters), DRAWN_UINTS (the seed and the first sample id as low and high
+// words, and whether a strike is played at all); the ball parameters are sim's shared
+// block. One thread a table, dispatched as expand_tables is. The host reads no strike back:
+// it draws the same ones itself where it reports them.
+@compute @workgroup_size(64)
+fn expand_drawn(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let table = (wid.y * cfg.groups_x + wid.x) * 64u + lid;
+    if table >= cfg.n_tables {
+        return;
+    }
+    lay_out_position(table);
+    let h_r = IO_REALS;
+    let h_u = IO_UINTS;
+    let shot = CueStrike(
+        events_r[h_r], events_r[h_r + 1u], events_r[h_r + 2u], events_r[h_r + 3u],
+        events_r[h_r + 4u],
+    );
+    let sigma = Noise(
+        events_r[h_r + 5u], events_r[h_r + 6u], events_r[h_r + 7u], events_r[h_r + 8u],
+        events_r[h_r + 9u],
+    );
+    let cue_params = CueParams(
+        events_r[h_r + 10u], events_r[h_r + 11u], events_r[h_r + 12u], events_r[h_r + 13u],
+    );
+    let p = load_params(0u).ball;
+    let seed = vec2<u32>(events_u[h_u], events_u[h_u + 1u]);
+    // the sample id, first + table, its carry into the high word
+    let lo = events_u[h_u + 2u] + table;
+    let hi = events_u[h_u + 3u] + select(0u, 1u, lo < table);
+    let s = noisy_strike_of(shot, p.r, sigma, seed, vec2<u32>(lo, hi));
+    // the CPU loop's stick candidate: every ball at rest, an event allowed (the header's
+    // flag), V0 > 0; else the ball stays as the position has it
+    if events_u[h_u + 4u] == 0u || !(s.v0 > 0.0) {
+        return;
+    }
+    let cue = min(cfg.struck_ball, GPU_MAX_BALLS - 1u);
+    let at = BALL_REALS * cue;
+    let ball = BallState(
+        real3(events_r[at], events_r[at + 1u], events_r[at + 2u]),
+        real3(events_r[at + 3u], events_r[at + 4u], events_r[at + 5u]),
+        real3(events_r[at + 6u], events_r[at + 7u], events_r[at + 8u]),
+        events_u[cue],
+        events_r[at + 9u],
+    );
+    let b = cue_strike(ball, s, p, cue_params);
+    let r0 = io_r(table) + at;
+    state_r[r0] = b.r.x;
+    state_r[r0 + 1u] = b.r.y;
+    state_r[r0 + 2u] = b.r.z;
+    state_r[r0 + 3u] = b.v.x;
+    state_r[r0 + 4u] = b.v.y;
+    state_r[r0 + 5u] = b.v.z;
+    state_r[r0 + 6u] = b.w.x;
+    state_r[r0 + 7u] = b.w.y;
+    state_r[r0 + 8u] = b.w.z;
+    state_r[r0 + 9u] = b.t;
+    let u0 = io_u(table);
+    state_u[u0 + cue] = b.s;
+    // its next transition, as involve() writes one
+    let next = next_transition(b, p);
+    state_r[io_r(table) + IO_R_TRANS + cue] = select(b.t + next.x, NEVER, next.x >= NEVER);
+    state_u[u0 + IO_U_TRANS + cue] = u32(next.y);
+    state_u[u0 + IO_U_N + 1u] = 1u;
 }

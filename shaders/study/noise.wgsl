@@ -1,9 +1,11 @@
 // The cue noise: sample i's strike from Philox keyed by the seed at counter i. WGSL twin
 // of src/study/noise.rs (same functions, same order; the module documentation there has
 // the layout of the draws). Twinned: draw_block, cue_normals, noisy_strike_of, clamped;
-// the Rust side's noisy_strike (a study file's strike), sample_physics (a sample's physics
-// spread) and mix (self-play's and the environments' seeds) are the host's. CueStrike is
-// resolve/stick_ball.wgsl's.
+// the Rust side's noisy_strike (a study file's strike), drawn_strike, drawn, max_normal
+// and draws_are_strikes (the host's description of a study's draws and its check),
+// sample_physics (a sample's physics spread) and mix (self-play's and the environments'
+// seeds) are the host's. CueStrike is resolve/stick_ball.wgsl's. The event loop's
+// expand_drawn calls noisy_strike_of for each table of a study's chunk.
 
 // Philox's stream word for the cue noise.
 const CUE_STREAM: u32 = 0u;

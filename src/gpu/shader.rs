@@ -25,14 +25,17 @@
 //! | `shaders/query/ball_cushion.wgsl` | `src/query/ball_cushion.rs` |
 //! | `shaders/query/ball_pocket.wgsl` | `src/query/ball_pocket.rs` |
 //! | `shaders/resolve/ball_ball.wgsl` | `src/resolve/ball_ball.rs` |
-//! | `shaders/resolve/stronge.wgsl` | `src/resolve/stronge.rs` (the strike, `stick_ball.rs`, stays on the host) |
+//! | `shaders/resolve/stronge.wgsl` | `src/resolve/stronge.rs` |
 //! | `shaders/resolve/ball_cushion.wgsl` | `src/resolve/ball_cushion.rs` |
 //! | `shaders/resolve/ball_pocket.wgsl` | `src/resolve/ball_pocket.rs` |
 //! | `shaders/resolve/transition.wgsl` | `src/resolve/transition.rs` |
 //! | `shaders/kernels.wgsl` | `src/cpu/kernels.rs` (the per-table loops) |
 //!
 //! The event loop ([`simulate_source`]) is its own module: the same files without
-//! `kernels.wgsl`, then `shaders/simulate/cache.wgsl` (`src/simulate/cache.rs`) and
+//! `kernels.wgsl`, then `shaders/resolve/stick_ball.wgsl` (`src/resolve/stick_ball.rs`),
+//! `shaders/study/philox.wgsl` and `shaders/study/noise.wgsl` (`src/study/philox.rs`,
+//! `src/study/noise.rs`: a study's draws, which the device makes itself),
+//! `shaders/simulate/cache.wgsl` (`src/simulate/cache.rs`) and
 //! `shaders/simulate/event_loop.wgsl` (`src/simulate/event_loop.rs`).
 //!
 //! f64 needs the adapter's `SHADER_F64` feature; without it, asking for f64 is an error.
@@ -142,8 +145,21 @@ fn prelude(precision: Precision) -> &'static str {
 }
 
 /// The event loop's own files, after [`SHADER_FILES`] less `kernels.wgsl` (its shader is
-/// a module of its own, with its own bindings).
-pub const SIMULATE_FILES: [(&str, &str); 2] = [
+/// a module of its own, with its own bindings): the strike and the study's draws
+/// (`expand_drawn` plays each sample's noisy strike on the device), the cache and the loop.
+pub const SIMULATE_FILES: [(&str, &str); 5] = [
+    (
+        "resolve/stick_ball.wgsl",
+        include_str!("../../shaders/resolve/stick_ball.wgsl"),
+    ),
+    (
+        "study/philox.wgsl",
+        include_str!("../../shaders/study/philox.wgsl"),
+    ),
+    (
+        "study/noise.wgsl",
+        include_str!("../../shaders/study/noise.wgsl"),
+    ),
     (
         "simulate/cache.wgsl",
         include_str!("../../shaders/simulate/cache.wgsl"),

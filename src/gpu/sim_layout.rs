@@ -26,10 +26,10 @@ use crate::model::sim_params::SimParams;
 use crate::model::vec3::Vec3;
 use crate::motion::evolve::{TransitionKind, next_transition};
 use crate::resolve::stick_ball::{CueStrike, cue_strike};
-use crate::simulate::Limits;
 use crate::simulate::batch::EventRecord;
 use crate::simulate::events::{Cut, Event, EventKind, NO_AGENT, Outcome};
 use crate::simulate::watch::{ShotFacts, Watch, WatchedContact, WatchedPot};
+use crate::simulate::{DrawnStrikes, Limits};
 
 use super::device::gpu_error;
 
@@ -212,6 +212,8 @@ impl SimLayout {
             ("WATCH_END_UINTS", WATCH_END_UINTS),
             ("STRUCK_REALS", STRUCK_REALS),
             ("STRUCK_UINTS", STRUCK_UINTS),
+            ("DRAWN_REALS", DRAWN_REALS),
+            ("DRAWN_UINTS", DRAWN_UINTS),
             ("EVENT_REALS", EVENT_REALS),
             ("EVENT_UINTS", EVENT_UINTS),
             ("SIM_REALS", SIM_REALS),
@@ -235,6 +237,13 @@ pub const STRUCK_REALS: usize = 11;
 /// u32s of one strike block (`STRUCK_UINTS`): the struck ball's motion state, its
 /// transition's kind, n_events and the status.
 pub const STRUCK_UINTS: usize = 4;
+/// Reals of a drawn chunk's header (`DRAWN_REALS`, the shader's `expand_drawn`): the
+/// intended strike (V0, φ, θ, a, b), the noise's five σ in the same order, and the cue's
+/// mass, end mass, english and squirt throttles.
+pub const DRAWN_REALS: usize = 14;
+/// u32s of a drawn chunk's header (`DRAWN_UINTS`): the seed and the chunk's first sample
+/// id (low word, high word each), and 1 where the strike is played at all.
+pub const DRAWN_UINTS: usize = 5;
 
 /// The largest bucket's layout: the sizes of the host's scratch blocks.
 pub(super) const MAX_LAYOUT: SimLayout = SimLayout::for_balls(GPU_MAX_BALLS);
@@ -370,6 +379,49 @@ pub(super) fn strike_block(
         kind,
         u32::from(struck.is_some()),
         start_status(position.len(), limits),
+    ];
+}
+
+/// A drawn chunk's header ([`DRAWN_REALS`], [`DRAWN_UINTS`]) for the shader's
+/// `expand_drawn`: table `k` of the chunk is `position` with its ball `cue` struck by
+/// `drawn`'s strike of sample `first + k` (drawn on the device) under the CPU loop's rule,
+/// so that the block the device lays out is [`start_table`]'s for that strike, bit for
+/// bit. `position`'s balls must be at t = 0.
+pub(super) fn drawn_block(
+    position: &[BallState],
+    drawn: &DrawnStrikes,
+    params: &SimParams,
+    limits: Limits,
+    sr: &mut [f64; DRAWN_REALS],
+    su: &mut [u32; DRAWN_UINTS],
+) {
+    let (s, c) = (drawn.shot, &params.cue);
+    let sigma = drawn.sigma;
+    *sr = [
+        s.v0,
+        s.phi,
+        s.theta,
+        s.a,
+        s.b,
+        sigma[0],
+        sigma[1],
+        sigma[2],
+        sigma[3],
+        sigma[4],
+        c.mass,
+        c.end_mass,
+        c.english_throttle,
+        c.squirt_throttle,
+    ];
+    // struck_ball's rule, less the strike's own V0 > 0 (the device's, per sample)
+    let played =
+        position.iter().all(|b| ball_energy(b, &params.ball) == 0.0) && limits.max_events > 0;
+    *su = [
+        drawn.seed as u32,
+        (drawn.seed >> 32) as u32,
+        drawn.first as u32,
+        (drawn.first >> 32) as u32,
+        u32::from(played),
     ];
 }
 

@@ -33,9 +33,10 @@ use super::device::{
 };
 use super::shader::{simulate_source, workgroup_bytes};
 use super::sim_layout::{
-    EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, MAX_LAYOUT, NEVER_F32, NEVER_F64,
-    SIM_R_MAX_TIME, SIM_REALS, STRUCK_REALS, STRUCK_UINTS, SimLayout, WatchedRun, event_record,
-    finish_table, read_watch, start_table, strike_block, watched_end,
+    DRAWN_REALS, DRAWN_UINTS, EVENT_REALS, EVENT_UINTS, GPU_MAX_BALLS, GpuRun, GpuShot, MAX_LAYOUT,
+    NEVER_F32, NEVER_F64, SIM_R_MAX_TIME, SIM_REALS, STRUCK_REALS, STRUCK_UINTS, SimLayout,
+    WatchedRun, drawn_block, event_record, finish_table, read_watch, start_table, strike_block,
+    watched_end,
 };
 use crate::error::{Error, InputError, SimError};
 use crate::model::ball_state::BallState;
@@ -47,7 +48,7 @@ use crate::simulate::batch::EventRecord;
 use crate::simulate::check::check_layout;
 use crate::simulate::events::Outcome;
 use crate::simulate::watch::WatchOptions;
-use crate::simulate::{EventLoop, Limits};
+use crate::simulate::{DrawnStrikes, EventLoop, Limits};
 
 mod buffers;
 use buffers::LoopBuffers;
@@ -145,6 +146,14 @@ fn pipeline_chunks() -> Result<usize, Error> {
     )
 }
 
+/// Whether the device draws a study's strikes itself where it can ([`CheckedTables::drawn`]):
+/// `KISSTIME_GPU_DRAWS` (1, the default, or 0: the host packs each sample's struck cue
+/// ball, as for a study with a physics spread — for measuring what the device's draws
+/// gain on a device).
+fn draws_wanted() -> Result<bool, Error> {
+    knob("KISSTIME_GPU_DRAWS", 1, |n| n <= 1, "0 or 1").map(|n| n == 1)
+}
+
 /// Whether the event loop is built exact where the device allows: `KISSTIME_GPU_EXACT`
 /// (1, the default, or 0: the WGSL as wgpu compiles it, which a driver may contract —
 /// for measuring what exactness costs on a device).
@@ -218,6 +227,13 @@ pub struct CheckedTables<'a> {
     /// strike, and the device lays the tables out; any other chunk is packed whole. The
     /// results are the same either way.
     pub one_position: bool,
+    /// The tables' strikes as a rule the device draws by ([`DrawnStrikes`], table 0 being
+    /// its `first`): with `one_position`, shared physics and no events recorded, a chunk
+    /// then crosses the bus as the position and one header, and the device draws and plays
+    /// each table's strike (the shader's `expand_drawn`). The caller has checked that
+    /// `fill` gives what the rule says and that every strike it draws is valid (the
+    /// engine's `check_drawn`, with the study's bound); the results are the same either way.
+    pub drawn: Option<DrawnStrikes>,
 }
 
 /// A table's strike: the struck ball's index and the strike, if any.
@@ -313,12 +329,41 @@ struct ChunkCall<'c> {
 }
 
 /// A packed chunk: the strikes' event records (with their tables' places in the chunk),
-/// the runs so far, and for a chunk packed as one position and its strikes (the shader's
-/// `expand_tables` lays the tables out) the struck ball.
+/// the runs so far, and how its host arrays become the tables' I/O blocks.
 struct PackedChunk {
     strikes: Vec<(usize, EventRecord)>,
     runs: Vec<GpuRun>,
-    struck: Option<u32>,
+    expansion: Expansion,
+}
+
+/// How a packed chunk's host arrays become its tables' I/O blocks on the device.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Expansion {
+    /// They are the I/O blocks, copied as they are.
+    Whole,
+    /// One position's block and each table's strike block of ball `cue`
+    /// ([`pack_expanded`]), laid out by the shader's `expand_tables`.
+    Strikes { cue: u32 },
+    /// One position's block and a header ([`pack_drawn`]): the shader's `expand_drawn`
+    /// draws each table's strike of ball `cue` and lays the tables out.
+    Drawn { cue: u32 },
+}
+
+impl Expansion {
+    /// The packed bytes of a chunk of `n_tables` tables: (reals, u32s).
+    fn packed_len(self, l: &SimLayout, n_tables: usize, real: usize) -> (usize, usize) {
+        match self {
+            Expansion::Whole => (n_tables * l.io_reals * real, n_tables * l.io_uints * 4),
+            Expansion::Strikes { .. } => (
+                (l.io_reals + n_tables * STRUCK_REALS) * real,
+                (l.io_uints + n_tables * STRUCK_UINTS) * 4,
+            ),
+            Expansion::Drawn { .. } => (
+                (l.io_reals + DRAWN_REALS) * real,
+                (l.io_uints + DRAWN_UINTS) * 4,
+            ),
+        }
+    }
 }
 
 /// The host arrays a chunk's I/O blocks (or its position and strike blocks) are packed
@@ -329,11 +374,12 @@ struct HostBlocks {
     u: Vec<u8>,
 }
 
-/// The event loop's pipelines of one bucket: the loop itself, and the expansion of one
-/// position into a chunk's tables.
+/// The event loop's pipelines of one bucket: the loop itself, and the expansions of one
+/// position into a chunk's tables (from the host's strike blocks, or drawn on the device).
 struct LoopPipelines {
     simulate: wgpu::ComputePipeline,
     expand: wgpu::ComputePipeline,
+    drawn: wgpu::ComputePipeline,
     /// Tables a workgroup of `simulate` holds.
     tables: u32,
 }
@@ -382,8 +428,11 @@ pub struct GpuSimulator {
     total: GpuTimings,
     /// Dispatches of the last call.
     dispatches: u64,
-    /// Chunks of the last call laid out on the device from one position.
+    /// Chunks of the last call laid out on the device from one position and the host's
+    /// strike blocks.
     expanded: u64,
+    /// Chunks of the last call whose strikes the device drew.
+    drawn_chunks: u64,
     /// Events per table and dispatch.
     pub events_per_dispatch: u32,
     /// The most tables per chunk: a batch is cut into chunks of whole tables that fit the
@@ -393,6 +442,10 @@ pub struct GpuSimulator {
     /// The chunks a large batch is cut into ([`PIPELINE_CHUNKS`] by default; 1: one chunk,
     /// no host work beside the device's), each of at least [`PIPELINE_MIN_TABLES`].
     pub pipeline_chunks: usize,
+    /// Whether the device draws a study's strikes itself where the tables say how
+    /// ([`CheckedTables::drawn`]; `true` by default, `KISSTIME_GPU_DRAWS=0` turns it off):
+    /// the same runs either way.
+    pub device_draws: bool,
 }
 
 impl GpuSimulator {
@@ -403,8 +456,10 @@ impl GpuSimulator {
     pub fn new(precision: Precision) -> Result<GpuSimulator, Error> {
         let (threads, chunks, rows) = (event_loop_threads()?, pipeline_chunks()?, row_threads()?);
         let tables = tables_per_group()?;
+        let draws = draws_wanted()?;
         let mut sim = GpuSimulator::with_loop_threads(precision, threads)?;
         sim.pipeline_chunks = chunks;
+        sim.device_draws = draws;
         if rows != ROW_THREADS {
             sim.set_row_threads(rows)?;
         }
@@ -532,9 +587,11 @@ impl GpuSimulator {
             total: GpuTimings::default(),
             dispatches: 0,
             expanded: 0,
+            drawn_chunks: 0,
             events_per_dispatch: EVENTS_PER_DISPATCH,
             max_tables_per_chunk: MAX_TABLES_PER_CHUNK,
             pipeline_chunks: PIPELINE_CHUNKS,
+            device_draws: true,
         };
         // the 16-ball bucket now: a shader that does not build fails here
         sim.pipeline(&SimLayout::for_balls(16))?;
@@ -570,28 +627,25 @@ impl GpuSimulator {
                 cache: None,
             })
         };
-        // the event loop as exact SPIR-V where the device takes it (super::spirv);
-        // expand_tables only copies blocks (no float arithmetic to keep exact) and stays
-        // with wgpu's own compilation: built through the passthrough it left the tables
-        // empty on lavapipe (tests/gpu_study.rs: every sample "nothing"), for a reason not
-        // yet found (not the bounds checks, the workgroup zeroing, the SPIR-V version or
-        // the decorations: each was ruled out)
-        let simulate = match self.exact {
-            true => {
-                match super::spirv::exact_pipeline(device, &source, "simulate_tables", &constants) {
-                    Ok(p) => p,
-                    Err(e) => {
-                        // the scope is the device's: closed before the error goes up
-                        let _ = pollster::block_on(scope.pop());
-                        return Err(gpu_error(format!("the event loop's SPIR-V: {e}")));
-                    }
-                }
+        // every entry as exact SPIR-V where the device takes it (super::spirv): the loop,
+        // and expand_drawn's draws and strike, must round as their Rust twins do
+        let exact_entry = |name: &str| match self.exact {
+            true => super::spirv::exact_pipeline(device, &source, name, &constants),
+            false => Ok(wgsl_entry(name)),
+        };
+        let built = ["simulate_tables", "expand_tables", "expand_drawn"].map(exact_entry);
+        let [simulate, expand, drawn] = match built {
+            [Ok(simulate), Ok(expand), Ok(drawn)] => [simulate, expand, drawn],
+            [Err(e), ..] | [_, Err(e), _] | [.., Err(e)] => {
+                // the scope is the device's: closed before the error goes up
+                let _ = pollster::block_on(scope.pop());
+                return Err(gpu_error(format!("the event loop's SPIR-V: {e}")));
             }
-            false => wgsl_entry("simulate_tables"),
         };
         let pipeline = LoopPipelines {
             simulate,
-            expand: wgsl_entry("expand_tables"),
+            expand,
+            drawn,
             tables: tables as u32,
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
@@ -674,6 +728,12 @@ impl GpuSimulator {
         self.expanded
     }
 
+    /// The chunks of the last call that crossed the bus as one position and a header, the
+    /// device drawing each table's strike ([`CheckedTables::drawn`]).
+    pub fn drawn_chunks(&self) -> u64 {
+        self.drawn_chunks
+    }
+
     /// Simulates every shot on `table` to rest (or to a limit), in shot order; with
     /// `record_events` each run keeps its events (see [`GpuSimulator::simulate_with`] to
     /// stream them instead).
@@ -746,6 +806,10 @@ impl GpuSimulator {
                 w.cue, tables.max_balls
             ))));
         }
+        let tables = CheckedTables {
+            drawn: tables.drawn.filter(|_| self.device_draws),
+            ..tables
+        };
         let input = Input::Checked { tables, offset: 0 };
         self.run(table, physics, limits, input, output)
     }
@@ -762,6 +826,7 @@ impl GpuSimulator {
         self.timings = GpuTimings::default();
         self.dispatches = 0;
         self.expanded = 0;
+        self.drawn_chunks = 0;
         // the parameters checked as the CPU loop checks them (each table's where per table)
         physics.check(input.len()).map_err(|(k, e)| {
             let which = if physics.is_shared() {
@@ -850,13 +915,15 @@ impl GpuSimulator {
             let PackedChunk {
                 strikes,
                 runs: chunk_runs,
-                struck,
+                expansion,
             } = next.take().expect("each chunk is packed before its turn");
             let clock = Instant::now();
             self.prepare_chunk(call, capacity)?;
             self.timings.pack += clock.elapsed().as_secs_f64();
-            if struck.is_some() {
-                self.expanded += 1;
+            match expansion {
+                Expansion::Whole => {}
+                Expansion::Strikes { .. } => self.expanded += 1,
+                Expansion::Drawn { .. } => self.drawn_chunks += 1,
             }
             if let GpuOutput::Events(on_event) = mode {
                 for (j, record) in &strikes {
@@ -864,7 +931,7 @@ impl GpuSimulator {
                 }
             }
             let clock = Instant::now();
-            self.upload_chunk(call, host, struck)?;
+            self.upload_chunk(call, host, expansion)?;
             self.timings.upload += clock.elapsed().as_secs_f64();
             // while the device runs this chunk, the host unpacks the one before and packs
             // the one after (the upload has copied the host arrays)
@@ -967,27 +1034,21 @@ impl GpuSimulator {
     }
 
     /// The packed host arrays copied to the mapped upload buffers, and these to the
-    /// state's I/O region, waited for; for a chunk packed
-    /// as one position and its strikes (`struck`: the struck ball), copied to the events
-    /// buffers and laid out into the I/O region by the shader's `expand_tables`.
+    /// state's I/O region, waited for; for a chunk packed as one position and its strikes
+    /// or its header ([`Expansion`]), copied to the events buffers and laid out into the
+    /// I/O region by the shader's `expand_tables` or `expand_drawn`.
     fn upload_chunk(
         &mut self,
         call: &ChunkCall<'_>,
         host: &HostBlocks,
-        struck: Option<u32>,
+        expansion: Expansion,
     ) -> Result<(), Error> {
         let l = &call.layout;
         let n_tables = call.input.len();
         let real = self.precision.real_size();
         let bufs = self.bufs.as_ref().expect("made by prepare_chunk");
         // the packed bytes (the host arrays may be longer: kept from a larger chunk)
-        let (len_r, len_u) = match struck {
-            Some(_) => (
-                (l.io_reals + n_tables * STRUCK_REALS) * real,
-                (l.io_uints + n_tables * STRUCK_UINTS) * 4,
-            ),
-            None => (n_tables * l.io_reals * real, n_tables * l.io_uints * 4),
-        };
+        let (len_r, len_u) = expansion.packed_len(l, n_tables, real);
         copy_to_mapped(
             &self.device,
             &[
@@ -1001,9 +1062,13 @@ impl GpuSimulator {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("kisstime event loop upload"),
             });
-        if let Some(cue) = struck {
-            let len_r = ((l.io_reals + n_tables * STRUCK_REALS) * real) as u64;
-            let len_u = ((l.io_uints + n_tables * STRUCK_UINTS) * 4) as u64;
+        let (len_r, len_u) = (len_r as u64, len_u as u64);
+        let expand = match expansion {
+            Expansion::Whole => None,
+            Expansion::Strikes { cue } => Some((cue, "expand_tables")),
+            Expansion::Drawn { cue } => Some((cue, "expand_drawn")),
+        };
+        if let Some((cue, label)) = expand {
             encoder.copy_buffer_to_buffer(&bufs.up_r, 0, &bufs.events_r, 0, len_r);
             encoder.copy_buffer_to_buffer(&bufs.up_u, 0, &bufs.events_u, 0, len_u);
             let groups = (n_tables as u32).div_ceil(EXPAND_THREADS);
@@ -1015,22 +1080,23 @@ impl GpuSimulator {
             self.queue
                 .write_buffer(&bufs.cfg, 0, bytemuck::cast_slice(&cfg));
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("kisstime expand_tables"),
+                label: Some(label),
                 timestamp_writes: None,
             });
-            let pipeline = &self
+            let pipelines = &self
                 .pipelines
                 .iter()
                 .find(|(p, _)| p == l)
                 .ok_or_else(|| gpu_error("no pipeline for the chunk's layout"))?
-                .1
-                .expand;
+                .1;
+            let (pipeline, bind) = match expansion {
+                Expansion::Drawn { .. } => (&pipelines.drawn, &bufs.drawn_bind),
+                _ => (&pipelines.expand, &bufs.expand_bind),
+            };
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &bufs.expand_bind, &[]);
+            pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(groups_x, groups.div_ceil(groups_x), 1);
         } else {
-            let len_r = (n_tables * l.io_reals * real) as u64;
-            let len_u = (n_tables * l.io_uints * 4) as u64;
             encoder.copy_buffer_to_buffer(&bufs.up_r, 0, &bufs.state_r, 0, len_r);
             encoder.copy_buffer_to_buffer(&bufs.up_u, 0, &bufs.state_u, 0, len_u);
         }
@@ -1299,6 +1365,9 @@ fn pack_chunk(
     call: &ChunkCall<'_>,
     host: &mut HostBlocks,
 ) -> Result<PackedChunk, Error> {
+    if let Some(packed) = pack_drawn(precision, call, host)? {
+        return Ok(packed);
+    }
     if let Some(packed) = pack_expanded(precision, call, host)? {
         return Ok(packed);
     }
@@ -1390,8 +1459,74 @@ fn pack_chunk(
     Ok(PackedChunk {
         strikes,
         runs,
-        struck: None,
+        expansion: Expansion::Whole,
     })
+}
+
+/// A chunk whose strikes the device draws ([`CheckedTables::drawn`], with
+/// `one_position`, shared physics, no events recorded, the position at rest and on the
+/// bucket) packed as the position's I/O block ([`start_table`] without the strike) and the
+/// header of [`drawn_block`], for the shader's `expand_drawn` to draw each table's strike
+/// and lay the tables out: what crosses the bus does not grow with the tables. The caller
+/// checked the tables against the rule; the first table's balls are the position. `None`
+/// for any other chunk.
+fn pack_drawn(
+    precision: Precision,
+    call: &ChunkCall<'_>,
+    host: &mut HostBlocks,
+) -> Result<Option<PackedChunk>, Error> {
+    let (physics, limits, input) = (call.physics, call.limits, call.input);
+    let Input::Checked { tables, offset } = input else {
+        return Ok(None);
+    };
+    let Some(drawn) = tables.drawn.map(|d| d.from(offset)) else {
+        return Ok(None);
+    };
+    if !tables.one_position || call.record || !physics.is_shared() || input.len() == 0 {
+        return Ok(None);
+    }
+    let l = &call.layout;
+    let mut buf = Vec::new();
+    let Ok((balls, Some((cue, _)))) = input.shot(0, &mut buf) else {
+        return Ok(None);
+    };
+    let at_rest = |b: &BallState| matches!(b.s, MotionState::Stationary | MotionState::Pocketed);
+    if balls.len() > l.gpu_max_balls || !balls.iter().all(at_rest) {
+        return Ok(None);
+    }
+    let position: Vec<BallState> = balls.iter().map(|b| BallState { t: 0.0, ..*b }).collect();
+    let real = precision.real_size();
+    let (host_r, host_u) = (&mut host.r, &mut host.u);
+    host_r.resize((l.io_reals + DRAWN_REALS) * real, 0);
+    host_u.resize((l.io_uints + DRAWN_UINTS) * 4, 0);
+    let params = physics.of(0);
+    let mut sr = [0.0; MAX_LAYOUT.io_reals];
+    let mut su = [0u32; MAX_LAYOUT.io_uints];
+    let (sr, su) = (&mut sr[..l.io_reals], &mut su[..l.io_uints]);
+    start_table(&position, None, &params, limits, false, l, sr, su);
+    put_reals(precision, sr, &mut host_r[..l.io_reals * real]);
+    host_u[..l.io_uints * 4].copy_from_slice(bytemuck::cast_slice(su));
+    let (mut hr, mut hu) = ([0.0; DRAWN_REALS], [0u32; DRAWN_UINTS]);
+    drawn_block(&position, &drawn, &params, limits, &mut hr, &mut hu);
+    put_reals(
+        precision,
+        &hr,
+        &mut host_r[l.io_reals * real..(l.io_reals + DRAWN_REALS) * real],
+    );
+    host_u[l.io_uints * 4..(l.io_uints + DRAWN_UINTS) * 4]
+        .copy_from_slice(bytemuck::cast_slice(&hu));
+    // the runs so far (for final states; a watched chunk reads its watches back instead)
+    let runs = match call.watch_cue == NO_WATCH {
+        true => (0..input.len())
+            .map(|_| unfinished_run(&position))
+            .collect(),
+        false => Vec::new(),
+    };
+    Ok(Some(PackedChunk {
+        strikes: Vec::new(),
+        runs,
+        expansion: Expansion::Drawn { cue: cue as u32 },
+    }))
 }
 
 /// A chunk of one position struck many ways ([`CheckedTables::one_position`], no
@@ -1492,7 +1627,7 @@ fn pack_expanded(
     Ok(whole.then_some(PackedChunk {
         strikes: Vec::new(),
         runs,
-        struck: Some(cue as u32),
+        expansion: Expansion::Strikes { cue: cue as u32 },
     }))
 }
 

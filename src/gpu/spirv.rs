@@ -182,13 +182,6 @@ pub fn exact_shader(
     options.zero_initialize_workgroup_memory =
         naga::back::spv::ZeroInitializeWorkgroupMemoryMode::Polyfill;
     options.force_loop_bounding = checked;
-    let pipeline = naga::back::spv::PipelineOptions {
-        shader_stage: naga::ShaderStage::Compute,
-        entry_point: entry.into(),
-    };
-    let mut words = naga::back::spv::write_vec(&module, &info, &options, Some(&pipeline))
-        .map_err(|e| e.to_string())?;
-    forbid_contraction(&mut words)?;
     let index = module
         .entry_points
         .iter()
@@ -217,7 +210,51 @@ pub fn exact_shader(
         })
         .collect();
     bindings.sort_by_key(|b| b.binding);
+    options.binding_map = vulkan_bindings(&module, &bindings);
+    let pipeline = naga::back::spv::PipelineOptions {
+        shader_stage: naga::ShaderStage::Compute,
+        entry_point: entry.into(),
+    };
+    let mut words = naga::back::spv::write_vec(&module, &info, &options, Some(&pipeline))
+        .map_err(|e| e.to_string())?;
+    forbid_contraction(&mut words)?;
     Ok(ExactShader { words, bindings })
+}
+
+/// Where each group-0 binding of `module` lies in the Vulkan descriptor set wgpu makes
+/// for a layout of `used` (sorted by binding): wgpu's Vulkan backend numbers a layout's
+/// descriptors 0, 1, 2, … in the order of their bindings (wgpu-hal's
+/// `create_bind_group_layout`) and has naga write each shader's bindings so; a passthrough
+/// module must be written the same way, or an entry point whose bindings have gaps (those
+/// of `expand_tables`: 0, 3, 4, 5, 6) reads and writes the wrong buffers. A binding the
+/// entry point does not use gets a number after those, so that none is shared.
+fn vulkan_bindings(module: &naga::Module, used: &[Binding]) -> naga::back::spv::BindingMap {
+    let mut map = naga::back::spv::BindingMap::new();
+    let mut spare = used.len() as u32;
+    for (_, var) in module.global_variables.iter() {
+        let Some(b) = var.binding.as_ref() else {
+            continue;
+        };
+        let at = match used
+            .iter()
+            .position(|u| u.binding == b.binding && b.group == 0)
+        {
+            Some(k) => k as u32,
+            None => {
+                spare += 1;
+                spare - 1
+            }
+        };
+        map.insert(
+            *b,
+            naga::back::spv::BindingInfo {
+                descriptor_set: b.group,
+                binding: at,
+                binding_array_size: None,
+            },
+        );
+    }
+    map
 }
 
 /// Entry point `entry` of the WGSL `source` (overrides set to `constants`) as a compute
@@ -332,6 +369,36 @@ mod tests {
         let mut again = words.clone();
         assert_eq!(forbid_contraction(&mut again), Ok(0));
         assert_eq!(again, words);
+    }
+
+    #[test]
+    fn bindings_are_numbered_as_wgpus_vulkan_layouts_number_them() {
+        // bindings 0 and 5 used, 2 not: the layout's descriptors are 0 and 1, and the
+        // unused binding gets a number of its own after them
+        let source = "@group(0) @binding(0) var<storage, read> a: array<f32>;\n\
+                      @group(0) @binding(2) var<storage, read> unused: array<f32>;\n\
+                      @group(0) @binding(5) var<storage, read_write> b: array<f32>;\n\
+                      @compute @workgroup_size(1) fn main() { b[0] = a[0]; }";
+        let shader = exact_shader(source, "main", &[], true).expect("builds");
+        let used: Vec<u32> = shader.bindings.iter().map(|b| b.binding).collect();
+        assert_eq!(used, [0, 5]);
+        // the SPIR-V's Binding decorations (decoration 33) are the layout's numbers
+        let words = &shader.words;
+        let mut at = 5;
+        let mut numbers = Vec::new();
+        while at < words.len() {
+            let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+            if opcode == OP_DECORATE && count == 4 && words[at + 2] == 33 {
+                numbers.push(words[at + 3]);
+            }
+            at += count;
+        }
+        numbers.sort();
+        assert!(numbers == [0, 1] || numbers == [0, 1, 2], "{numbers:?}");
+        let module = naga::front::wgsl::parse_str(source).unwrap();
+        let map = vulkan_bindings(&module, &shader.bindings);
+        let at = |binding| map[&naga::ResourceBinding { group: 0, binding }].binding;
+        assert_eq!((at(0), at(5), at(2)), (0, 1, 2));
     }
 
     #[test]

@@ -96,6 +96,57 @@ pub struct BatchOptions {
     /// strike the same ball of the same position at rest then crosses the bus as the
     /// position once and each table's strike ([`crate::gpu::CheckedTables::one_position`]).
     pub one_position: bool,
+    /// A study's noisy strikes, described for the device to draw them itself
+    /// ([`DrawnStrikes`]): with [`BatchOptions::one_position`], shared physics and no
+    /// events recorded, a GPU chunk then crosses the bus as the position and one header,
+    /// and each table's strike is drawn and played on the device. `input` must give what
+    /// it describes (the engine compares the first and last table of every chunk with it
+    /// and packs a chunk that differs from `input` as usual), and every strike it draws
+    /// must be one the simulator takes (the study sets it only then). The results do not
+    /// depend on it; the CPU ignores it.
+    pub drawn: Option<DrawnStrikes>,
+}
+
+/// A study's noisy strikes as a rule instead of a list ([`BatchOptions::drawn`]): table
+/// `k`'s strike is `draw(self, r, first + k)` on balls of radius `r`, the intended strike
+/// `shot` plus the five σ times normals drawn from Philox keyed by `seed` at counter
+/// `first + k` (the study's `noisy_strike_of`; its twin in `shaders/study/noise.wgsl` is
+/// what the device runs).
+#[derive(Clone, Copy, Debug)]
+pub struct DrawnStrikes {
+    /// The intended strike.
+    pub shot: CueStrike,
+    /// The noise's σ, in the order V0 (m/s), φ, θ (degrees), a, b (metres).
+    pub sigma: [f64; 5],
+    /// The study's seed.
+    pub seed: u64,
+    /// Table 0's sample id.
+    pub first: u64,
+    /// The host's twin of the device's draw: `draw(self, r, i)` is sample `i`'s strike.
+    pub draw: fn(&DrawnStrikes, f64, u64) -> CueStrike,
+}
+
+impl DrawnStrikes {
+    /// Table `k`'s strike on balls of radius `r`.
+    pub fn strike(&self, r: f64, k: usize) -> CueStrike {
+        (self.draw)(self, r, self.first + k as u64)
+    }
+
+    /// The same draws from table `k` on: table 0 of the result is table `k` of these.
+    pub fn from(&self, k: usize) -> DrawnStrikes {
+        DrawnStrikes {
+            first: self.first + k as u64,
+            ..*self
+        }
+    }
+}
+
+impl PartialEq for DrawnStrikes {
+    fn eq(&self, other: &Self) -> bool {
+        (self.shot, self.sigma, self.seed, self.first)
+            == (other.shot, other.sigma, other.seed, other.first)
+            && std::ptr::fn_addr_eq(self.draw, other.draw)
+    }
 }
 
 impl Default for BatchOptions {
@@ -107,6 +158,7 @@ impl Default for BatchOptions {
             check_layout: true,
             watch: None,
             one_position: false,
+            drawn: None,
         }
     }
 }

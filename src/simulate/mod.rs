@@ -69,8 +69,8 @@ pub use crate::model::{
 };
 pub use crate::resolve::stick_ball::CueStrike;
 pub use batch::{
-    BatchError, BatchOptions, BatchStats, Chunk, DEFAULT_CHUNK_TABLES, EventRecord, TableRun,
-    check_tables, pocket_of, simulate_batch,
+    BatchError, BatchOptions, BatchStats, Chunk, DEFAULT_CHUNK_TABLES, DrawnStrikes, EventRecord,
+    TableRun, check_tables, pocket_of, simulate_batch,
 };
 pub use check::{LAYOUT_TOLERANCE, MOVING_OVERLAP_TOLERANCE, check_layout};
 pub use event_loop::{EventLoop, Limits, MAX_BALLS, simulate};

@@ -11,12 +11,20 @@
 //! the normal quantile ([`normal_quantile`], exact arithmetic on both twins) in the order
 //! `v0, phi, theta, a, b`. A sample's physics spread is stream 1 (blocks 0–4, ten
 //! uniforms, one per parameter), so a study's strikes are the same with or without one.
+//!
+//! # On the device
+//! Without a physics spread a study's strikes are a rule ([`drawn`]: the intended strike,
+//! σ, the seed, the first index), which the engine hands the GPU as one header
+//! ([`crate::simulate::DrawnStrikes`]); the event loop's `expand_drawn` then draws and
+//! plays each sample's strike itself. [`draws_are_strikes`] makes sure first that no draw
+//! can be a strike the simulator refuses, since the device checks none.
 
 use super::config::{Noise, PhysicsSpread, StudyConfig, ball_field};
 use super::philox::{open_unit, philox4x32};
 use crate::model::fmath::normal_quantile;
 use crate::model::sim_params::SimParams;
-use crate::resolve::stick_ball::CueStrike;
+use crate::resolve::stick_ball::{CueStrike, MAX_PHI_DEGREES};
+use crate::simulate::DrawnStrikes;
 
 /// Philox's stream word for the cue noise.
 const CUE_STREAM: u32 = 0;
@@ -70,6 +78,60 @@ pub fn noisy_strike_of(s: CueStrike, r: f64, sigma: &Noise, seed: u64, i: u64) -
         a: s.a + sigma.a / r * z[3],
         b: s.b + sigma.b / r * z[4],
     })
+}
+
+/// Sample `i`'s strike under `drawn` ([`crate::simulate::DrawnStrikes`]'s `draw`: the rule
+/// the device runs): [`noisy_strike_of`] of its intended strike and σ.
+pub fn drawn_strike(drawn: &DrawnStrikes, r: f64, i: u64) -> CueStrike {
+    let [v0, phi, theta, a, b] = drawn.sigma;
+    let sigma = Noise {
+        v0,
+        phi,
+        theta,
+        a,
+        b,
+        physics: PhysicsSpread::default(),
+    };
+    noisy_strike_of(drawn.shot, r, &sigma, drawn.seed, i)
+}
+
+/// The study's strikes as the rule [`drawn_strike`] for the device to draw
+/// ([`crate::simulate::BatchOptions::drawn`]), samples from `first` on; `None` where a
+/// draw could be a strike the simulator refuses ([`draws_are_strikes`]) or the physics
+/// varies from sample to sample (the host then draws each sample).
+pub fn drawn(config: &StudyConfig, sigma: &Noise, seed: u64, first: u64) -> Option<DrawnStrikes> {
+    let s = [sigma.v0, sigma.phi, sigma.theta, sigma.a, sigma.b];
+    let rule = DrawnStrikes {
+        shot: config.shot,
+        sigma: s,
+        seed,
+        first,
+        draw: drawn_strike,
+    };
+    (sigma.physics.is_empty() && draws_are_strikes(config.shot, config.params.ball.r, &s))
+        .then_some(rule)
+}
+
+/// The largest |z| a draw can give: the normal quantile of the smallest uniform Philox's
+/// words give ([`open_unit`]`(0, 0)` = 2⁻⁵³; the largest, 1 − 2⁻⁵³, gives its negative).
+pub fn max_normal() -> f64 {
+    -normal_quantile(open_unit(0, 0))
+}
+
+/// Whether every strike drawn around `shot` with the σ `sigma` (V0, φ, θ, a, b) on balls of
+/// radius `r` is one the simulator takes ([`CueStrike::validate`]): each number stays
+/// finite and |φ| within [`MAX_PHI_DEGREES`] whatever the normals (|z| ≤ [`max_normal`]);
+/// [`clamped`] sees to the rest (V0 ≥ 0, the tip on the ball).
+pub fn draws_are_strikes(shot: CueStrike, r: f64, sigma: &[f64; 5]) -> bool {
+    // a margin for the rounding of x + σ·z
+    let z = max_normal() * (1.0 + 1e-9);
+    let reach = |x: f64, s: f64| x.abs() + s.abs() * z;
+    let x = [shot.v0, shot.phi, shot.theta, shot.a, shot.b];
+    let s = [sigma[0], sigma[1], sigma[2], sigma[3] / r, sigma[4] / r];
+    let within = |k: usize, most: f64| reach(x[k], s[k]) <= most;
+    x.iter().chain(&s).all(|v| v.is_finite())
+        && within(1, MAX_PHI_DEGREES * (1.0 - 1e-9))
+        && [0, 2, 3, 4].into_iter().all(|k| within(k, 1e300))
 }
 
 /// Sample `i`'s physics: `base` with each parameter that `spread` varies scaled by
@@ -220,6 +282,69 @@ mod tests {
             on_rim += usize::from(t.a * t.a + t.b * t.b > 1.0 - 1e-12);
         }
         assert!(on_rim > 1000, "the rim case is exercised: {on_rim}");
+    }
+
+    #[test]
+    fn the_largest_normal_is_the_extreme_words_quantile() {
+        let z = max_normal();
+        // Φ⁻¹(2⁻⁵³) = −8.2095361516013868… (mpmath, 30 digits)
+        assert!((z - 8.209_536_151_601_387).abs() < 1e-13, "{z}");
+        assert_eq!(normal_quantile(open_unit(u32::MAX, u32::MAX)), z);
+        assert_eq!(normal_quantile(open_unit(0, 0)), -z);
+    }
+
+    #[test]
+    fn draws_are_strikes_where_no_normal_can_break_one() {
+        let shot = StudyConfig::builtin().shot;
+        let r = 0.028_575;
+        let sigma = [0.075, 0.125, 0.1, 0.0005, 0.0005];
+        assert!(draws_are_strikes(shot, r, &sigma));
+        // φ: |φ| + σ·z_max against 10⁷ degrees
+        let z = max_normal();
+        let phi = |s: f64| [0.075, s, 0.1, 0.0005, 0.0005];
+        let edge = (MAX_PHI_DEGREES - shot.phi.abs()) / z;
+        assert!(draws_are_strikes(shot, r, &phi(0.999 * edge)));
+        assert!(!draws_are_strikes(shot, r, &phi(1.001 * edge)));
+        // anything not finite, or a draw that could overflow
+        for k in 0..5 {
+            for bad in [f64::NAN, f64::INFINITY] {
+                let mut s = sigma;
+                s[k] = bad;
+                assert!(!draws_are_strikes(shot, r, &s), "σ {k} = {bad}");
+            }
+        }
+        assert!(!draws_are_strikes(
+            shot,
+            r,
+            &[0.075, 0.125, 0.1, 1e299, 0.0005]
+        ));
+        let mut far = shot;
+        far.v0 = f64::NAN;
+        assert!(!draws_are_strikes(far, r, &sigma));
+    }
+
+    #[test]
+    fn a_drawn_study_is_the_rule_of_its_noisy_strikes() {
+        let config = StudyConfig::builtin();
+        let sigma = Noise::default();
+        let d = drawn(&config, &sigma, 9, 1000).expect("the built-in noise is drawn");
+        let r = config.params.ball.r;
+        for k in [0, 1, 77, 4096] {
+            assert_eq!(
+                d.strike(r, k),
+                noisy_strike(&config, &sigma, 9, 1000 + k as u64)
+            );
+            assert_eq!(d.from(k).strike(r, 0), d.strike(r, k));
+        }
+        // a physics spread is drawn by the host; so is noise that could break a strike
+        let mut spread = sigma;
+        spread.physics.ranges[0] = Some((-0.1, 0.1));
+        assert!(drawn(&config, &spread, 9, 0).is_none());
+        let wild = Noise {
+            phi: 1e7,
+            ..Noise::default()
+        };
+        assert!(drawn(&config, &wild, 9, 0).is_none());
     }
 
     #[test]

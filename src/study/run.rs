@@ -14,7 +14,7 @@
 use rayon::prelude::*;
 
 use super::config::{Noise, StudyConfig};
-use super::noise::{noisy_strike, sample_physics};
+use super::noise::{self, noisy_strike, sample_physics};
 use crate::engine::{Backend, Precision, ShotEngine};
 use crate::error::{Error, InputError, SimError};
 use crate::game::{Context, Played, Verdict};
@@ -278,6 +278,13 @@ pub fn run(
             facts: config.game.is_some(),
         }),
         one_position: true,
+        // the device draws and plays the strikes itself where it can
+        drawn: match &samples {
+            Samples::Drawn { sigma, seed, range } => {
+                noise::drawn(config, sigma, *seed, range.start as u64)
+            }
+            _ => None,
+        },
     };
     let draw = |j: usize| samples.physics(config, j).unwrap_or(config.params);
     let physics = if samples.physics(config, 0).is_some() {

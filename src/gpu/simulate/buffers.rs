@@ -1,7 +1,10 @@
 //! The event loop's buffers ([`LoopBuffers`]): made for a call's largest chunk and its
 //! ball-count bucket, and reused across chunks and calls while they fit.
 
-use super::{EVENT_REALS, EVENT_UINTS, GpuSimulator, STRUCK_REALS, STRUCK_UINTS, SimLayout};
+use super::{
+    DRAWN_REALS, DRAWN_UINTS, EVENT_REALS, EVENT_UINTS, GpuSimulator, STRUCK_REALS, STRUCK_UINTS,
+    SimLayout,
+};
 use crate::error::Error;
 use crate::gpu::device::{Scopes, map_and_wait};
 
@@ -29,6 +32,8 @@ pub(super) struct LoopBuffers {
     pub(super) bind: wgpu::BindGroup,
     /// The bindings of `expand_tables` (the config, the state, the events buffers).
     pub(super) expand_bind: wgpu::BindGroup,
+    /// The bindings of `expand_drawn` (those of `expand_tables` and the parameters).
+    pub(super) drawn_bind: wgpu::BindGroup,
     /// Upload buffers for the I/O region (mapped for writing while a chunk is packed).
     pub(super) up_r: wgpu::Buffer,
     pub(super) up_u: wgpu::Buffer,
@@ -98,6 +103,7 @@ impl GpuSimulator {
         let pipelines = self.pipeline(l)?;
         let bind_layout = pipelines.simulate.get_bind_group_layout(0);
         let expand_layout = pipelines.expand.get_bind_group_layout(0);
+        let drawn_layout = pipelines.drawn.get_bind_group_layout(0);
         let real = self.precision.real_size() as u64;
         let n = tables as u64;
         let dev = &self.device;
@@ -118,18 +124,18 @@ impl GpuSimulator {
         // what comes back at the end: the I/O region, or a study's watch region
         let back_reals = n * l.io_reals.max(l.watch_reals) as u64;
         let back_uints = n * l.io_uints.max(l.watch_uints) as u64;
+        // the input of expand_tables (one I/O block and a strike block a table) or of
+        // expand_drawn (one I/O block and a header)
+        let expand_reals = (l.io_reals + (tables * STRUCK_REALS).max(DRAWN_REALS)) as u64;
+        let expand_uints = (l.io_uints + (tables * STRUCK_UINTS).max(DRAWN_UINTS)) as u64;
         let (events_reals, events_uints) = if record {
             (
                 n * (per * EVENT_REALS) as u64,
                 n * (1 + per * EVENT_UINTS) as u64,
             )
         } else {
-            // without events, the input of expand_tables: one I/O block and a strike
-            // block a table
-            (
-                (l.io_reals + tables * STRUCK_REALS) as u64,
-                (l.io_uints + tables * STRUCK_UINTS) as u64,
-            )
+            // without events, the expansions' input
+            (expand_reals, expand_uints)
         };
         let cfg = make(
             "config",
@@ -170,6 +176,17 @@ impl GpuSimulator {
             layout: &expand_layout,
             entries: &expand_entries,
         });
+        // expand_drawn's: expand_tables's and the parameters (1)
+        let drawn_entries: Vec<wgpu::BindGroupEntry> = entries
+            .iter()
+            .filter(|e| matches!(e.binding, 0 | 1 | 3..=6))
+            .cloned()
+            .collect();
+        let drawn_bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("expand drawn"),
+            layout: &drawn_layout,
+            entries: &drawn_entries,
+        });
         Ok(LoopBuffers {
             layout,
             tables,
@@ -177,15 +194,16 @@ impl GpuSimulator {
             record,
             geometry_reals,
             sim_reals,
-            // the I/O blocks, or one block and the strike blocks (pack_expanded)
+            // the I/O blocks, or one block and the strike blocks (pack_expanded) or the
+            // header (pack_drawn)
             up_r: make(
                 "upload reals",
-                (n * l.io_reals as u64).max(l.io_reals as u64 + n * STRUCK_REALS as u64) * real,
+                (n * l.io_reals as u64).max(expand_reals) * real,
                 up,
             ),
             up_u: make(
                 "upload u32s",
-                (n * l.io_uints as u64).max(l.io_uints as u64 + n * STRUCK_UINTS as u64) * 4,
+                (n * l.io_uints as u64).max(expand_uints) * 4,
                 up,
             ),
             back_running: make("readback running", 4, back),
@@ -204,6 +222,7 @@ impl GpuSimulator {
             live,
             bind,
             expand_bind,
+            drawn_bind,
         })
     }
 }
