@@ -1463,6 +1463,33 @@ fn pack_chunk(
     })
 }
 
+/// The position a chunk of one position struck many ways starts from, and the ball its
+/// first table strikes: checked tables with the [`CheckedTables::one_position`] hint, no
+/// events recorded, the first table's balls at rest (stationary or pocketed, their clocks
+/// set to 0) and within the bucket, a strike. `None` for any other chunk (it is packed
+/// whole). The expansions check the other tables against it, or the caller did.
+fn chunk_position(call: &ChunkCall<'_>) -> Option<(Vec<BallState>, usize)> {
+    let input = call.input;
+    let Input::Checked { tables, .. } = input else {
+        return None;
+    };
+    if !tables.one_position || call.record || input.len() == 0 {
+        return None;
+    }
+    let mut buf = Vec::new();
+    let Ok((balls, Some((cue, _)))) = input.shot(0, &mut buf) else {
+        return None;
+    };
+    let at_rest = |b: &BallState| matches!(b.s, MotionState::Stationary | MotionState::Pocketed);
+    if balls.len() > call.layout.gpu_max_balls || !balls.iter().all(at_rest) {
+        return None;
+    }
+    Some((
+        balls.iter().map(|b| BallState { t: 0.0, ..*b }).collect(),
+        cue,
+    ))
+}
+
 /// A chunk whose strikes the device draws ([`CheckedTables::drawn`], with
 /// `one_position`, shared physics, no events recorded, the position at rest and on the
 /// bucket) packed as the position's I/O block ([`start_table`] without the strike) and the
@@ -1482,19 +1509,13 @@ fn pack_drawn(
     let Some(drawn) = tables.drawn.map(|d| d.from(offset)) else {
         return Ok(None);
     };
-    if !tables.one_position || call.record || !physics.is_shared() || input.len() == 0 {
+    if !physics.is_shared() {
         return Ok(None);
     }
-    let l = &call.layout;
-    let mut buf = Vec::new();
-    let Ok((balls, Some((cue, _)))) = input.shot(0, &mut buf) else {
+    let Some((position, cue)) = chunk_position(call) else {
         return Ok(None);
     };
-    let at_rest = |b: &BallState| matches!(b.s, MotionState::Stationary | MotionState::Pocketed);
-    if balls.len() > l.gpu_max_balls || !balls.iter().all(at_rest) {
-        return Ok(None);
-    }
-    let position: Vec<BallState> = balls.iter().map(|b| BallState { t: 0.0, ..*b }).collect();
+    let l = &call.layout;
     let real = precision.real_size();
     let (host_r, host_u) = (&mut host.r, &mut host.u);
     host_r.resize((l.io_reals + DRAWN_REALS) * real, 0);
@@ -1541,22 +1562,10 @@ fn pack_expanded(
     host: &mut HostBlocks,
 ) -> Result<Option<PackedChunk>, Error> {
     let (physics, limits, input, first) = (call.physics, call.limits, call.input, call.first);
-    let Input::Checked { tables, .. } = input else {
+    let Some((position, cue)) = chunk_position(call) else {
         return Ok(None);
     };
-    if !tables.one_position || call.record || input.len() == 0 {
-        return Ok(None);
-    }
     let l = &call.layout;
-    let mut buf = Vec::new();
-    let Ok((balls, Some((cue, _)))) = input.shot(0, &mut buf) else {
-        return Ok(None);
-    };
-    let at_rest = |b: &BallState| matches!(b.s, MotionState::Stationary | MotionState::Pocketed);
-    if balls.len() > l.gpu_max_balls || !balls.iter().all(at_rest) {
-        return Ok(None);
-    }
-    let position: Vec<BallState> = balls.iter().map(|b| BallState { t: 0.0, ..*b }).collect();
     let n_tables = input.len();
     let real = precision.real_size();
     // the position's block, then each table's strike block, in the shader's precision
