@@ -19,7 +19,8 @@ use kisstime::engine::{Backend, ShotEngine};
 use kisstime::io::strikes::read_sample_strikes;
 use kisstime::simulate::CueStrike;
 use kisstime::study::{
-    Class, RunOptions, Sample, Samples, StudyConfig, Summary, Until, run, run_strikes, wilson,
+    Class, RunOptions, Sample, Samples, StudyConfig, Summary, Until, run, run_strikes, summarize,
+    wilson,
 };
 
 fn dir() -> PathBuf {
@@ -709,6 +710,13 @@ fn a_study_drawn_on_the_device_is_the_cpus_sample_for_sample() {
         );
         if exact {
             assert_eq!(differ, 0, "{at}: exact SPIR-V gives the CPU's samples");
+            // the summary counted chunk by chunk, no sample kept, is the CPU samples'
+            let summary = summarize(&mut gpu, &config, drawn(), &options, &mut |_, _| {});
+            assert_eq!(
+                summary.unwrap(),
+                Summary::of(&config, &on_cpu, until),
+                "{at}: the summary without the samples"
+            );
         }
         // the strikes were played: most samples hit a ball
         let hit = on_gpu

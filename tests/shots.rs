@@ -527,6 +527,102 @@ fn builtin_study_has_an_informative_mix_and_the_summary_adds_up() {
     assert_eq!(f.results, [0; 4]);
 }
 
+/// `study::summarize` counts each chunk's samples and drops them: its summary is
+/// `Summary::of` on what `study::run` returns, bit for bit (means summed in the same
+/// order, the same order statistics), to rest over several chunks, to the first contact,
+/// with a physics spread, judged by a game with a score (snooker), and for given strikes;
+/// its progress reaches every sample.
+#[test]
+fn the_summary_without_the_samples_is_the_summary_of_the_samples() {
+    use kisstime::engine::{Backend, Precision, ShotEngine};
+    use kisstime::study::{Samples, run, summarize};
+    let builtin = StudyConfig::builtin();
+    let spread = StudyConfig::parse(
+        &format!("{BUILTIN_TOML}\n[noise.physics]\nu_r = 0.1\ne_c = [0.8, 0.9]\n"),
+        "spread.toml",
+        None,
+    )
+    .unwrap();
+    let snooker = StudyConfig::parse(
+        &std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/examples/snooker.toml"
+        ))
+        .unwrap(),
+        "snooker.toml",
+        None,
+    )
+    .unwrap();
+    let given: Vec<CueStrike> = (0..300)
+        .map(|i| noisy_strike(&builtin, &builtin.sigma(), 5, i))
+        .collect();
+    let mut engine = ShotEngine::new(Backend::Cpu, Precision::F64).unwrap();
+    let cases: [(&str, &StudyConfig, usize, &RunOptions); 4] = [
+        ("to rest over chunks", &builtin, CHUNK + 1500, &REST),
+        ("to the first contact", &builtin, 3000, &FIRST),
+        ("a physics spread", &spread, 1500, &REST),
+        ("snooker's rules", &snooker, 1500, &REST),
+    ];
+    for (what, config, n, options) in cases {
+        let sigma = config.sigma();
+        let drawn = || Samples::Drawn {
+            sigma: &sigma,
+            seed: 77,
+            range: 10..10 + n,
+        };
+        let samples = run(&mut engine, config, drawn(), options, &mut |_, _| {}).unwrap();
+        let mut reached = 0;
+        let summary = summarize(&mut engine, config, drawn(), options, &mut |done, total| {
+            assert!(done > reached && total == n, "{what}: {done} of {total}");
+            reached = done;
+        })
+        .unwrap();
+        assert_eq!(reached, n, "{what}");
+        assert_eq!(
+            summary,
+            Summary::of(config, &samples, options.until),
+            "{what}"
+        );
+        assert!(summary.samples == n && summary.events.is_some(), "{what}");
+    }
+    let samples = run(
+        &mut engine,
+        &builtin,
+        Samples::Given(&given),
+        &REST,
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let summary = summarize(
+        &mut engine,
+        &builtin,
+        Samples::Given(&given),
+        &REST,
+        &mut |_, _| {},
+    )
+    .unwrap();
+    assert_eq!(
+        summary,
+        Summary::of(&builtin, &samples, Until::Rest),
+        "given strikes"
+    );
+    // the snooker case was judged and scored
+    let snooker_summary = summarize(
+        &mut engine,
+        &snooker,
+        Samples::Drawn {
+            sigma: &snooker.sigma(),
+            seed: 77,
+            range: 0..200,
+        },
+        &REST,
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let game = snooker_summary.game.expect("snooker's verdicts");
+    assert!(game.points.is_some() && game.foul_points.is_some());
+}
+
 #[test]
 fn zero_noise_replays_the_intended_shot() {
     let config = StudyConfig::builtin();

@@ -148,7 +148,18 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
             range: 0..n,
         },
     };
-    let samples = study::run(&mut engine, &scenario, which, &options, &mut progress);
+    // the samples themselves only where a file wants them (the CSV, the picture); else
+    // each chunk is counted and dropped
+    let rows_wanted = args.output.is_some() || args.plot.is_some();
+    let result = if rows_wanted {
+        study::run(&mut engine, &scenario, which, &options, &mut progress).map(|samples| {
+            let summary = Summary::of(&scenario, &samples, options.until);
+            (samples, summary)
+        })
+    } else {
+        study::summarize(&mut engine, &scenario, which, &options, &mut progress)
+            .map(|summary| (Vec::new(), summary))
+    };
     bar.done();
     for note in engine.take_notes() {
         eprintln!("kisstime: {note}");
@@ -159,8 +170,7 @@ pub fn run_shots(args: &ShotsArgs) -> Result<(), Error> {
         eprintln!("kisstime: GPU phases: {}", gpu.total_timings().describe());
     }
     let seconds = started.elapsed().as_secs_f64();
-    let samples = samples?;
-    let summary = Summary::of(&scenario, &samples, options.until);
+    let (samples, summary) = result?;
     let ids: Vec<i64> = match &given {
         Some((ids, _)) => ids.clone(),
         None => (0..n as i64).collect(),

@@ -10,7 +10,8 @@
 //!   ([`crate::engine::ShotEngine::simulate_with`], either backend) watching the cue ball,
 //!   to rest or to the first contact, and [`sample_of`], which turns a sample's watch into
 //!   its outcome;
-//! - [`stats`]: counts, Wilson intervals and summary statistics.
+//! - [`stats`]: counts, Wilson intervals and summary statistics, from the samples or
+//!   tallied as they come ([`summarize`]: a study's summary without keeping its samples).
 //!
 //! The strike is pooltool 0.6.0's (`instantaneous_point` with squirt,
 //! [`crate::resolve::stick_ball`]). Presentation — the text and JSON summary, the
@@ -31,6 +32,6 @@ pub use noise::{clamped, cue_normals, mix, noisy_strike, noisy_strike_of, sample
 pub use reference::{REFERENCE_COLUMNS, write_reference_csv};
 pub use run::{
     CHUNK, FirstContact, Pot, RunOptions, Sample, Samples, Until, run, run_samples, run_strikes,
-    run_study, sample_of,
+    run_study, sample_of, summarize,
 };
-pub use stats::{Class, GameCounts, Result4, Stats, Summary, potted_as_called, wilson};
+pub use stats::{Class, GameCounts, Result4, Stats, Summary, Tally, potted_as_called, wilson};

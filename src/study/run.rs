@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use super::config::{Noise, StudyConfig};
 use super::noise::{self, noisy_strike, sample_physics};
+use super::stats::{Summary, Tally};
 use crate::engine::{Backend, Precision, ShotEngine};
 use crate::error::{Error, InputError, SimError};
 use crate::game::{Context, Played, Verdict};
@@ -229,21 +230,12 @@ pub fn run(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
     let n = samples.len();
-    if config.game.is_some() && options.until == Until::FirstContact {
-        return Err(Error::Unsupported(
-            "a study with a [game] runs to rest: the rules judge the whole shot (leave out \
-             --until first-contact)"
-                .into(),
-        ));
-    }
     let each = std::mem::size_of::<Sample>() + std::mem::size_of::<CueStrike>();
     crate::limits::check_memory(
         &format!("a study of {n} samples"),
         (n as u64).saturating_mul(each as u64),
     )?;
-    let initial = config.initial();
-    let cue = config.cue;
-    // the strikes, drawn once (Rayon over samples): the input and the judge both read them
+    // the strikes, drawn once (Rayon over samples): the input and the samples both read them
     let drawn: Vec<CueStrike> = match &samples {
         Samples::Drawn { .. } => (0..n)
             .into_par_iter()
@@ -256,7 +248,123 @@ pub fn run(
         Samples::Drawn { .. } => &drawn,
         Samples::Given(given) | Samples::Judged { strikes: given, .. } => given,
     };
-    if let Samples::Judged { contexts, .. } = &samples {
+    let mut out = Vec::with_capacity(n);
+    drive(
+        engine,
+        config,
+        &samples,
+        options,
+        &|j| strikes[j],
+        &mut out,
+        progress,
+    )?;
+    Ok(out)
+}
+
+/// The [`Summary`] of `samples` of `config`'s study on `engine`'s backend, as
+/// [`Summary::of`] gives it on what [`run`] returns, bit for bit — without keeping the
+/// samples: each chunk's samples are counted ([`Tally`]) and dropped, and a drawn
+/// sample's strike is drawn where it is needed instead of up front, so memory holds a
+/// chunk and the values the statistics need (at most seven numbers a sample). For a
+/// study whose per-sample rows nobody asked for. Errors: [`run`]'s.
+pub fn summarize(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    samples: Samples<'_>,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Summary, Error> {
+    let n = samples.len();
+    crate::limits::check_memory(
+        &format!("the summary of a study of {n} samples"),
+        (n as u64).saturating_mul(Tally::MOST_BYTES_A_SAMPLE as u64),
+    )?;
+    let mut counting = Counting {
+        config,
+        until: options.until,
+        tally: Tally::new(config, options.until),
+    };
+    drive(
+        engine,
+        config,
+        &samples,
+        options,
+        &|j| samples.strike(config, j),
+        &mut counting,
+        progress,
+    )?;
+    Ok(counting.tally.finish())
+}
+
+/// What takes a study's samples, chunk by chunk in order.
+trait Collect {
+    /// Takes the next chunk's samples (the vector left empty).
+    fn take(&mut self, chunk: &mut Vec<Sample>);
+    /// Forgets every sample taken (the study starts over).
+    fn restart(&mut self);
+    /// Samples taken.
+    fn taken(&self) -> usize;
+}
+
+impl Collect for Vec<Sample> {
+    fn take(&mut self, chunk: &mut Vec<Sample>) {
+        self.append(chunk);
+    }
+
+    fn restart(&mut self) {
+        self.clear();
+    }
+
+    fn taken(&self) -> usize {
+        self.len()
+    }
+}
+
+/// A study's samples counted as they come, none kept.
+struct Counting<'c> {
+    config: &'c StudyConfig,
+    until: Until,
+    tally: Tally,
+}
+
+impl Collect for Counting<'_> {
+    fn take(&mut self, chunk: &mut Vec<Sample>) {
+        for s in chunk.drain(..) {
+            self.tally.add(&s);
+        }
+    }
+
+    fn restart(&mut self) {
+        self.tally = Tally::new(self.config, self.until);
+    }
+
+    fn taken(&self) -> usize {
+        self.tally.len()
+    }
+}
+
+/// Runs `samples` (sample `j` struck by `strike_of(j)`), every chunk's samples made from
+/// their watches (Rayon over the chunk) and handed to `collect` in order.
+fn drive(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    samples: &Samples<'_>,
+    options: &RunOptions,
+    strike_of: &(dyn Fn(usize) -> CueStrike + Sync),
+    collect: &mut dyn Collect,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<(), Error> {
+    let n = samples.len();
+    if config.game.is_some() && options.until == Until::FirstContact {
+        return Err(Error::Unsupported(
+            "a study with a [game] runs to rest: the rules judge the whole shot (leave out \
+             --until first-contact)"
+                .into(),
+        ));
+    }
+    let initial = config.initial();
+    let cue = config.cue;
+    if let Samples::Judged { contexts, .. } = samples {
         if config.game.is_none() {
             return Err(InputError::new("samples judged in their own contexts need a game").into());
         }
@@ -279,7 +387,7 @@ pub fn run(
         }),
         one_position: true,
         // the device draws and plays the strikes itself where it can
-        drawn: match &samples {
+        drawn: match samples {
             Samples::Drawn { sigma, seed, range } => {
                 noise::drawn(config, sigma, *seed, range.start as u64)
             }
@@ -295,23 +403,23 @@ pub fn run(
     let input = |j: usize, balls: &mut Vec<BallState>| {
         balls.clear();
         balls.extend_from_slice(&initial);
-        Ok(Some((cue, strikes[j])))
+        Ok(Some((cue, strike_of(j))))
     };
-    let out = std::cell::RefCell::new(Vec::with_capacity(n));
+    let collect = std::cell::RefCell::new(collect);
+    let made = std::cell::RefCell::new(Vec::new());
     let sink = |chunk: &crate::simulate::Chunk| {
-        let mut out = out.borrow_mut();
-        // each sample judged from its watch, Rayon over the chunk, straight into `out`
-        out.par_extend((0..chunk.len()).into_par_iter().with_min_len(64).map(|i| {
+        let mut made = made.borrow_mut();
+        // each sample judged from its watch, Rayon over the chunk
+        made.par_extend((0..chunk.len()).into_par_iter().with_min_len(64).map(|i| {
             let run = chunk.get(i).expect("a table of the chunk");
             let j = run.table;
             let watch = run.watch.expect("a watched batch");
             let ball = physics.of(j).ball;
             let end = run.balls[0].r;
-            let strike = strikes[j];
             sample_of(
                 config,
                 options.until,
-                strike,
+                strike_of(j),
                 ball,
                 watch,
                 (end.x, end.y),
@@ -319,12 +427,14 @@ pub fn run(
                 (&initial, samples.context(j)),
             )
         }));
-        progress(out.len(), n);
+        let mut collect = collect.borrow_mut();
+        collect.take(&mut made);
+        progress(collect.taken(), n);
         Ok::<(), Error>(())
     };
     // a GPU failure under `auto` after samples came back: the study starts over on the CPU
     let restart = || {
-        out.borrow_mut().clear();
+        collect.borrow_mut().restart();
         Ok::<(), Error>(())
     };
     engine
@@ -333,7 +443,7 @@ pub fn run(
             BatchError::Table { table, error } => sample_error(table, error),
             BatchError::Sink(e) => e,
         })?;
-    Ok(out.into_inner())
+    Ok(())
 }
 
 /// Runs the study on the CPU: `samples` noisy strikes drawn from `seed` ([`noisy_strike`]).

@@ -38,21 +38,33 @@ impl Stats {
         } else {
             0.0
         };
-        let mut sorted = values.to_vec();
-        sorted.sort_by(f64::total_cmp);
-        let q = |p: f64| {
+        // each percentile from the two order statistics beside it, found by selection
+        // (linear time) rather than by sorting every value: the same values a sort gives
+        let mut order = values.to_vec();
+        let mut q = |p: f64| {
             let x = p * (n - 1) as f64;
             let lo = x.floor() as usize;
             let hi = (lo + 1).min(n - 1);
-            sorted[lo] + (x - lo as f64) * (sorted[hi] - sorted[lo])
+            let (_, &mut at_lo, above) = order.select_nth_unstable_by(lo, f64::total_cmp);
+            let at_hi = if hi == lo {
+                at_lo
+            } else {
+                above
+                    .iter()
+                    .copied()
+                    .min_by(f64::total_cmp)
+                    .expect("a value above")
+            };
+            at_lo + (x - lo as f64) * (at_hi - at_lo)
         };
+        let (p5, p50, p95) = (q(0.05), q(0.5), q(0.95));
         Some(Stats {
             n,
             mean,
             std: var.sqrt(),
-            p5: q(0.05),
-            p50: q(0.5),
-            p95: q(0.95),
+            p5,
+            p50,
+            p95,
         })
     }
 }
@@ -150,9 +162,17 @@ impl Result4 {
 
     /// The outcome of `s` in `config`.
     pub fn of(config: &StudyConfig, s: &Sample) -> Result4 {
-        let potted = potted_as_called(config, s);
-        let scratch = s.pocket_of(config.cue).is_some();
-        match (potted, scratch) {
+        Result4::of_pockets(
+            s.pocket_of(config.intended),
+            config.pocket,
+            s.pocket_of(config.cue).is_some(),
+        )
+    }
+
+    /// The outcome of a sample whose intended ball went into pocket `intended` (if it
+    /// did), the study calling pocket `called` (if it does), with or without a scratch.
+    fn of_pockets(intended: Option<usize>, called: Option<usize>, scratch: bool) -> Result4 {
+        match (called_pot(intended, called), scratch) {
             (true, false) => Result4::Pot,
             (true, true) => Result4::PotScratch,
             (false, true) => Result4::Scratch,
@@ -164,7 +184,13 @@ impl Result4 {
 /// Whether the intended ball went in: into the called pocket if the study calls one, into
 /// any pocket otherwise.
 pub fn potted_as_called(config: &StudyConfig, s: &Sample) -> bool {
-    match (s.pocket_of(config.intended), config.pocket) {
+    called_pot(s.pocket_of(config.intended), config.pocket)
+}
+
+/// Whether a ball that went into pocket `pocket` (if it did) was potted as called: in
+/// pocket `called` if one is called, in any otherwise.
+fn called_pot(pocket: Option<usize>, called: Option<usize>) -> bool {
+    match (pocket, called) {
         (Some(p), Some(called)) => p == called,
         (Some(_), None) => true,
         (None, _) => false,
@@ -240,9 +266,9 @@ pub struct GameCounts {
 }
 
 impl GameCounts {
-    /// The verdicts of `samples` under `rules`.
-    fn of(rules: Rules, samples: &[Sample]) -> GameCounts {
-        let mut g = GameCounts {
+    /// No verdict yet, under `rules`.
+    fn new(rules: Rules) -> GameCounts {
+        GameCounts {
             rules,
             legal: 0,
             fouls: [0; Foul::ALL.len()],
@@ -251,40 +277,58 @@ impl GameCounts {
             lost: 0,
             points: None,
             foul_points: None,
-        };
-        for v in samples.iter().filter_map(|s| s.verdict) {
-            g.legal += usize::from(v.legal);
-            if let Some(k) = v.foul.and_then(|f| Foul::ALL.iter().position(|&x| x == f)) {
-                g.fouls[k] += 1;
-            }
-            g.turn_kept += usize::from(!v.turn_over);
-            g.won += usize::from(v.game_over && v.won);
-            g.lost += usize::from(v.game_over && !v.won);
         }
-        if rules.scores() {
-            let of = |f: fn(&crate::game::Verdict) -> u32| {
-                let values: Vec<f64> = samples
-                    .iter()
-                    .filter_map(|s| s.verdict.as_ref())
-                    .map(|v| f64::from(f(v)))
-                    .collect();
-                Stats::of(&values)
-            };
-            g.points = of(|v| v.points);
-            g.foul_points = if rules == Rules::Snooker {
-                of(|v| v.foul_points)
-            } else {
-                None
-            };
+    }
+
+    /// Counts verdict `v`.
+    fn add(&mut self, v: &crate::game::Verdict) {
+        self.legal += usize::from(v.legal);
+        if let Some(k) = v.foul.and_then(|f| Foul::ALL.iter().position(|&x| x == f)) {
+            self.fouls[k] += 1;
         }
-        g
+        self.turn_kept += usize::from(!v.turn_over);
+        self.won += usize::from(v.game_over && v.won);
+        self.lost += usize::from(v.game_over && !v.won);
     }
 }
 
-impl Summary {
-    /// Counts and statistics of `samples`, run as `until` says.
-    pub fn of(config: &StudyConfig, samples: &[Sample], until: Until) -> Summary {
-        let mut first: Vec<(Class, usize)> = (0..config.balls.len())
+/// A [`Summary`] under construction: the counts of the samples added so far and the values
+/// its statistics need, one sample at a time in the study's order ([`Tally::add`]), so a
+/// study that wants only its summary keeps no sample ([`crate::study::summarize`]).
+/// [`Tally::finish`] gives what [`Summary::of`] gives on the same samples, bit for bit.
+#[derive(Clone, Debug)]
+pub struct Tally {
+    until: Until,
+    cue: usize,
+    intended: usize,
+    called: Option<usize>,
+    target: Option<super::config::Target>,
+    samples: usize,
+    first: Vec<(Class, usize)>,
+    contact_times: Vec<f64>,
+    cuts: Vec<f64>,
+    results: [usize; 4],
+    intended_pockets: Vec<usize>,
+    scratch_pockets: Vec<usize>,
+    potted: Vec<usize>,
+    scratches: usize,
+    no_ball_hit: usize,
+    cut: usize,
+    in_target: usize,
+    pot_times: Vec<f64>,
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    events: Vec<f64>,
+    durations: Vec<f64>,
+    game: Option<GameCounts>,
+    points: Vec<f64>,
+    foul_points: Vec<f64>,
+}
+
+impl Tally {
+    /// An empty tally of `config`'s study, run as `until` says.
+    pub fn new(config: &StudyConfig, until: Until) -> Tally {
+        let first = (0..config.balls.len())
             .filter(|&k| k != config.cue)
             .map(Class::Ball)
             .chain([
@@ -295,95 +339,163 @@ impl Summary {
             ])
             .map(|c| (c, 0))
             .collect();
-        let mut contact_times = Vec::new();
-        let mut cuts = Vec::new();
-        let mut results = [0usize; 4];
-        let mut intended_pockets = vec![0usize; config.table.pockets.len()];
-        let mut scratch_pockets = vec![0usize; config.table.pockets.len()];
-        let mut potted = vec![0usize; config.balls.len()];
-        let (mut scratches, mut no_ball_hit, mut cut, mut in_target) = (0, 0, 0, 0);
-        let mut pot_times = Vec::new();
-        let (mut xs, mut ys) = (Vec::new(), Vec::new());
-        let mut events = Vec::with_capacity(samples.len());
-        let mut durations = Vec::with_capacity(samples.len());
-        for s in samples {
-            let class = Class::of(s.first);
-            if let Some(c) = first.iter_mut().find(|(k, _)| *k == class) {
-                c.1 += 1;
-            }
-            if !matches!(class, Class::Ball(_)) {
-                no_ball_hit += 1;
-            }
-            if class == Class::Ball(config.intended) {
-                contact_times.push(s.first_t);
-                cuts.push(s.cut_angle);
-            }
-            cut += usize::from(s.cut.is_some());
-            events.push(s.n_events as f64);
-            durations.push(s.duration);
-            if until == Until::FirstContact {
-                continue;
-            }
-            let r = Result4::of(config, s);
-            results[r.index()] += 1;
-            for pot in &s.potted {
-                potted[pot.ball as usize] += 1;
-            }
-            if let Some(p) = s.pocket_of(config.intended) {
-                intended_pockets[p] += 1;
-            }
-            if let Some(t) = s.pot_time(config.intended) {
-                pot_times.push(t);
-            }
-            if let Some(p) = s.pocket_of(config.cue) {
-                scratches += 1;
-                scratch_pockets[p] += 1;
-            } else {
-                xs.push(s.cue_final.0);
-                ys.push(s.cue_final.1);
-                if config
-                    .target
-                    .is_some_and(|t| t.contains(s.cue_final.0, s.cue_final.1))
-                {
-                    in_target += 1;
-                }
-            }
-        }
-        Summary {
-            samples: samples.len(),
+        let pockets = config.table.pockets.len();
+        Tally {
             until,
+            cue: config.cue,
+            intended: config.intended,
+            called: config.pocket,
+            target: config.target,
+            samples: 0,
             first,
-            contact_time: Stats::of(&contact_times),
-            cut_angle: Stats::of(&cuts),
-            results,
-            intended_pockets: intended_pockets
-                .into_iter()
-                .enumerate()
-                .filter(|&(_, n)| n > 0)
-                .collect(),
-            scratches,
-            scratch_pockets: scratch_pockets
-                .into_iter()
-                .enumerate()
-                .filter(|&(_, n)| n > 0)
-                .collect(),
-            no_ball_hit,
-            others_potted: potted
-                .into_iter()
-                .enumerate()
-                .filter(|&(k, n)| n > 0 && k != config.cue && k != config.intended)
-                .collect(),
-            pot_time: Stats::of(&pot_times),
-            cue_final: Stats::of(&xs).zip(Stats::of(&ys)),
-            in_target: config.target.map(|_| in_target),
-            cut,
-            events: Stats::of(&events),
-            duration: Stats::of(&durations),
+            contact_times: Vec::new(),
+            cuts: Vec::new(),
+            results: [0; 4],
+            intended_pockets: vec![0; pockets],
+            scratch_pockets: vec![0; pockets],
+            potted: vec![0; config.balls.len()],
+            scratches: 0,
+            no_ball_hit: 0,
+            cut: 0,
+            in_target: 0,
+            pot_times: Vec::new(),
+            xs: Vec::new(),
+            ys: Vec::new(),
+            events: Vec::new(),
+            durations: Vec::new(),
             game: match (&config.game, until) {
-                (Some(g), Until::Rest) => Some(GameCounts::of(g.rules, samples)),
+                (Some(g), Until::Rest) => Some(GameCounts::new(g.rules)),
                 _ => None,
             },
+            points: Vec::new(),
+            foul_points: Vec::new(),
         }
+    }
+
+    /// The most bytes a sample's values take in a tally (seven numbers: the contact time
+    /// and cut angle, the pot time, the cue ball's final x and y, events, duration; with a
+    /// game two more).
+    pub const MOST_BYTES_A_SAMPLE: usize = 9 * std::mem::size_of::<f64>();
+
+    /// Samples added so far.
+    pub fn len(&self) -> usize {
+        self.samples
+    }
+
+    /// Whether no sample was added.
+    pub fn is_empty(&self) -> bool {
+        self.samples == 0
+    }
+
+    /// Adds sample `s`, the next of the study's (its ball and pocket indices `config`'s).
+    pub fn add(&mut self, s: &Sample) {
+        self.samples += 1;
+        let class = Class::of(s.first);
+        if let Some(c) = self.first.iter_mut().find(|(k, _)| *k == class) {
+            c.1 += 1;
+        }
+        if !matches!(class, Class::Ball(_)) {
+            self.no_ball_hit += 1;
+        }
+        if class == Class::Ball(self.intended) {
+            self.contact_times.push(s.first_t);
+            self.cuts.push(s.cut_angle);
+        }
+        self.cut += usize::from(s.cut.is_some());
+        self.events.push(s.n_events as f64);
+        self.durations.push(s.duration);
+        if self.until == Until::FirstContact {
+            return;
+        }
+        let intended = s.pocket_of(self.intended);
+        let scratch = s.pocket_of(self.cue);
+        let r = Result4::of_pockets(intended, self.called, scratch.is_some());
+        self.results[r.index()] += 1;
+        for pot in &s.potted {
+            self.potted[pot.ball as usize] += 1;
+        }
+        if let Some(p) = intended {
+            self.intended_pockets[p] += 1;
+        }
+        if let Some(t) = s.pot_time(self.intended) {
+            self.pot_times.push(t);
+        }
+        if let Some(p) = scratch {
+            self.scratches += 1;
+            self.scratch_pockets[p] += 1;
+        } else {
+            self.xs.push(s.cue_final.0);
+            self.ys.push(s.cue_final.1);
+            if self
+                .target
+                .is_some_and(|t| t.contains(s.cue_final.0, s.cue_final.1))
+            {
+                self.in_target += 1;
+            }
+        }
+        if let (Some(g), Some(v)) = (&mut self.game, &s.verdict) {
+            g.add(v);
+            self.points.push(f64::from(v.points));
+            self.foul_points.push(f64::from(v.foul_points));
+        }
+    }
+
+    /// The summary of the samples added.
+    pub fn finish(self) -> Summary {
+        let t = self;
+        let (cue, intended) = (t.cue, t.intended);
+        let listed = |counts: Vec<usize>| -> Vec<(usize, usize)> {
+            counts
+                .into_iter()
+                .enumerate()
+                .filter(|&(_, n)| n > 0)
+                .collect()
+        };
+        let game = t.game.map(|mut g| {
+            if g.rules.scores() {
+                g.points = Stats::of(&t.points);
+                g.foul_points = if g.rules == Rules::Snooker {
+                    Stats::of(&t.foul_points)
+                } else {
+                    None
+                };
+            }
+            g
+        });
+        Summary {
+            samples: t.samples,
+            until: t.until,
+            first: t.first,
+            contact_time: Stats::of(&t.contact_times),
+            cut_angle: Stats::of(&t.cuts),
+            results: t.results,
+            intended_pockets: listed(t.intended_pockets),
+            scratches: t.scratches,
+            scratch_pockets: listed(t.scratch_pockets),
+            no_ball_hit: t.no_ball_hit,
+            others_potted: listed(t.potted)
+                .into_iter()
+                .filter(|&(k, _)| k != cue && k != intended)
+                .collect(),
+            pot_time: Stats::of(&t.pot_times),
+            cue_final: Stats::of(&t.xs).zip(Stats::of(&t.ys)),
+            in_target: t.target.map(|_| t.in_target),
+            cut: t.cut,
+            events: Stats::of(&t.events),
+            duration: Stats::of(&t.durations),
+            game,
+        }
+    }
+}
+
+impl Summary {
+    /// Counts and statistics of `samples`, run as `until` says.
+    pub fn of(config: &StudyConfig, samples: &[Sample], until: Until) -> Summary {
+        let mut tally = Tally::new(config, until);
+        for s in samples {
+            tally.add(s);
+        }
+        tally.finish()
     }
 
     /// The count of a first-contact class.
@@ -527,5 +639,49 @@ mod tests {
         let s = Stats::of(&v).unwrap();
         assert_eq!((s.p5, s.p50, s.p95), (5.0, 50.0, 95.0));
         assert_eq!(s.mean, 50.0);
+    }
+
+    /// The percentiles found by selection are the ones a full sort gives, bit for bit:
+    /// random values with ties, every length up to 60 and a long one, ±0 and infinities.
+    #[test]
+    fn stats_percentiles_are_the_sorted_values() {
+        let by_sorting = |values: &[f64]| {
+            let mut sorted = values.to_vec();
+            sorted.sort_by(f64::total_cmp);
+            let n = sorted.len();
+            let q = |p: f64| {
+                let x = p * (n - 1) as f64;
+                let lo = x.floor() as usize;
+                let hi = (lo + 1).min(n - 1);
+                sorted[lo] + (x - lo as f64) * (sorted[hi] - sorted[lo])
+            };
+            [q(0.05), q(0.5), q(0.95)].map(f64::to_bits)
+        };
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut lengths: Vec<usize> = (1..=60).collect();
+        lengths.push(10_007);
+        for n in lengths {
+            for ties in [3u64, 1000, u64::MAX] {
+                let values: Vec<f64> = (0..n)
+                    .map(|_| match next() % ties {
+                        0 => -0.0,
+                        1 if ties < u64::MAX => f64::INFINITY,
+                        k => (k % 97) as f64 * 0.37 - 12.0,
+                    })
+                    .collect();
+                let s = Stats::of(&values).unwrap();
+                assert_eq!(
+                    [s.p5, s.p50, s.p95].map(f64::to_bits),
+                    by_sorting(&values),
+                    "{n} values, ties {ties}"
+                );
+            }
+        }
     }
 }
