@@ -255,6 +255,7 @@ pub fn run(
         &samples,
         options,
         &|j| strikes[j],
+        Some(&|j| strikes[j]),
         &mut out,
         progress,
     )?;
@@ -264,9 +265,10 @@ pub fn run(
 /// The [`Summary`] of `samples` of `config`'s study on `engine`'s backend, as
 /// [`Summary::of`] gives it on what [`run`] returns, bit for bit — without keeping the
 /// samples: each chunk's samples are counted ([`Tally`]) and dropped, and a drawn
-/// sample's strike is drawn where it is needed instead of up front, so memory holds a
-/// chunk and the values the statistics need (at most seven numbers a sample). For a
-/// study whose per-sample rows nobody asked for. Errors: [`run`]'s.
+/// sample's strike is drawn only where the sample is played (on the CPU; the device
+/// draws its own), not up front and not to report it, so memory holds a chunk and the
+/// values the statistics need (at most nine numbers a sample). For a study whose
+/// per-sample rows nobody asked for. Errors: [`run`]'s.
 pub fn summarize(
     engine: &mut ShotEngine,
     config: &StudyConfig,
@@ -290,6 +292,7 @@ pub fn summarize(
         &samples,
         options,
         &|j| samples.strike(config, j),
+        None,
         &mut counting,
         progress,
     )?;
@@ -344,13 +347,16 @@ impl Collect for Counting<'_> {
 }
 
 /// Runs `samples` (sample `j` struck by `strike_of(j)`), every chunk's samples made from
-/// their watches (Rayon over the chunk) and handed to `collect` in order.
+/// their watches (Rayon over the chunk) and handed to `collect` in order, each with the
+/// strike `reported(j)` (where `None`: the intended strike, for samples that only a
+/// [`Tally`] sees, which does not count strikes, so that no strike is drawn twice).
 fn drive(
     engine: &mut ShotEngine,
     config: &StudyConfig,
     samples: &Samples<'_>,
     options: &RunOptions,
     strike_of: &(dyn Fn(usize) -> CueStrike + Sync),
+    reported: Option<&(dyn Fn(usize) -> CueStrike + Sync)>,
     collect: &mut dyn Collect,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(), Error> {
@@ -419,7 +425,7 @@ fn drive(
             sample_of(
                 config,
                 options.until,
-                strike_of(j),
+                reported.map_or(config.shot, |r| r(j)),
                 ball,
                 watch,
                 (end.x, end.y),
