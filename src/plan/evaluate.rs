@@ -20,7 +20,9 @@ use crate::engine::ShotEngine;
 use crate::error::Error;
 use crate::game::{Context, Rules, Verdict};
 use crate::resolve::stick_ball::CueStrike;
-use crate::study::{Noise, RunOptions, Sample, Samples, StudyConfig, noisy_strike_of, run, wilson};
+use crate::study::{
+    Collect, Noise, RunOptions, Sample, Samples, StudyConfig, noisy_strike_of, run_into, wilson,
+};
 
 /// What the position after a kept shot adds to its value at most (a sure next shot).
 pub const POSITION_WEIGHT: f64 = 0.5;
@@ -164,28 +166,67 @@ pub fn evaluate(
         strikes: &strikes,
         contexts: &contexts,
     };
-    let done = run(
+    // each chunk's samples judged as they come (while the device runs the next chunk)
+    let mut judging = Judging {
+        config,
+        per,
+        partial: vec![Estimate::default(); which.len()],
+        taken: 0,
+        judged: Vec::new(),
+    };
+    run_into(
         engine,
         config,
         samples,
         &RunOptions::default(),
+        &mut judging,
         &mut |_, _| {},
     )?;
-    // each candidate's samples judged, Rayon over candidates
-    let judged: Vec<Estimate> = done
-        .par_chunks(per)
-        .map(|samples| {
-            let mut e = Estimate::default();
-            for s in samples {
-                e.add(&judge_sample(config, s));
-            }
-            e
-        })
-        .collect();
-    for (&c, e) in which.iter().zip(&judged) {
+    for (&c, e) in which.iter().zip(&judging.partial) {
         estimates[c].add(e);
     }
     Ok(())
+}
+
+/// The samples of a round's candidates (`per` each, one candidate after another) judged
+/// chunk by chunk into each candidate's estimate: judged in parallel (Rayon over the
+/// chunk), added in order, so each estimate's sums are the samples' in their order.
+struct Judging<'c> {
+    config: &'c StudyConfig,
+    per: usize,
+    /// The round's estimate of each candidate so far.
+    partial: Vec<Estimate>,
+    /// Samples taken so far.
+    taken: usize,
+    /// The chunk's samples judged (kept across chunks).
+    judged: Vec<Estimate>,
+}
+
+impl Collect for Judging<'_> {
+    fn take(&mut self, chunk: &mut Vec<Sample>) {
+        let config = self.config;
+        self.judged.clear();
+        self.judged.par_extend(
+            chunk
+                .par_iter()
+                .with_min_len(64)
+                .map(|s| judge_sample(config, s)),
+        );
+        for (k, e) in self.judged.iter().enumerate() {
+            self.partial[(self.taken + k) / self.per].add(e);
+        }
+        self.taken += chunk.len();
+        chunk.clear();
+    }
+
+    fn restart(&mut self) {
+        self.partial.fill(Estimate::default());
+        self.taken = 0;
+    }
+
+    fn taken(&self) -> usize {
+        self.taken
+    }
 }
 
 /// One sample as an [`Estimate`] of one sample: its counts and its value (module docs).

@@ -31,7 +31,7 @@ pub use config::{
 pub use noise::{clamped, cue_normals, mix, noisy_strike, noisy_strike_of, sample_physics};
 pub use reference::{REFERENCE_COLUMNS, write_reference_csv};
 pub use run::{
-    CHUNK, FirstContact, Pot, RunOptions, Sample, Samples, Until, run, run_samples, run_strikes,
-    run_study, sample_of, summarize,
+    CHUNK, Collect, FirstContact, Pot, RunOptions, Sample, Samples, Until, run, run_into,
+    run_samples, run_strikes, run_study, sample_of, summarize,
 };
 pub use stats::{Class, GameCounts, Result4, Stats, Summary, Tally, potted_as_called, wilson};

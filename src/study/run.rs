@@ -254,8 +254,10 @@ pub fn run(
         config,
         &samples,
         options,
-        &|j| strikes[j],
-        Some(&|j| strikes[j]),
+        Strikes {
+            play: &|j| strikes[j],
+            report: Some(&|j| strikes[j]),
+        },
         &mut out,
         progress,
     )?;
@@ -291,16 +293,46 @@ pub fn summarize(
         config,
         &samples,
         options,
-        &|j| samples.strike(config, j),
-        None,
+        Strikes {
+            play: &|j| samples.strike(config, j),
+            report: None,
+        },
         &mut counting,
         progress,
     )?;
     Ok(counting.tally.finish())
 }
 
-/// What takes a study's samples, chunk by chunk in order.
-trait Collect {
+/// Runs `samples` of `config`'s study on `engine`'s backend as [`run`] does, handing each
+/// chunk's samples to `collect` as they come, in order, instead of keeping them: for a
+/// client that reduces them (a planner's estimates) while the device runs the next chunk.
+/// A drawn sample's strike is drawn where it is played and again to report it (on the
+/// CPU; the device draws its own). Errors: [`run`]'s.
+pub fn run_into(
+    engine: &mut ShotEngine,
+    config: &StudyConfig,
+    samples: Samples<'_>,
+    options: &RunOptions,
+    collect: &mut dyn Collect,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<(), Error> {
+    let strike_of = |j: usize| samples.strike(config, j);
+    drive(
+        engine,
+        config,
+        &samples,
+        options,
+        Strikes {
+            play: &strike_of,
+            report: Some(&strike_of),
+        },
+        collect,
+        progress,
+    )
+}
+
+/// What takes a study's samples as they come, chunk by chunk in order ([`run_into`]).
+pub trait Collect {
     /// Takes the next chunk's samples (the vector left empty).
     fn take(&mut self, chunk: &mut Vec<Sample>);
     /// Forgets every sample taken (the study starts over).
@@ -346,17 +378,23 @@ impl Collect for Counting<'_> {
     }
 }
 
-/// Runs `samples` (sample `j` struck by `strike_of(j)`), every chunk's samples made from
-/// their watches (Rayon over the chunk) and handed to `collect` in order, each with the
-/// strike `reported(j)` (where `None`: the intended strike, for samples that only a
+/// A study's strikes as [`drive`] takes them: sample `j` is struck by `play(j)` and
+/// reported with `report(j)` (where `None`: the intended strike, for samples that only a
 /// [`Tally`] sees, which does not count strikes, so that no strike is drawn twice).
+struct Strikes<'s> {
+    play: &'s (dyn Fn(usize) -> CueStrike + Sync),
+    report: Option<&'s (dyn Fn(usize) -> CueStrike + Sync)>,
+}
+
+/// Runs `samples` (sample `j` struck by `strikes.play(j)`), every chunk's samples made from
+/// their watches (Rayon over the chunk) and handed to `collect` in order, each with its
+/// reported strike.
 fn drive(
     engine: &mut ShotEngine,
     config: &StudyConfig,
     samples: &Samples<'_>,
     options: &RunOptions,
-    strike_of: &(dyn Fn(usize) -> CueStrike + Sync),
-    reported: Option<&(dyn Fn(usize) -> CueStrike + Sync)>,
+    strikes: Strikes<'_>,
     collect: &mut dyn Collect,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(), Error> {
@@ -409,7 +447,7 @@ fn drive(
     let input = |j: usize, balls: &mut Vec<BallState>| {
         balls.clear();
         balls.extend_from_slice(&initial);
-        Ok(Some((cue, strike_of(j))))
+        Ok(Some((cue, (strikes.play)(j))))
     };
     let collect = std::cell::RefCell::new(collect);
     let made = std::cell::RefCell::new(Vec::new());
@@ -425,7 +463,7 @@ fn drive(
             sample_of(
                 config,
                 options.until,
-                reported.map_or(config.shot, |r| r(j)),
+                strikes.report.map_or(config.shot, |r| r(j)),
                 ball,
                 watch,
                 (end.x, end.y),
