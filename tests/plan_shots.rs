@@ -80,6 +80,66 @@ fn played(config: &StudyConfig, candidates: &[Candidate], noise: &Noise, n: u64)
     e
 }
 
+/// A round's estimates are judged chunk by chunk as the samples come (`study::run_into`):
+/// they are the samples of one `study::run` judged one by one and summed in order, per
+/// candidate, bit for bit — over a round of several engine chunks whose boundary splits a
+/// candidate's samples, with every candidate its own context.
+#[test]
+fn a_rounds_estimates_are_its_samples_judged_in_order() {
+    let config = blocked();
+    let candidates = candidates_of(&config).unwrap();
+    let which: Vec<usize> = (0..candidates.len().min(5)).collect();
+    let noise = Noise::preset("fastfiz").unwrap();
+    // a round of more than one chunk, a chunk ending inside a candidate's samples
+    let chunk = kisstime::study::CHUNK as u64;
+    let per = (chunk + chunk / 4).div_ceil(which.len() as u64) + 1;
+    assert!(which.len() as u64 * per > chunk && !chunk.is_multiple_of(per));
+    let mut estimates = vec![Estimate::default(); candidates.len()];
+    evaluate(
+        &mut cpu(),
+        &config,
+        &candidates,
+        &which,
+        (&noise, 3, 100..100 + per),
+        &mut estimates,
+    )
+    .unwrap();
+    let r = config.params.ball.r;
+    let (mut strikes, mut contexts) = (Vec::new(), Vec::new());
+    for &c in &which {
+        for i in 100..100 + per {
+            strikes.push(noisy_strike_of(candidates[c].strike, r, &noise, 3, i));
+            contexts.push(context_of(&config, &candidates[c]));
+        }
+    }
+    let judged = Samples::Judged {
+        strikes: &strikes,
+        contexts: &contexts,
+    };
+    let samples = run(
+        &mut cpu(),
+        &config,
+        judged,
+        &RunOptions::default(),
+        &mut |_, _| {},
+    )
+    .unwrap();
+    for (k, &c) in which.iter().enumerate() {
+        let mut e = Estimate::default();
+        for s in &samples[k * per as usize..(k + 1) * per as usize] {
+            e.add(&judge_sample(&config, s));
+        }
+        assert_eq!(estimates[c], e, "candidate {c}");
+        assert_eq!(e.samples, per as usize);
+    }
+    assert!(
+        which
+            .iter()
+            .any(|&c| estimates[c].fouls != estimates[which[0]].fouls),
+        "the candidates play differently"
+    );
+}
+
 /// 9-ball: the 1 straight up the table behind a wall of three balls.
 fn blocked() -> StudyConfig {
     config_of(

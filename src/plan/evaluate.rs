@@ -101,7 +101,8 @@ impl Estimate {
         }
     }
 
-    fn add(&mut self, other: &Estimate) {
+    /// Adds `other`'s samples and sums to these.
+    pub fn add(&mut self, other: &Estimate) {
         self.samples += other.samples;
         self.kept += other.kept;
         self.fouls += other.fouls;
