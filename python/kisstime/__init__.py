@@ -58,6 +58,7 @@ __all__ = [
     "SimResult",
     "PHYSICS_KEYS",
     "table_ids",
+    "release_engines",
     "Scenario",
     "scenario",
     "Study",
@@ -650,6 +651,18 @@ def table_ids(table: TableLike = "9ft") -> dict:
     name, text = _table(table)
     linear, circular, pockets = _kisstime.table_ids(name, text)
     return {"linear": list(linear), "circular": list(circular), "pockets": list(pockets)}
+
+
+def release_engines() -> int:
+    """Closes the whole-shot engines kept between calls and returns how many there were.
+
+    :func:`simulate`, :func:`shot_study` (each of its chunks), :func:`plan` and Dask's
+    tasks reuse an engine opened for the same backend, precision and environment
+    (``WGPU_*``, ``VK_*``, ``KISSTIME_*`` variables) by an earlier call in the process, so
+    that a GPU's device and pipelines are built once rather than for every call; the idle
+    engines hold their GPU memory until this is called (or the process ends). The next
+    call opens an engine again."""
+    return int(_kisstime.release_engines())
 
 
 # ----------------------------------------------------------------------- shot studies

@@ -75,6 +75,7 @@ def study_ids(
 def table_ids(
     name: str, json: Optional[str] = None
 ) -> tuple[list[str], list[str], list[str]]: ...
+def release_engines() -> int: ...
 class VecEnv:
     """Many games stepped at once (kisstime.gym's engine)."""
     def __init__(

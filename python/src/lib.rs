@@ -222,15 +222,167 @@ fn engine_of(backend: &str, precision: Option<&str>) -> PyResult<Engine> {
 }
 
 /// The shot engine a backend and precision name (the simulator's precision defaults to
-/// f64 on every backend).
+/// f64 on every backend), opened for the caller to keep (a learning environment's).
 fn shot_engine_of(backend: &str, precision: Option<&str>) -> PyResult<ShotEngine> {
     let (backend, precision) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
     ShotEngine::new(backend, precision).map_err(py_err)
 }
 
+/// An engine's messages for the user, taken ([`warn_notes`]).
+trait Notes {
+    /// The messages since they were last taken.
+    fn notes(&mut self) -> Vec<String>;
+}
+
+impl Notes for ShotEngine {
+    fn notes(&mut self) -> Vec<String> {
+        self.take_notes()
+    }
+}
+
+impl Notes for Pooled {
+    /// What the engine said when it was opened (again for each call that reuses it: the
+    /// call runs where it said), then since.
+    fn notes(&mut self) -> Vec<String> {
+        let mut notes = std::mem::take(&mut self.pending);
+        notes.extend(std::ops::DerefMut::deref_mut(self).take_notes());
+        notes
+    }
+}
+
+/// What an idle engine of [`SHOT_ENGINES`] was opened for: the backend, the precision,
+/// and the environment variables that choose and configure a backend (`WGPU_*`, `VK_*`,
+/// `KISSTIME_*`) as they were then.
+#[derive(Clone, PartialEq)]
+struct EngineKey {
+    backend: Backend,
+    precision: Precision,
+    env: Vec<(std::ffi::OsString, std::ffi::OsString)>,
+}
+
+impl EngineKey {
+    fn now(backend: Backend, precision: Precision) -> EngineKey {
+        let mut env: Vec<_> = std::env::vars_os()
+            .filter(|(k, _)| {
+                let k = k.to_string_lossy();
+                ["WGPU_", "VK_", "KISSTIME_"]
+                    .iter()
+                    .any(|p| k.starts_with(p))
+            })
+            .collect();
+        env.sort();
+        EngineKey {
+            backend,
+            precision,
+            env,
+        }
+    }
+}
+
+/// The whole-shot engines idle between calls. Opening a GPU engine (the adapter, the
+/// device, the event loop's pipelines) costs far more than a study's chunk of samples,
+/// and a study or a Dask task runs chunk after chunk, each its own call: so a call takes
+/// an idle engine opened for the same backend, precision and environment, or opens one,
+/// and puts it back when it has succeeded ([`Pooled`]); concurrent calls each get their
+/// own. An engine whose call failed is dropped (a GPU failure may have lost its device).
+/// `release_engines()` drops the idle ones (and the GPU memory they hold).
+static SHOT_ENGINES: std::sync::Mutex<Vec<(EngineKey, Opened)>> = std::sync::Mutex::new(Vec::new());
+
+/// An engine and what it said when it was opened (a fallback to the CPU).
+struct Opened {
+    engine: ShotEngine,
+    opening: Vec<String>,
+}
+
+/// A whole-shot engine out of [`SHOT_ENGINES`] for one call: put back when dropped after
+/// [`Pooled::succeeded`], else closed.
+struct Pooled {
+    key: EngineKey,
+    engine: Option<Opened>,
+    /// The notes of this call not yet taken from the engine.
+    pending: Vec<String>,
+    kept: bool,
+}
+
+impl Pooled {
+    /// The call succeeded: the engine goes back to the idle ones.
+    fn succeeded(&mut self) {
+        self.kept = true;
+    }
+}
+
+impl std::ops::Deref for Pooled {
+    type Target = ShotEngine;
+    fn deref(&self) -> &ShotEngine {
+        &self
+            .engine
+            .as_ref()
+            .expect("an engine until dropped")
+            .engine
+    }
+}
+
+impl std::ops::DerefMut for Pooled {
+    fn deref_mut(&mut self) -> &mut ShotEngine {
+        &mut self
+            .engine
+            .as_mut()
+            .expect("an engine until dropped")
+            .engine
+    }
+}
+
+impl Drop for Pooled {
+    fn drop(&mut self) {
+        if let (true, Some(engine)) = (self.kept, self.engine.take()) {
+            // a poisoned lock (a panic elsewhere) only costs the reuse
+            if let Ok(mut idle) = SHOT_ENGINES.lock() {
+                idle.push((self.key.clone(), engine));
+            }
+        }
+    }
+}
+
+/// A whole-shot engine for one call, as [`shot_engine_of`] opens it: an idle one opened
+/// for the same backend, precision and environment where there is one ([`SHOT_ENGINES`]).
+fn pooled_shot_engine(backend: &str, precision: Option<&str>) -> PyResult<Pooled> {
+    let (backend, precision) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
+    let key = EngineKey::now(backend, precision);
+    let idle = SHOT_ENGINES.lock().ok().and_then(|mut idle| {
+        let at = idle.iter().position(|(k, _)| *k == key)?;
+        Some(idle.swap_remove(at).1)
+    });
+    let opened = match idle {
+        Some(opened) => opened,
+        None => {
+            let mut engine = ShotEngine::new(backend, precision).map_err(py_err)?;
+            let opening = engine.take_notes();
+            Opened { engine, opening }
+        }
+    };
+    Ok(Pooled {
+        key,
+        pending: opened.opening.clone(),
+        engine: Some(opened),
+        kept: false,
+    })
+}
+
+/// Drops the whole-shot engines kept between calls (`kisstime.release_engines()`): the
+/// GPU memory and pipelines they hold are freed; the next call opens an engine again.
+/// Returns how many were dropped.
+#[pyfunction]
+fn release_engines() -> usize {
+    let idle = match SHOT_ENGINES.lock() {
+        Ok(mut idle) => std::mem::take(&mut *idle),
+        Err(_) => Vec::new(),
+    };
+    idle.len()
+}
+
 /// The engine's notes (fallbacks to the CPU) as Python `RuntimeWarning`s.
-fn warn_notes(py: Python<'_>, engine: &mut ShotEngine) -> PyResult<()> {
-    for note in engine.take_notes() {
+fn warn_notes(py: Python<'_>, engine: &mut impl Notes) -> PyResult<()> {
+    for note in engine.notes() {
         let text = std::ffi::CString::new(format!("kisstime: {note}"))
             .unwrap_or_else(|_| c"kisstime: a fallback to the CPU".to_owned());
         PyErr::warn(
@@ -540,7 +692,7 @@ fn simulate<'py>(
         record_events: events || game.is_some(),
         ..BatchOptions::default()
     };
-    let mut engine = shot_engine_of(backend, precision)?;
+    let mut engine = pooled_shot_engine(backend, precision)?;
     warn_notes(py, &mut engine)?;
     // each table's verdict, where judged: its balls at the start, its events
     let judge = |run: &TableRun| -> PyResult<Option<Verdict>> {
@@ -599,6 +751,7 @@ fn simulate<'py>(
     });
     warn_notes(py, &mut engine)?;
     let (ev_out, fin_out, oc_out) = result?;
+    engine.succeeded();
     let ev = events.then(|| PyBytes::new(py, &ev_out));
     Ok((ev, PyBytes::new(py, &fin_out), PyBytes::new(py, &oc_out)))
 }
@@ -704,7 +857,7 @@ fn plan(
         finalists: top,
         ..PlanOptions::default()
     };
-    let mut engine = shot_engine_of(backend, None)?;
+    let mut engine = pooled_shot_engine(backend, None)?;
     let planned = py
         .detach(|| match region {
             Some(region) => plan_in_hand(&mut engine, &config, &options, region),
@@ -712,6 +865,7 @@ fn plan(
             None => kisstime::plan::plan(&mut engine, &config, &options),
         })
         .map_err(py_err)?;
+    engine.succeeded();
     warn_notes(py, &mut engine)?;
     Ok(kisstime::plan::json(&config, &planned).to_string())
 }
@@ -890,7 +1044,7 @@ fn simulate_shots<'py>(
     };
     let per = per_shot(&good);
     let n_balls: usize = good.iter().map(|&k| batch.balls(at[k]).len()).sum();
-    let mut engine = shot_engine_of(backend, precision)?;
+    let mut engine = pooled_shot_engine(backend, precision)?;
     warn_notes(py, &mut engine)?;
     let sub = |j: usize, balls: &mut Vec<BallState>| input(good[j], balls);
     let ids = |j: usize| TableIds {
@@ -921,6 +1075,7 @@ fn simulate_shots<'py>(
     });
     warn_notes(py, &mut engine)?;
     let (ev_out, fin_out, oc_out) = result?;
+    engine.succeeded();
     let ev = events.then(|| PyBytes::new(py, &ev_out));
     Ok((
         ev,
@@ -1252,7 +1407,7 @@ fn study_chunk<'py>(
     let samples = if ids.is_empty() {
         kisstime::study::run_strikes(&config, &[], &options, &mut |_, _| {}).map_err(py_err)?
     } else {
-        let mut engine = shot_engine_of(backend, precision)?;
+        let mut engine = pooled_shot_engine(backend, precision)?;
         warn_notes(py, &mut engine)?;
         let which = match &noisy {
             // the study's own samples: their strikes and physics drawn by their ids
@@ -1266,7 +1421,9 @@ fn study_chunk<'py>(
         let samples = py
             .detach(|| kisstime::study::run(&mut engine, &config, which, &options, &mut |_, _| {}));
         warn_notes(py, &mut engine)?;
-        samples.map_err(py_err)?
+        let samples = samples.map_err(py_err)?;
+        engine.succeeded();
+        samples
     };
     let mut out = Vec::with_capacity(samples.len() * 256);
     for (id, s) in ids.iter().zip(&samples) {
@@ -1691,6 +1848,7 @@ fn noise_of(
 #[pymodule]
 fn _kisstime(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pair_times, m)?)?;
+    m.add_function(wrap_pyfunction!(release_engines, m)?)?;
     m.add_function(wrap_pyfunction!(next_collisions, m)?)?;
     m.add_class::<PyBatch>()?;
     m.add_class::<PyVecEnv>()?;

@@ -60,6 +60,39 @@ def test_a_study_on_the_gpu_gives_the_cpus_samples_in_f64_and_refuses_f32():
             kisstime.simulate(*break_example(), backend=backend, precision="f32")
 
 
+def test_calls_reuse_one_engine_a_backend_until_released():
+    """Every call (a study's every chunk) takes the idle engine opened for its backend,
+    precision and environment instead of opening a GPU again; ``release_engines`` closes
+    them; a changed environment (another adapter asked for) opens another; the results
+    are the same whether the engine was new or reused."""
+    need_gpu()
+    kisstime.release_engines()
+    rows = strikes(120)
+    first = kisstime.shot_study(SCENARIO, strikes=rows, backend="gpu", chunk=40)
+    again = kisstime.shot_study(SCENARIO, strikes=rows, backend="gpu", chunk=40)
+    arr, strike = break_example()
+    kisstime.simulate(arr, strike, backend="gpu", events=False)
+    # six chunks and a simulate, one after another: one GPU engine, reused
+    assert kisstime.release_engines() == 1
+    assert kisstime.release_engines() == 0
+    assert again.potted == first.potted
+    assert again.samples.tobytes() == first.samples.tobytes()
+    fresh = kisstime.shot_study(SCENARIO, strikes=rows, backend="gpu", chunk=120)
+    assert fresh.samples.tobytes() == first.samples.tobytes()
+    kisstime.shot_study(SCENARIO, strikes=rows[:5])
+    assert kisstime.release_engines() == 2  # the GPU's and the CPU's
+    mp = pytest.MonkeyPatch()
+    try:
+        kisstime.shot_study(SCENARIO, strikes=rows[:5], backend="gpu")
+        mp.setenv("WGPU_ADAPTER_NAME", "no-such-adapter-anywhere")
+        with pytest.raises(RuntimeError, match="no-such-adapter-anywhere"):
+            kisstime.shot_study(SCENARIO, strikes=rows[:5], backend="gpu")
+    finally:
+        mp.undo()
+    # the failed call kept nothing; the first engine is still there
+    assert kisstime.release_engines() == 1
+
+
 def test_simulate_runs_whole_shots_on_the_gpu():
     need_gpu()
     arr, strike = break_example()
