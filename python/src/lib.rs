@@ -215,12 +215,6 @@ fn backend_of(backend: &str, precision: Option<&str>) -> PyResult<(Backend, Prec
     Ok((backend, precision))
 }
 
-/// The engine a backend and precision name.
-fn engine_of(backend: &str, precision: Option<&str>) -> PyResult<Engine> {
-    let (backend, precision) = backend_of(backend, precision)?;
-    Engine::new(backend, precision).map_err(py_err)
-}
-
 /// The shot engine a backend and precision name (the simulator's precision defaults to
 /// f64 on every backend), opened for the caller to keep (a learning environment's).
 fn shot_engine_of(backend: &str, precision: Option<&str>) -> PyResult<ShotEngine> {
@@ -240,7 +234,7 @@ impl Notes for ShotEngine {
     }
 }
 
-impl Notes for Pooled {
+impl<E: Reusable> Notes for Pooled<E> {
     /// What the engine said when it was opened (again for each call that reuses it: the
     /// call runs where it said), then since.
     fn notes(&mut self) -> Vec<String> {
@@ -250,8 +244,34 @@ impl Notes for Pooled {
     }
 }
 
-/// What an idle engine of [`SHOT_ENGINES`] was opened for: the backend, the precision,
-/// and the environment variables that choose and configure a backend (`WGPU_*`, `VK_*`,
+/// An engine the calls of a process share ([`Pool`]).
+trait Reusable: Sized + Send + 'static {
+    /// Opens one.
+    fn open(backend: Backend, precision: Precision) -> Result<Self, Error>;
+    /// Its messages since they were last taken.
+    fn take_notes(&mut self) -> Vec<String>;
+}
+
+impl Reusable for ShotEngine {
+    fn open(backend: Backend, precision: Precision) -> Result<Self, Error> {
+        ShotEngine::new(backend, precision)
+    }
+    fn take_notes(&mut self) -> Vec<String> {
+        ShotEngine::take_notes(self)
+    }
+}
+
+impl Reusable for Engine {
+    fn open(backend: Backend, precision: Precision) -> Result<Self, Error> {
+        Engine::new(backend, precision)
+    }
+    fn take_notes(&mut self) -> Vec<String> {
+        Engine::take_notes(self)
+    }
+}
+
+/// What an idle engine of a [`Pool`] was opened for: the backend, the precision, and the
+/// environment variables that choose and configure a backend (`WGPU_*`, `VK_*`,
 /// `KISSTIME_*`) as they were then.
 #[derive(Clone, PartialEq)]
 struct EngineKey {
@@ -279,41 +299,90 @@ impl EngineKey {
     }
 }
 
-/// The whole-shot engines idle between calls. Opening a GPU engine (the adapter, the
-/// device, the event loop's pipelines) costs far more than a study's chunk of samples,
-/// and a study or a Dask task runs chunk after chunk, each its own call: so a call takes
-/// an idle engine opened for the same backend, precision and environment, or opens one,
-/// and puts it back when it has succeeded ([`Pooled`]); concurrent calls each get their
-/// own. An engine whose call failed is dropped (a GPU failure may have lost its device).
-/// `release_engines()` drops the idle ones (and the GPU memory they hold).
-static SHOT_ENGINES: std::sync::Mutex<Vec<(EngineKey, Opened)>> = std::sync::Mutex::new(Vec::new());
+/// The engines idle between calls. Opening a GPU engine (the adapter, the device, the
+/// pipelines) costs far more than a study's chunk of samples, and a study or a Dask task
+/// runs chunk after chunk, each its own call: so a call takes an idle engine opened for
+/// the same backend, precision and environment, or opens one, and puts it back when it
+/// has succeeded ([`Pooled`]); concurrent calls each get their own. An engine whose call
+/// failed is dropped (a GPU failure may have lost its device). `release_engines()` drops
+/// the idle ones (and the GPU memory they hold).
+struct Pool<E> {
+    idle: std::sync::Mutex<Vec<(EngineKey, Opened<E>)>>,
+}
+
+impl<E> Pool<E> {
+    const fn new() -> Pool<E> {
+        Pool {
+            idle: std::sync::Mutex::new(Vec::new()),
+        }
+    }
+
+    /// Drops the idle engines; how many there were.
+    fn release(&self) -> usize {
+        match self.idle.lock() {
+            Ok(mut idle) => std::mem::take(&mut *idle).len(),
+            Err(_) => 0,
+        }
+    }
+}
+
+/// The whole-shot engines (`simulate`, `shot_study`, `plan`).
+static SHOT_ENGINES: Pool<ShotEngine> = Pool::new();
+/// The collision kernels' engines (`pair_times`, `next_collisions`).
+static PAIR_ENGINES: Pool<Engine> = Pool::new();
 
 /// An engine and what it said when it was opened (a fallback to the CPU).
-struct Opened {
-    engine: ShotEngine,
+struct Opened<E> {
+    engine: E,
     opening: Vec<String>,
 }
 
-/// A whole-shot engine out of [`SHOT_ENGINES`] for one call: put back when dropped after
+/// An engine out of a [`Pool`] for one call: put back when dropped after
 /// [`Pooled::succeeded`], else closed.
-struct Pooled {
+struct Pooled<E: Reusable> {
+    pool: &'static Pool<E>,
     key: EngineKey,
-    engine: Option<Opened>,
+    engine: Option<Opened<E>>,
     /// The notes of this call not yet taken from the engine.
     pending: Vec<String>,
     kept: bool,
 }
 
-impl Pooled {
+impl<E: Reusable> Pooled<E> {
+    /// An engine of `pool` for one call: an idle one opened for the same backend,
+    /// precision and environment where there is one, else a new one.
+    fn take(pool: &'static Pool<E>, backend: Backend, precision: Precision) -> PyResult<Self> {
+        let key = EngineKey::now(backend, precision);
+        let idle = pool.idle.lock().ok().and_then(|mut idle| {
+            let at = idle.iter().position(|(k, _)| *k == key)?;
+            Some(idle.swap_remove(at).1)
+        });
+        let opened = match idle {
+            Some(opened) => opened,
+            None => {
+                let mut engine = E::open(backend, precision).map_err(py_err)?;
+                let opening = engine.take_notes();
+                Opened { engine, opening }
+            }
+        };
+        Ok(Pooled {
+            pool,
+            key,
+            pending: opened.opening.clone(),
+            engine: Some(opened),
+            kept: false,
+        })
+    }
+
     /// The call succeeded: the engine goes back to the idle ones.
     fn succeeded(&mut self) {
         self.kept = true;
     }
 }
 
-impl std::ops::Deref for Pooled {
-    type Target = ShotEngine;
-    fn deref(&self) -> &ShotEngine {
+impl<E: Reusable> std::ops::Deref for Pooled<E> {
+    type Target = E;
+    fn deref(&self) -> &E {
         &self
             .engine
             .as_ref()
@@ -322,8 +391,8 @@ impl std::ops::Deref for Pooled {
     }
 }
 
-impl std::ops::DerefMut for Pooled {
-    fn deref_mut(&mut self) -> &mut ShotEngine {
+impl<E: Reusable> std::ops::DerefMut for Pooled<E> {
+    fn deref_mut(&mut self) -> &mut E {
         &mut self
             .engine
             .as_mut()
@@ -332,52 +401,37 @@ impl std::ops::DerefMut for Pooled {
     }
 }
 
-impl Drop for Pooled {
+impl<E: Reusable> Drop for Pooled<E> {
     fn drop(&mut self) {
         if let (true, Some(engine)) = (self.kept, self.engine.take()) {
             // a poisoned lock (a panic elsewhere) only costs the reuse
-            if let Ok(mut idle) = SHOT_ENGINES.lock() {
+            if let Ok(mut idle) = self.pool.idle.lock() {
                 idle.push((self.key.clone(), engine));
             }
         }
     }
 }
 
-/// A whole-shot engine for one call, as [`shot_engine_of`] opens it: an idle one opened
-/// for the same backend, precision and environment where there is one ([`SHOT_ENGINES`]).
-fn pooled_shot_engine(backend: &str, precision: Option<&str>) -> PyResult<Pooled> {
+/// A whole-shot engine for one call, as [`shot_engine_of`] opens it, from
+/// [`SHOT_ENGINES`].
+fn pooled_shot_engine(backend: &str, precision: Option<&str>) -> PyResult<Pooled<ShotEngine>> {
     let (backend, precision) = backend_of(backend, Some(precision.unwrap_or("f64")))?;
-    let key = EngineKey::now(backend, precision);
-    let idle = SHOT_ENGINES.lock().ok().and_then(|mut idle| {
-        let at = idle.iter().position(|(k, _)| *k == key)?;
-        Some(idle.swap_remove(at).1)
-    });
-    let opened = match idle {
-        Some(opened) => opened,
-        None => {
-            let mut engine = ShotEngine::new(backend, precision).map_err(py_err)?;
-            let opening = engine.take_notes();
-            Opened { engine, opening }
-        }
-    };
-    Ok(Pooled {
-        key,
-        pending: opened.opening.clone(),
-        engine: Some(opened),
-        kept: false,
-    })
+    Pooled::take(&SHOT_ENGINES, backend, precision)
 }
 
-/// Drops the whole-shot engines kept between calls (`kisstime.release_engines()`): the
-/// GPU memory and pipelines they hold are freed; the next call opens an engine again.
-/// Returns how many were dropped.
+/// A collision kernels' engine for one call, for the backend and precision named, from
+/// [`PAIR_ENGINES`].
+fn pooled_engine(backend: &str, precision: Option<&str>) -> PyResult<Pooled<Engine>> {
+    let (backend, precision) = backend_of(backend, precision)?;
+    Pooled::take(&PAIR_ENGINES, backend, precision)
+}
+
+/// Drops the engines kept between calls (`kisstime.release_engines()`): the GPU memory
+/// and pipelines they hold are freed; the next call opens an engine again. Returns how
+/// many were dropped.
 #[pyfunction]
 fn release_engines() -> usize {
-    let idle = match SHOT_ENGINES.lock() {
-        Ok(mut idle) => std::mem::take(&mut *idle),
-        Err(_) => Vec::new(),
-    };
-    idle.len()
+    SHOT_ENGINES.release() + PAIR_ENGINES.release()
 }
 
 /// The engine's notes (fallbacks to the CPU) as Python `RuntimeWarning`s.
@@ -471,7 +525,7 @@ fn next_collisions<'py>(
 ) -> PyResult<Bound<'py, PyBytes>> {
     let batch = &batch.batch;
     let params = params_of(params)?;
-    let mut engine = engine_of(backend, precision)?;
+    let mut engine = pooled_engine(backend, precision)?;
     let mut next = Vec::with_capacity(batch.num_tables());
     for tables in chunks(batch.num_tables(), TABLES_PER_CHECK) {
         let part = py
@@ -480,6 +534,7 @@ fn next_collisions<'py>(
         next.extend(part);
         py.check_signals()?;
     }
+    engine.succeeded();
     let mut out: Vec<u8> = Vec::with_capacity(next.len() * 40);
     for n in &next {
         let (i, j) = n.pair.unwrap_or((-1, -1));
@@ -504,7 +559,7 @@ fn pair_times<'py>(
 ) -> PyResult<Bound<'py, PyBytes>> {
     let batch = &batch.batch;
     let params = params_of(params)?;
-    let mut engine = engine_of(backend, precision)?;
+    let mut engine = pooled_engine(backend, precision)?;
     let mut out: Vec<u8> = Vec::new();
     {
         let mut w = PairsWriter::new(&mut out, Format::Npy, batch).map_err(mem_err)?;
@@ -517,6 +572,7 @@ fn pair_times<'py>(
         }
         w.finish().map_err(mem_err)?;
     }
+    engine.succeeded();
     Ok(PyBytes::new(py, &out))
 }
 

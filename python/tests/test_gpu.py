@@ -75,6 +75,11 @@ def test_calls_reuse_one_engine_a_backend_until_released():
     # six chunks and a simulate, one after another: one GPU engine, reused
     assert kisstime.release_engines() == 1
     assert kisstime.release_engines() == 0
+    # the collision kernels' engines likewise, apart
+    pairs = [kisstime.pair_times(arr, backend="gpu", precision="f64") for _ in range(2)]
+    assert pairs[0].tobytes() == pairs[1].tobytes()
+    assert len(kisstime.pair_times(arr)) == len(pairs[0])
+    assert kisstime.release_engines() == 2  # the GPU's and the CPU's
     assert again.potted == first.potted
     assert again.samples.tobytes() == first.samples.tobytes()
     fresh = kisstime.shot_study(SCENARIO, strikes=rows, backend="gpu", chunk=120)
