@@ -621,6 +621,32 @@ fn the_summary_without_the_samples_is_the_summary_of_the_samples() {
     .unwrap();
     let game = snooker_summary.game.expect("snooker's verdicts");
     assert!(game.points.is_some() && game.foul_points.is_some());
+    // what no sample could run is refused before any work, by every driver
+    let contexts = vec![snooker.game.as_ref().unwrap().context; given.len() - 1];
+    let judged = || Samples::Judged {
+        strikes: &given,
+        contexts: &contexts,
+    };
+    let drawn = || Samples::Drawn {
+        sigma: &builtin.noise,
+        seed: 1,
+        range: 0..10,
+    };
+    let why = |e: kisstime::Error| e.to_string();
+    let refused = [
+        summarize(&mut engine, &snooker, drawn(), &FIRST, &mut |_, _| {}).map(|_| ()),
+        run(&mut engine, &snooker, drawn(), &FIRST, &mut |_, _| {}).map(|_| ()),
+        summarize(&mut engine, &snooker, judged(), &REST, &mut |_, _| {}).map(|_| ()),
+        run(&mut engine, &builtin, judged(), &REST, &mut |_, _| {}).map(|_| ()),
+    ];
+    let messages: Vec<String> = refused.into_iter().map(|r| why(r.unwrap_err())).collect();
+    assert!(messages[0].contains("runs to rest") && messages[1].contains("runs to rest"));
+    assert!(
+        messages[2].contains("300 strikes but 299 contexts"),
+        "{}",
+        messages[2]
+    );
+    assert!(messages[3].contains("need a game"), "{}", messages[3]);
 }
 
 #[test]

@@ -229,6 +229,7 @@ pub fn run(
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Sample>, Error> {
+    check(config, &samples, options)?;
     let n = samples.len();
     let each = std::mem::size_of::<Sample>() + std::mem::size_of::<CueStrike>();
     crate::limits::check_memory(
@@ -278,6 +279,7 @@ pub fn summarize(
     options: &RunOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Summary, Error> {
+    check(config, &samples, options)?;
     let n = samples.len();
     crate::limits::check_memory(
         &format!("the summary of a study of {n} samples"),
@@ -316,6 +318,7 @@ pub fn run_into(
     collect: &mut dyn Collect,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(), Error> {
+    check(config, &samples, options)?;
     let strike_of = |j: usize| samples.strike(config, j);
     drive(
         engine,
@@ -378,6 +381,33 @@ impl Collect for Counting<'_> {
     }
 }
 
+/// Refuses what no sample of `samples` could run as `options` say: a game's study to the
+/// first contact, samples judged in their own contexts without a game or without one
+/// context each. Before any work ([`run`], [`summarize`], [`run_into`]).
+fn check(config: &StudyConfig, samples: &Samples<'_>, options: &RunOptions) -> Result<(), Error> {
+    if config.game.is_some() && options.until == Until::FirstContact {
+        return Err(Error::Unsupported(
+            "a study with a [game] runs to rest: the rules judge the whole shot (leave out \
+             --until first-contact)"
+                .into(),
+        ));
+    }
+    if let Samples::Judged { strikes, contexts } = samples {
+        if config.game.is_none() {
+            return Err(InputError::new("samples judged in their own contexts need a game").into());
+        }
+        if contexts.len() != strikes.len() {
+            return Err(InputError::new(format!(
+                "{} strikes but {} contexts",
+                strikes.len(),
+                contexts.len()
+            ))
+            .into());
+        }
+    }
+    Ok(())
+}
+
 /// A study's strikes as [`drive`] takes them: sample `j` is struck by `play(j)` and
 /// reported with `report(j)` (where `None`: the intended strike, for samples that only a
 /// [`Tally`] sees, which does not count strikes, so that no strike is drawn twice).
@@ -399,25 +429,8 @@ fn drive(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(), Error> {
     let n = samples.len();
-    if config.game.is_some() && options.until == Until::FirstContact {
-        return Err(Error::Unsupported(
-            "a study with a [game] runs to rest: the rules judge the whole shot (leave out \
-             --until first-contact)"
-                .into(),
-        ));
-    }
     let initial = config.initial();
     let cue = config.cue;
-    if let Samples::Judged { contexts, .. } = samples {
-        if config.game.is_none() {
-            return Err(InputError::new("samples judged in their own contexts need a game").into());
-        }
-        if contexts.len() != n {
-            return Err(
-                InputError::new(format!("{n} strikes but {} contexts", contexts.len())).into(),
-            );
-        }
-    }
     let batch = BatchOptions {
         limits: options.limits,
         record_events: false,
